@@ -1,0 +1,489 @@
+//! The stability suite behind `beamfric check`: every method on a scene (each preset by
+//! default), judged from the outside.
+//!
+//! For each case it checks that no number is NaN or infinite; that every method which does not
+//! flag itself (a `stiffness-conditioning` or `indefinite-factorization` warning) agrees with
+//! the flexibility method to its own accuracy (1e-8 for exact methods, an O(ε) bound for the
+//! regularised ones) — so a loss of digits is always warned about; that the stiffness route
+//! warns at 10⁶ elements; that the flexibility method is within 1e-10 of every closed form that
+//! applies (paper (50), the plain clamped beam for g = 0, clamped spans when every obstacle is
+//! stuck); that scaling l, E and f changes u by the predicted factor; and that a refused method
+//! names a method that then works.
+
+mod closed_forms;
+
+use serde::Serialize;
+
+use crate::fem::{Mesh, NodalField};
+use crate::format::sci;
+use crate::model::Problem;
+use crate::scene::{PRESETS, Scene};
+use crate::solve::{
+    ConditionLevel, Method, Solution, SolveErrorKind, SolveOptions, WarningCode, solve,
+};
+
+pub use closed_forms::closed_forms;
+
+/// Accuracy an exact method must reach when it raises no flag (the accuracy-loss threshold).
+const EXACT_TOLERANCE: f64 = 1e-8;
+/// The flexibility method against a closed form.
+const CLOSED_FORM_TOLERANCE: f64 = 1e-10;
+/// The flexibility method against its own scaled problem.
+const SCALING_TOLERANCE: f64 = 1e-12;
+/// Scaling used for the scaling check: l → αl, E → βE, f → γf (u scales by γα⁴/β).
+const SCALING: (f64, f64, f64) = (10.0, 3.0, 7.0);
+
+/// How one method fared.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MethodRun {
+    pub method: Method,
+    /// `solved`, `refused`, `not-applicable` or `breakdown`.
+    pub outcome: String,
+    /// max relative nodal difference from the flexibility method (u and u').
+    pub disagreement: Option<f64>,
+    pub kkt_residual: Option<f64>,
+    /// The method flagged its own result as unreliable.
+    pub flagged: bool,
+    pub warnings: Vec<WarningCode>,
+}
+
+/// The verdict on one case.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CaseReport {
+    pub case: String,
+    pub elements: usize,
+    pub runs: Vec<MethodRun>,
+    /// Largest disagreement among the exact methods that do not flag themselves.
+    pub max_disagreement: Option<f64>,
+    /// Largest disagreement of the regularised methods (an O(ε) error by design).
+    pub regularized_disagreement: Option<f64>,
+    /// Flexibility against each closed form that applies: (name, relative error).
+    pub closed_forms: Vec<(String, f64)>,
+    /// Largest KKT residual among the exact methods that do not flag themselves.
+    pub kkt_residual: Option<f64>,
+    /// Relative error of the scaled problem against the predicted factor.
+    pub scaling: Option<f64>,
+    /// What went wrong; empty when the case passes.
+    pub failures: Vec<String>,
+}
+
+impl CaseReport {
+    /// Did every check pass?
+    pub fn passed(&self) -> bool {
+        self.failures.is_empty()
+    }
+}
+
+fn options(epsilon: f64) -> SolveOptions {
+    SolveOptions {
+        epsilon,
+        condition: ConditionLevel::Off,
+        reference: false,
+        ..SolveOptions::default()
+    }
+}
+
+fn relative_difference(a: &NodalField, b: &NodalField) -> f64 {
+    let rel = |x: &[f64], y: &[f64]| {
+        let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = x
+            .iter()
+            .zip(y)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0f64, |m, d| if d.is_nan() { f64::NAN } else { m.max(d) });
+        if scale > 0.0 { diff / scale } else { diff }
+    };
+    let (u, s) = (rel(&a.deflection, &b.deflection), rel(&a.slope, &b.slope));
+    if u.is_nan() || s.is_nan() {
+        f64::NAN
+    } else {
+        u.max(s)
+    }
+}
+
+fn is_flagged(solution: &Solution) -> bool {
+    solution.warnings.iter().any(|w| {
+        matches!(
+            w.code,
+            WarningCode::StiffnessConditioning | WarningCode::IndefiniteFactorization
+        )
+    })
+}
+
+/// What a regularised solution may differ by: every stuck DOF is held within ε instead of at
+/// zero, which moves u by at most a few ε per DOF (times l for a rotation).
+fn regularized_tolerance(problem: &Problem, epsilon: f64, largest: f64) -> f64 {
+    let dofs = 2.0 * problem.obstacles.len() as f64;
+    EXACT_TOLERANCE + 10.0 * dofs * epsilon * problem.length.max(1.0) / largest
+}
+
+/// The verdict on one solved method: NaN or infinity anywhere fails; so does a disagreement
+/// beyond the method's own accuracy unless the method flagged its result as unreliable.
+fn judge(
+    method: Method,
+    finite: bool,
+    disagreement: f64,
+    tolerance: f64,
+    flagged: bool,
+) -> Option<String> {
+    if !finite {
+        Some(format!("{method}: NaN or infinite values"))
+    } else if !flagged && disagreement > tolerance {
+        Some(format!(
+            "{method}: differs from flexibility by {} (tolerance {}) without a warning",
+            sci(disagreement, 2),
+            sci(tolerance, 2)
+        ))
+    } else {
+        None
+    }
+}
+
+/// The scene with l → αl, E → βE, f → γf and the thresholds scaled so that every friction
+/// state stays the same (g1 like f·l, g2 like f·l²).
+pub fn scaled_scene(scene: &Scene, (alpha, beta, gamma): (f64, f64, f64)) -> Scene {
+    let mut scaled = scene.clone();
+    scaled.beam.length *= alpha;
+    scaled.beam.young *= beta;
+    for segment in &mut scaled.beam.segments {
+        segment.from *= alpha;
+        segment.to *= alpha;
+        segment.young = segment.young.map(|e| e * beta);
+    }
+    scaled.load.f0 *= gamma;
+    scaled.load.f1 = scaled.load.f1.map(|f| f * gamma);
+    for o in &mut scaled.obstacles {
+        o.x *= alpha;
+        o.sliding *= gamma * alpha;
+        o.swivel *= gamma * alpha * alpha;
+    }
+    scaled
+}
+
+/// Runs the suite on one scene.
+pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
+    let mut report = CaseReport {
+        case: case.to_string(),
+        elements: scene.mesh.elements,
+        runs: Vec::new(),
+        max_disagreement: None,
+        regularized_disagreement: None,
+        closed_forms: Vec::new(),
+        kkt_residual: None,
+        scaling: None,
+        failures: Vec::new(),
+    };
+    let (problem, settings) = match scene.validate(case) {
+        Ok(valid) => valid,
+        Err(e) => {
+            report.failures.push(format!("does not validate: {e}"));
+            return report;
+        }
+    };
+    let mesh = Mesh::new(&problem, settings.elements);
+    report.elements = mesh.elements();
+    let epsilon = settings.epsilon;
+    let reference = match solve(&problem, &mesh, Method::Flexibility, &options(epsilon)) {
+        Ok(s) => s,
+        Err(e) => {
+            report.failures.push(format!("flexibility failed: {e}"));
+            return report;
+        }
+    };
+    if !reference.is_finite() {
+        report
+            .failures
+            .push("flexibility: NaN or infinite values".into());
+        return report;
+    }
+    let largest = reference.max_deflection().max(f64::MIN_POSITIVE);
+
+    for method in Method::ALL {
+        let run = match solve(&problem, &mesh, method, &options(epsilon)) {
+            Ok(solution) => {
+                let disagreement = relative_difference(&solution.field, &reference.field);
+                let flagged = is_flagged(&solution);
+                let tolerance = if method.is_regularized() {
+                    regularized_tolerance(&problem, epsilon, largest)
+                } else {
+                    EXACT_TOLERANCE
+                };
+                let finite = solution.is_finite() && disagreement.is_finite();
+                if let Some(failure) = judge(method, finite, disagreement, tolerance, flagged) {
+                    report.failures.push(failure);
+                }
+                if method.uses_stiffness_matrix()
+                    && mesh.elements() >= 1_000_000
+                    && !solution
+                        .warnings
+                        .iter()
+                        .any(|w| w.code == WarningCode::StiffnessConditioning)
+                {
+                    report.failures.push(format!(
+                        "{method}: no conditioning warning at {} elements",
+                        mesh.elements()
+                    ));
+                }
+                MethodRun {
+                    method,
+                    outcome: "solved".into(),
+                    disagreement: disagreement.is_finite().then_some(disagreement),
+                    kkt_residual: Some(solution.kkt_residual),
+                    flagged,
+                    warnings: solution.warnings.iter().map(|w| w.code).collect(),
+                }
+            }
+            Err(error) => {
+                let outcome = match error.kind {
+                    SolveErrorKind::Refused => "refused",
+                    SolveErrorKind::NotApplicable => "not-applicable",
+                    SolveErrorKind::Breakdown => "breakdown",
+                };
+                // The method offered instead must work.
+                if let Err(e) = solve(&problem, &mesh, error.suggestion, &options(epsilon)) {
+                    report.failures.push(format!(
+                        "{method} suggests {} which fails too: {e}",
+                        error.suggestion
+                    ));
+                }
+                if error.kind == SolveErrorKind::Breakdown && !method.uses_stiffness_matrix() {
+                    report
+                        .failures
+                        .push(format!("{method} broke down: {error}"));
+                }
+                MethodRun {
+                    method,
+                    outcome: outcome.into(),
+                    disagreement: None,
+                    kkt_residual: None,
+                    flagged: error.kind == SolveErrorKind::Breakdown,
+                    warnings: Vec::new(),
+                }
+            }
+        };
+        report.runs.push(run);
+    }
+
+    let unflagged = |regularized: bool| {
+        report
+            .runs
+            .iter()
+            .filter(move |r| !r.flagged && r.method.is_regularized() == regularized)
+    };
+    // The flexibility method is the yardstick: its own "disagreement" says nothing.
+    report.max_disagreement = unflagged(false)
+        .filter(|r| r.method != Method::Flexibility)
+        .filter_map(|r| r.disagreement)
+        .reduce(f64::max);
+    report.regularized_disagreement = unflagged(true)
+        .filter_map(|r| r.disagreement)
+        .reduce(f64::max);
+    report.kkt_residual = unflagged(false)
+        .filter_map(|r| r.kkt_residual)
+        .reduce(f64::max);
+
+    let all_stuck = reference.obstacles.iter().all(|o| !o.sliding && !o.swivel);
+    for (name, exact) in closed_forms(&problem, &mesh, all_stuck) {
+        let error = relative_difference(&reference.field, &exact);
+        if error.is_nan() || error > CLOSED_FORM_TOLERANCE {
+            report.failures.push(format!(
+                "flexibility differs from the {name} closed form by {}",
+                sci(error, 2)
+            ));
+        }
+        report.closed_forms.push((name.to_string(), error));
+    }
+
+    report.scaling = Some(check_scaling(scene, &reference, &mut report.failures));
+    report
+}
+
+/// Solves the scaled scene and compares with the predicted factors γα⁴/β (u) and γα³/β (u').
+fn check_scaling(scene: &Scene, reference: &Solution, failures: &mut Vec<String>) -> f64 {
+    let (alpha, beta, gamma) = SCALING;
+    let scaled = scaled_scene(scene, SCALING);
+    let result = scaled
+        .validate("scaled")
+        .map_err(|e| e.to_string())
+        .and_then(|(p, s)| {
+            let mesh = Mesh::new(&p, s.elements);
+            solve(&p, &mesh, Method::Flexibility, &options(s.epsilon)).map_err(|e| e.to_string())
+        });
+    let solution = match result {
+        Ok(s) => s,
+        Err(e) => {
+            failures.push(format!("scaled scene: {e}"));
+            return f64::NAN;
+        }
+    };
+    let factor_u = gamma * alpha.powi(4) / beta;
+    let factor_slope = gamma * alpha.powi(3) / beta;
+    let predicted = NodalField {
+        deflection: reference
+            .field
+            .deflection
+            .iter()
+            .map(|u| u * factor_u)
+            .collect(),
+        slope: reference
+            .field
+            .slope
+            .iter()
+            .map(|s| s * factor_slope)
+            .collect(),
+    };
+    let error = relative_difference(&solution.field, &predicted);
+    if error.is_nan() || error > SCALING_TOLERANCE {
+        failures.push(format!(
+            "scaling l, E, f by {alpha}, {beta}, {gamma} changes u by a factor off the predicted γα⁴/β by {}",
+            sci(error, 2)
+        ));
+    }
+    error
+}
+
+/// Runs the suite on every preset.
+pub fn check_presets() -> Vec<CaseReport> {
+    PRESETS
+        .iter()
+        .map(|preset| match Scene::from_toml(preset.text, preset.name) {
+            Ok(scene) => check_scene(preset.name, &scene),
+            Err(e) => CaseReport {
+                case: preset.name.to_string(),
+                elements: 0,
+                runs: Vec::new(),
+                max_disagreement: None,
+                regularized_disagreement: None,
+                closed_forms: Vec::new(),
+                kkt_residual: None,
+                scaling: None,
+                failures: vec![e.to_string()],
+            },
+        })
+        .collect()
+}
+
+fn warning_summary(run: &MethodRun) -> Option<String> {
+    let short: Vec<&str> = run
+        .warnings
+        .iter()
+        .map(|w| match w {
+            WarningCode::MeshRaised => "mesh",
+            WarningCode::StiffnessConditioning => "cond",
+            WarningCode::AccuracyLoss => "accuracy",
+            WarningCode::QpNotConverged => "qp",
+            WarningCode::RegularizationInconsistent => "inconsistent",
+            WarningCode::NewtonNotConverged => "newton",
+            WarningCode::IndefiniteFactorization => "indefinite",
+            WarningCode::NonFinite => "non-finite",
+        })
+        .collect();
+    (!short.is_empty()).then(|| format!("{}: {}", run.method, short.join("+")))
+}
+
+/// The reports as a Markdown table, then the failures.
+pub fn markdown(reports: &[CaseReport]) -> String {
+    let mut out = String::from(
+        "| case | n | methods run | max disagreement (exact) | regularised (ε) | closed form | KKT | scaling | warnings raised | verdict |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in reports {
+        let solved: Vec<&str> = r
+            .runs
+            .iter()
+            .filter(|run| run.outcome == "solved")
+            .map(|run| run.method.name())
+            .collect();
+        let declined: Vec<String> = r
+            .runs
+            .iter()
+            .filter(|run| run.outcome != "solved")
+            .map(|run| format!("{} {}", run.method, run.outcome))
+            .collect();
+        let mut methods = format!("{} of 6", solved.len());
+        if !declined.is_empty() {
+            methods.push_str(&format!(" ({})", declined.join(", ")));
+        }
+        let flagged: Vec<String> = r
+            .runs
+            .iter()
+            .filter(|run| run.flagged && run.outcome == "solved")
+            .map(|run| {
+                format!(
+                    "{} {}",
+                    run.method,
+                    run.disagreement.map_or("n/a".into(), |d| sci(d, 1))
+                )
+            })
+            .collect();
+        let mut disagreement = r.max_disagreement.map_or("—".into(), |d| sci(d, 1));
+        if !flagged.is_empty() {
+            disagreement.push_str(&format!("; flagged: {}", flagged.join(", ")));
+        }
+        let closed = if r.closed_forms.is_empty() {
+            "—".to_string()
+        } else {
+            r.closed_forms
+                .iter()
+                .map(|(name, e)| format!("{name} {}", sci(*e, 1)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let warnings: Vec<String> = r.runs.iter().filter_map(warning_summary).collect();
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.case,
+            r.elements,
+            methods,
+            disagreement,
+            r.regularized_disagreement.map_or("—".into(), |d| sci(d, 1)),
+            closed,
+            r.kkt_residual.map_or("—".into(), |k| sci(k, 1)),
+            r.scaling.map_or("—".into(), |s| sci(s, 1)),
+            if warnings.is_empty() {
+                "none".to_string()
+            } else {
+                warnings.join("; ")
+            },
+            if r.passed() { "pass" } else { "**FAIL**" }
+        ));
+    }
+    let failures: Vec<String> = reports
+        .iter()
+        .flat_map(|r| r.failures.iter().map(move |f| format!("- {}: {f}", r.case)))
+        .collect();
+    if !failures.is_empty() {
+        out.push_str("\nFailures:\n\n");
+        out.push_str(&failures.join("\n"));
+        out.push('\n');
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_silent_disagreement_or_a_nan_fails_a_flagged_one_does_not() {
+        assert!(judge(Method::Dual, true, 1e-12, 1e-8, false).is_none());
+        let silent = judge(Method::Dual, true, 1e-3, 1e-8, false).unwrap();
+        assert!(silent.contains("without a warning"), "{silent}");
+        assert!(judge(Method::Dual, true, 1.0, 1e-8, true).is_none());
+        assert!(
+            judge(Method::Dual, false, 0.0, 1e-8, true)
+                .unwrap()
+                .contains("NaN")
+        );
+    }
+
+    #[test]
+    fn the_regularisation_tolerance_follows_epsilon() {
+        let scene =
+            Scene::from_toml(crate::scene::preset("benchmark-1").unwrap().text, "b1").unwrap();
+        let problem = scene.problem().unwrap();
+        let loose = regularized_tolerance(&problem, 1e-3, 0.02);
+        let tight = regularized_tolerance(&problem, 1e-9, 0.02);
+        assert!(loose > 1e-3 && tight < 1e-5, "{loose:e} {tight:e}");
+    }
+}

@@ -1,0 +1,641 @@
+//! The command line (clap): argument types and the commands behind them. `main.rs` parses and
+//! calls [`run`]; everything else lives here and in the modules it calls.
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::fem::Mesh;
+use crate::output::{SolveContext, refusal_json, solution_json, solution_table};
+use crate::scene::{self, Scene};
+use crate::solve::{ConditionLevel, Method, SolveOptions, solve};
+
+/// Exit status for bad input (scene, arguments).
+pub const EXIT_BAD_INPUT: u8 = 2;
+/// Exit status when the method gave no solution (refused, not applicable, broke down).
+pub const EXIT_NO_SOLUTION: u8 = 3;
+
+/// Explore a clamped beam through point obstacles with given sliding and swivel friction.
+#[derive(Debug, Parser)]
+#[command(
+    name = "beamfric",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Scene file or preset name to open (default: benchmark-1).
+    pub scene: Option<String>,
+    /// Draw without Unicode (no Braille, no box drawing) for plain terminals.
+    #[arg(long)]
+    pub ascii: bool,
+    /// No colours (also when the NO_COLOR environment variable is set).
+    #[arg(long)]
+    pub no_color: bool,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a scene once and print the solution with its certificate.
+    Solve(SolveArgs),
+    /// Run the stability suite on every preset (or one scene) and print the verdicts.
+    Check(CheckArgs),
+    /// Print the explorer's frame after some keys, without a terminal.
+    Render(RenderArgs),
+    /// Sweep ε or the mesh size and print the results as CSV or JSON.
+    #[command(subcommand)]
+    Sweep(SweepCommand),
+    /// Write the error-against-run-time report (Markdown, CSV, SVG) for a scene.
+    Report(ReportArgs),
+}
+
+/// `beamfric sweep …`.
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// The regularised method over ε: error, largest condition numbers, run time.
+    Epsilon(EpsilonSweepArgs),
+    /// Every method over mesh sizes: error, median run time, KKT residual, warnings.
+    Elements(ElementsSweepArgs),
+}
+
+/// Output format of the sweeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TableFormat {
+    Csv,
+    Json,
+}
+
+/// `beamfric sweep epsilon`.
+#[derive(Debug, Args)]
+pub struct EpsilonSweepArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Smallest ε.
+    #[arg(long, default_value_t = 1e-16)]
+    pub from: f64,
+    /// Largest ε.
+    #[arg(long, default_value_t = 1.0)]
+    pub to: f64,
+    /// Number of ε values, log-spaced.
+    #[arg(long, default_value_t = 33)]
+    pub points: usize,
+    /// The enumeration of paper 2.7.1, or semismooth Newton on the same ε-problem (which
+    /// works with any number of obstacles).
+    #[arg(long, value_enum, default_value = "regularized")]
+    pub method: Method,
+    /// Number of elements (default: the scene's).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
+    pub format: TableFormat,
+}
+
+/// `beamfric sweep elements`.
+#[derive(Debug, Args)]
+pub struct ElementsSweepArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Methods, comma-separated (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub methods: Vec<Method>,
+    /// Smallest number of elements.
+    #[arg(long, default_value_t = 10)]
+    pub from: usize,
+    /// Largest number of elements.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub to: usize,
+    /// Number of mesh sizes, log-spaced.
+    #[arg(long, default_value_t = 11)]
+    pub points: usize,
+    /// Runs per point; the run time is their median.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// ε for the regularised methods (default: the scene's).
+    #[arg(long)]
+    pub epsilon: Option<f64>,
+    #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
+    pub format: TableFormat,
+}
+
+/// `beamfric report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Directory for report.md and the CSV and SVG files (default: report-<scene>).
+    #[arg(long)]
+    pub out: Option<String>,
+    /// Smallest number of elements.
+    #[arg(long, default_value_t = 10)]
+    pub from: usize,
+    /// Largest number of elements.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub to: usize,
+    /// Number of mesh sizes, log-spaced.
+    #[arg(long, default_value_t = 11)]
+    pub points: usize,
+    /// Runs per point; the run time is their median.
+    #[arg(long, default_value_t = 5)]
+    pub repeat: usize,
+    /// Replace the files of an existing report in --out.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `beamfric render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Frame size in cells, WIDTHxHEIGHT.
+    #[arg(long, default_value = "120x40", value_parser = parse_size)]
+    pub size: (u16, u16),
+    /// Keys to apply first, space-separated: Up Down Left Right S-Left S-Right Enter Esc Tab
+    /// Backspace Space, single characters, or text typed after Enter.
+    #[arg(long, default_value = "", allow_hyphen_values = true)]
+    pub keys: String,
+    /// Draw without Unicode.
+    #[arg(long)]
+    pub ascii: bool,
+    /// Emit ANSI colours (plain text otherwise).
+    #[arg(long)]
+    pub color: bool,
+    /// Show run times (the frame then depends on the clock).
+    #[arg(long)]
+    pub timings: bool,
+}
+
+fn parse_size(text: &str) -> Result<(u16, u16), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}': write the size as WIDTHxHEIGHT, e.g. 120x40"))?;
+    let parse = |v: &str, what: &str| -> Result<u16, String> {
+        let n: u16 = v
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{text}': the {what} must be a whole number from 1 to 1000"))?;
+        if (1..=1000).contains(&n) {
+            Ok(n)
+        } else {
+            Err(format!("'{text}': the {what} must be from 1 to 1000"))
+        }
+    };
+    Ok((parse(w, "width")?, parse(h, "height")?))
+}
+
+/// Output format of `check`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CheckFormat {
+    Markdown,
+    Json,
+}
+
+/// `beamfric check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// One scene file or preset name (default: every preset).
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CheckFormat::Markdown)]
+    pub format: CheckFormat,
+}
+
+/// Exit status when a check failed.
+pub const EXIT_CHECK_FAILED: u8 = 1;
+
+/// Output format of `solve`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Json,
+    Table,
+}
+
+/// `beamfric solve`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Method (default: the scene's).
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
+    /// Number of elements (default: the scene's).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Regularisation parameter ε (default: the scene's).
+    #[arg(long, allow_negative_numbers = true)]
+    pub epsilon: Option<f64>,
+    /// Positions [m] where u and u' are reported, comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub at: Vec<f64>,
+    /// Leave the nodal values out of the JSON output.
+    #[arg(long)]
+    pub no_nodes: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Condition numbers: exact for N ≤ 200 and a cheap lower bound above (auto), Lanczos
+    /// estimates at any size (full), or none (off).
+    #[arg(long, value_enum, default_value_t = ConditionLevel::Auto)]
+    pub condition: ConditionLevel,
+}
+
+/// Prints a clap error: help and version as clap formats them, anything else as one line.
+pub fn report_usage_error(error: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match error.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            let _ = error.print();
+            ExitCode::SUCCESS
+        }
+        _ => {
+            let text = error.to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            eprintln!("beamfric: {}", first.trim_start_matches("error: "));
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+    }
+}
+
+/// Runs the parsed command line.
+pub fn run(cli: Cli) -> ExitCode {
+    let result = match cli.command {
+        Some(Command::Solve(args)) => solve_command(&args),
+        Some(Command::Check(args)) => check_command(&args),
+        Some(Command::Render(args)) => render_command(&args),
+        Some(Command::Sweep(SweepCommand::Epsilon(args))) => epsilon_sweep_command(&args),
+        Some(Command::Sweep(SweepCommand::Elements(args))) => elements_sweep_command(&args),
+        Some(Command::Report(args)) => report_command(&args),
+        None => explore(
+            cli.scene.as_deref().unwrap_or("benchmark-1"),
+            cli.ascii,
+            cli.no_color,
+        ),
+    };
+    match result {
+        Ok(code) => code,
+        Err(message) => {
+            eprintln!("beamfric: {message}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+    }
+}
+
+/// Loads a scene and applies command-line overrides, validating them with the scene's rules.
+pub fn load_with_overrides(
+    name: &str,
+    method: Option<Method>,
+    elements: Option<usize>,
+    epsilon: Option<f64>,
+) -> Result<(Scene, String), String> {
+    let (mut scene, source) = scene::load(name).map_err(|e| e.to_string())?;
+    if let Some(n) = elements {
+        scene::check_elements(n).map_err(|rule| format!("--elements {rule}"))?;
+        scene.mesh.elements = n;
+    }
+    if let Some(e) = epsilon {
+        scene::check_epsilon(e).map_err(|rule| format!("--epsilon {rule}"))?;
+        scene.solver.epsilon = e;
+    }
+    if let Some(m) = method {
+        scene.solver.method = m;
+    }
+    Ok((scene, source))
+}
+
+/// Colours unless the user or the NO_COLOR convention (any non-empty value) says no.
+fn colors_wanted(no_color: bool) -> bool {
+    !no_color && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
+}
+
+fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> {
+    let (scene, source) = scene::load(name).map_err(|e| e.to_string())?;
+    let look = crate::tui::app::Look {
+        ascii,
+        color: colors_wanted(no_color),
+    };
+    match crate::tui::run(scene, source, look)? {
+        crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
+        // The conventional status of a process ended by a signal.
+        crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
+    }
+}
+
+fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
+    let (scene, source) = scene::load(&args.scene).map_err(|e| e.to_string())?;
+    let actions = crate::tui::action::parse_keys(&args.keys);
+    let options = crate::tui::RenderOptions {
+        width: args.size.0,
+        height: args.size.1,
+        look: crate::tui::app::Look {
+            ascii: args.ascii,
+            color: args.color,
+        },
+        timings: args.timings,
+    };
+    let buffer = crate::tui::render(scene, source, &actions, options)?;
+    let text = crate::tui::buffer_to_text(&buffer, args.color);
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A progress line on stderr, only when stderr is a terminal.
+struct ProgressLine {
+    label: &'static str,
+    enabled: bool,
+}
+
+impl ProgressLine {
+    fn new(label: &'static str) -> ProgressLine {
+        use std::io::IsTerminal;
+        ProgressLine {
+            label,
+            enabled: std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn report(&self, done: usize, total: usize, what: &str) {
+        if !self.enabled || total == 0 {
+            return;
+        }
+        let width = 24;
+        let filled = done * width / total;
+        eprint!(
+            "\r{} [{}{}] {done}/{total} {what:<32}",
+            self.label,
+            "#".repeat(filled),
+            ".".repeat(width - filled)
+        );
+    }
+
+    fn finish(&self) {
+        if self.enabled {
+            eprint!("\r{}\r", " ".repeat(80));
+        }
+    }
+}
+
+fn check_count(
+    what: &str,
+    value: usize,
+    range: std::ops::RangeInclusive<usize>,
+) -> Result<(), String> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} {value}: must be from {} to {}",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
+fn check_elements_range(from: usize, to: usize) -> Result<(), String> {
+    scene::check_elements(from).map_err(|rule| format!("--from {rule}"))?;
+    scene::check_elements(to).map_err(|rule| format!("--to {rule}"))?;
+    if from > to {
+        return Err(format!("--from {from} is larger than --to {to}"));
+    }
+    Ok(())
+}
+
+fn write_stdout(text: &str) {
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+}
+
+/// Prints a sweep as CSV, or as a JSON document.
+fn print_table(
+    format: TableFormat,
+    csv: impl FnOnce() -> String,
+    json: impl FnOnce() -> serde_json::Value,
+) {
+    write_stdout(&match format {
+        TableFormat::Csv => csv(),
+        TableFormat::Json => {
+            serde_json::to_string_pretty(&json()).expect("JSON values serialize") + "\n"
+        }
+    });
+}
+
+fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
+    for (name, value) in [("--from", args.from), ("--to", args.to)] {
+        scene::check_epsilon(value).map_err(|rule| format!("{name} {rule}"))?;
+    }
+    if args.from > args.to {
+        return Err(format!(
+            "--from {} is larger than --to {}",
+            args.from, args.to
+        ));
+    }
+    check_count("--points", args.points, 1..=1000)?;
+    if !args.method.is_regularized() {
+        return Err(format!(
+            "--method {}: the ε sweep needs regularized or regularized-newton",
+            args.method
+        ));
+    }
+    let (scene, source) = load_with_overrides(&args.scene, None, args.elements, None)?;
+    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    let epsilons = crate::study::log_space(args.from, args.to, args.points);
+    let progress = ProgressLine::new("sweep epsilon");
+    let result = crate::study::epsilon_sweep(
+        &problem,
+        settings.elements,
+        args.method,
+        &epsilons,
+        &|| false,
+        &|done, total, what| progress.report(done, total, what),
+    );
+    progress.finish();
+    let points = match result.expect("never cancelled") {
+        Ok(points) => points,
+        Err(e) => {
+            eprintln!("beamfric: {e}");
+            return Ok(ExitCode::from(EXIT_NO_SOLUTION));
+        }
+    };
+    print_table(
+        args.format,
+        || crate::output::epsilon_sweep_csv(&points),
+        || {
+            serde_json::json!({
+                "scene": source,
+                "method": args.method.name(),
+                "elements": settings.elements,
+                "points": points,
+            })
+        },
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> {
+    check_elements_range(args.from, args.to)?;
+    check_count("--points", args.points, 1..=200)?;
+    check_count("--repeat", args.repeat, 1..=100)?;
+    let (scene, source) = load_with_overrides(&args.scene, None, None, args.epsilon)?;
+    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    let methods = if args.methods.is_empty() {
+        Method::ALL.to_vec()
+    } else {
+        args.methods.clone()
+    };
+    let sizes = crate::study::mesh_sizes(args.from, args.to, args.points);
+    let progress = ProgressLine::new("sweep elements");
+    let points = crate::study::mesh_sweep(
+        &problem,
+        &methods,
+        &sizes,
+        args.repeat,
+        settings.epsilon,
+        &|| false,
+        &|done, total, what| progress.report(done, total, what),
+    )
+    .expect("never cancelled");
+    progress.finish();
+    print_table(
+        args.format,
+        || crate::output::mesh_sweep_csv(&points),
+        || {
+            serde_json::json!({
+                "scene": source,
+                "repeat": args.repeat,
+                "epsilon": settings.epsilon,
+                "points": points,
+            })
+        },
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
+    check_elements_range(args.from, args.to)?;
+    check_count("--points", args.points, 1..=200)?;
+    check_count("--repeat", args.repeat, 1..=100)?;
+    let (scene, source) = scene::load(&args.scene).map_err(|e| e.to_string())?;
+    let name = source.trim_start_matches("preset ").to_string();
+    let stem = std::path::Path::new(&name)
+        .file_stem()
+        .map_or(name.clone(), |s| s.to_string_lossy().to_string());
+    let out = args.out.clone().unwrap_or_else(|| format!("report-{stem}"));
+    // Refuse before measuring, not after.
+    if !args.force
+        && let Some(existing) = crate::report::FILES
+            .iter()
+            .map(|f| std::path::Path::new(&out).join(f))
+            .find(|p| p.exists())
+    {
+        return Err(format!(
+            "{} exists: pass --force to replace the report, or choose another --out",
+            existing.display()
+        ));
+    }
+    let options = crate::report::ReportOptions {
+        sizes: crate::study::mesh_sizes(args.from, args.to, args.points),
+        repeat: args.repeat,
+        epsilons: crate::study::log_space(1e-16, 1.0, 33),
+        command: format!(
+            "beamfric report --scene {} --out {out} --from {} --to {} --points {} --repeat {}",
+            args.scene, args.from, args.to, args.points, args.repeat
+        ),
+    };
+    let progress = ProgressLine::new("report");
+    let report = crate::report::build(&scene, &source, &options, &|done, total, what| {
+        progress.report(done, total, what)
+    });
+    progress.finish();
+    let written = crate::report::write(&report?, std::path::Path::new(&out), args.force)?;
+    for path in written {
+        eprintln!("wrote {path}");
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
+    let reports = match &args.scene {
+        Some(name) => {
+            let (scene, source) = scene::load(name).map_err(|e| e.to_string())?;
+            vec![crate::check::check_scene(&source, &scene)]
+        }
+        None => crate::check::check_presets(),
+    };
+    let text = match args.format {
+        CheckFormat::Markdown => crate::check::markdown(&reports),
+        CheckFormat::Json => {
+            serde_json::to_string_pretty(&reports).expect("reports serialize") + "\n"
+        }
+    };
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    let failed = reports.iter().filter(|r| !r.passed()).count();
+    if failed > 0 {
+        eprintln!("beamfric: {failed} of {} cases failed", reports.len());
+        return Ok(ExitCode::from(EXIT_CHECK_FAILED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
+    let (scene, source) =
+        load_with_overrides(&args.scene, args.method, args.elements, args.epsilon)?;
+    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    for &x in &args.at {
+        if !(x.is_finite() && (0.0..=problem.length).contains(&x)) {
+            return Err(format!(
+                "--at {x}: positions must lie on the beam, in [0, {}] m",
+                problem.length
+            ));
+        }
+    }
+    let mesh = Mesh::new(&problem, settings.elements);
+    let options = SolveOptions {
+        epsilon: settings.epsilon,
+        condition: args.condition,
+        ..SolveOptions::default()
+    };
+    let context = SolveContext {
+        source: &source,
+        title: &scene.title,
+        mesh: &mesh,
+    };
+    let mut stdout = std::io::stdout().lock();
+    match solve(&problem, &mesh, settings.method, &options) {
+        Ok(solution) => {
+            let at: Vec<_> = args
+                .at
+                .iter()
+                .map(|&x| (x, solution.field.at(&mesh, x)))
+                .collect();
+            let text = match args.format {
+                Format::Json => {
+                    let doc = solution_json(&context, &solution, !args.no_nodes, &at);
+                    serde_json::to_string_pretty(&doc).expect("JSON values serialize") + "\n"
+                }
+                Format::Table => solution_table(&context, &solution, &at, true),
+            };
+            let _ = stdout.write_all(text.as_bytes());
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(error) => {
+            if args.format == Format::Json {
+                let doc = refusal_json(&context, &error);
+                let _ = writeln!(
+                    stdout,
+                    "{}",
+                    serde_json::to_string_pretty(&doc).expect("JSON values serialize")
+                );
+            }
+            eprintln!("beamfric: {error}");
+            Ok(ExitCode::from(EXIT_NO_SOLUTION))
+        }
+    }
+}

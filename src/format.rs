@@ -1,0 +1,96 @@
+//! Number formatting for people: engineering-style mantissa and exponent (5.0e4, not 50000.000),
+//! units, durations. Never prints NaN or infinity as a number.
+
+use std::time::Duration;
+
+/// `value` with `digits` significant digits in scientific form, e.g. `5.70e-3`; zero as `0`;
+/// a non-finite value as `n/a`.
+pub fn sci(value: f64, digits: usize) -> String {
+    if !value.is_finite() {
+        return "n/a".to_string();
+    }
+    if value == 0.0 {
+        return "0".to_string();
+    }
+    let text = format!("{:.*e}", digits.saturating_sub(1), value);
+    // Keep at least one decimal so that 5e4 reads 5.0e4.
+    match text.split_once('e') {
+        Some((mantissa, exponent)) if !mantissa.contains('.') => format!("{mantissa}.0e{exponent}"),
+        _ => text,
+    }
+}
+
+/// `value` for a parameter list: plain decimals between 0.01 and 10 000 (`0.8`, `20`,
+/// `1.234`), else three significant digits in scientific form (`5.0e4`, `2.15e11`, `1.0e-6`).
+pub fn eng(value: f64) -> String {
+    if !value.is_finite() {
+        return "n/a".to_string();
+    }
+    let magnitude = value.abs();
+    if value == 0.0 {
+        "0".to_string()
+    } else if (1e-2..1e4).contains(&magnitude) {
+        let decimals = (3 - magnitude.log10().floor() as i32).max(0) as usize;
+        let text = format!("{value:.decimals$}");
+        if text.contains('.') {
+            text.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            text
+        }
+    } else {
+        let text = format!("{value:.2e}");
+        let (mantissa, exponent) = text.split_once('e').expect("scientific form");
+        let mantissa = mantissa.trim_end_matches('0');
+        let mantissa = if mantissa.ends_with('.') {
+            format!("{mantissa}0")
+        } else {
+            mantissa.to_string()
+        };
+        format!("{mantissa}e{exponent}")
+    }
+}
+
+/// `value` with a unit, e.g. `5.0e4 N/m`.
+pub fn quantity(value: f64, digits: usize, unit: &str) -> String {
+    if unit.is_empty() {
+        sci(value, digits)
+    } else {
+        format!("{} {unit}", sci(value, digits))
+    }
+}
+
+/// A duration in the most readable unit: `12.3 µs`, `4.56 ms`, `1.23 s`.
+pub fn duration(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s < 1e-3 {
+        format!("{:.1} µs", s * 1e6)
+    } else if s < 1.0 {
+        format!("{:.2} ms", s * 1e3)
+    } else {
+        format!("{s:.2} s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn engineering_form() {
+        assert_eq!(sci(50000.0, 2), "5.0e4");
+        assert_eq!(sci(0.0057016, 4), "5.702e-3");
+        assert_eq!(sci(f64::NAN, 3), "n/a");
+        assert_eq!(sci(f64::INFINITY, 3), "n/a");
+        assert_eq!(sci(0.0, 3), "0");
+        assert_eq!(quantity(5e4, 2, "N/m"), "5.0e4 N/m");
+        assert_eq!(duration(Duration::from_micros(12)), "12.0 µs");
+        assert_eq!(eng(5e4), "5.0e4");
+        assert_eq!(eng(2.15e11), "2.15e11");
+        assert_eq!(eng(0.8), "0.8");
+        assert_eq!(eng(20.0), "20");
+        assert_eq!(eng(1e-6), "1.0e-6");
+        assert_eq!(eng(-4798.46), "-4798");
+        assert_eq!(eng(0.0057016), "5.7e-3");
+        assert_eq!(eng(1.5e5), "1.5e5");
+    }
+}

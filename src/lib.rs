@@ -1,0 +1,32 @@
+//! beamfric: a clamped Euler–Bernoulli beam through point obstacles with given sliding and
+//! swivel friction (Bobková & Pospíšil, *Mathematics* 2021, 9(8), 898), solved by the paper's
+//! regularised and dual methods, closed forms, and a force formulation that stays accurate at
+//! any mesh size.
+//!
+//! - [`scene`]: TOML scenes, validation, presets, atomic saving.
+//! - [`model`]: the validated physical problem.
+//! - [`fem`]: Hermite cubic mesh, assembly, evaluation.
+//! - [`linalg`]: the block-tridiagonal factorization, the box QP, condition numbers.
+//! - [`solve`]: one module per method and the common [`solve::Solution`].
+//! - [`study`]: ε sweeps and mesh sweeps (the explorer's charts, `sweep`, `report`).
+//! - [`tui`]: the explorer (terminal UI and headless rendering).
+//! - [`check`]: the stability suite on the presets (`beamfric check`).
+//! - [`report`]: the error-against-run-time report (`beamfric report`).
+//! - [`cli`], [`output`], [`format`]: the command line and what it prints.
+
+// Numerical kernels index several arrays in lockstep (matrix rows, vectors, bounds); an index
+// reads closer to the formulas than zipped iterators there.
+#![allow(clippy::needless_range_loop)]
+
+pub mod check;
+pub mod cli;
+pub mod fem;
+pub mod format;
+pub mod linalg;
+pub mod model;
+pub mod output;
+pub mod report;
+pub mod scene;
+pub mod solve;
+pub mod study;
+pub mod tui;

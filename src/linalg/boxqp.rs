@@ -1,0 +1,544 @@
+//! The dual problem (49): minimise ½ λᵀ S λ − z0ᵀ λ subject to −g ≤ λ ≤ g, with S SPD.
+//!
+//! Small problems (2k ≤ [`ACTIVE_SET_LIMIT`]) are solved by a primal active-set method, which
+//! ends after finitely many steps with the exact solution of the final equality-constrained
+//! subproblem (a Cholesky solve). Larger ones run Bertsekas' projected Newton method, which
+//! changes many bounds per step and reaches the right face in a few dozen Cholesky solves of
+//! the free block; the primal active-set method then certifies its answer exactly (usually one
+//! more solve). Should projected Newton fail, MPRGP (Dostál's modified proportioning with
+//! reduced gradient projections) finds an active set and the primal method finishes from there.
+//! The problem is first scaled to unit diagonal, since S mixes deflection (m/N) and rotation
+//! (rad/(N m)) entries.
+
+use super::dense::Cholesky;
+
+/// Largest dimension solved by the active-set method alone.
+pub const ACTIVE_SET_LIMIT: usize = 32;
+
+/// Where a variable ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BoundState {
+    /// Strictly between the bounds.
+    Free,
+    /// At −g.
+    Lower,
+    /// At +g.
+    Upper,
+}
+
+/// Which algorithm produced the result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QpAlgorithm {
+    ActiveSet,
+    ProjectedNewtonThenActiveSet,
+    MprgpThenActiveSet,
+}
+
+/// The solution of the box QP.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QpResult {
+    /// λ.
+    pub x: Vec<f64>,
+    /// Bound state of each λ_i.
+    pub state: Vec<BoundState>,
+    /// Iterations (active-set changes, plus MPRGP steps).
+    pub iterations: usize,
+    /// Whether the KKT conditions hold to working precision.
+    pub converged: bool,
+    pub algorithm: QpAlgorithm,
+}
+
+/// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i. `h` is row-major n×n SPD, `g` ≥ 0.
+pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
+    let n = z.len();
+    if n == 0 {
+        return QpResult {
+            x: vec![],
+            state: vec![],
+            iterations: 0,
+            converged: true,
+            algorithm: QpAlgorithm::ActiveSet,
+        };
+    }
+    // Scale to unit diagonal: x = D y, D = diag(1/√h_ii).
+    let d: Vec<f64> = (0..n).map(|i| 1.0 / h[i * n + i].sqrt()).collect();
+    let hs: Vec<f64> = (0..n * n).map(|ij| h[ij] * d[ij / n] * d[ij % n]).collect();
+    let zs: Vec<f64> = (0..n).map(|i| z[i] * d[i]).collect();
+    let gs: Vec<f64> = (0..n).map(|i| g[i] / d[i]).collect();
+    if hs.iter().chain(&zs).chain(&gs).any(|v| !v.is_finite()) {
+        return QpResult {
+            x: vec![f64::NAN; n],
+            state: vec![BoundState::Free; n],
+            iterations: 0,
+            converged: false,
+            algorithm: QpAlgorithm::ActiveSet,
+        };
+    }
+    let mut finished = if n <= ACTIVE_SET_LIMIT {
+        active_set(&hs, &zs, &gs, vec![0.0; n])
+    } else if let Some((start, steps)) = projected_newton(&hs, &zs, &gs)
+        && let certified = active_set(&hs, &zs, &gs, start)
+        && certified.converged
+    {
+        QpResult {
+            iterations: certified.iterations + steps,
+            algorithm: QpAlgorithm::ProjectedNewtonThenActiveSet,
+            ..certified
+        }
+    } else {
+        // MPRGP finds the active set; the active-set method finishes exactly from there.
+        let (start, steps) = mprgp(&hs, &zs, &gs);
+        let mut polished = active_set(&hs, &zs, &gs, start);
+        polished.iterations += steps;
+        polished.algorithm = QpAlgorithm::MprgpThenActiveSet;
+        polished
+    };
+    for (x, d) in finished.x.iter_mut().zip(&d) {
+        *x *= d;
+    }
+    finished
+}
+
+fn gradient(h: &[f64], z: &[f64], x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    (0..n)
+        .map(|i| {
+            h[i * n..(i + 1) * n]
+                .iter()
+                .zip(x)
+                .map(|(a, b)| a * b)
+                .sum::<f64>()
+                - z[i]
+        })
+        .collect()
+}
+
+/// Tolerance on the gradient component i: rounding in computing (Hx − z)_i.
+fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
+    let n = x.len();
+    let magnitude: f64 = h[i * n..(i + 1) * n]
+        .iter()
+        .zip(x)
+        .map(|(a, b)| (a * b).abs())
+        .sum::<f64>()
+        + z[i].abs();
+    64.0 * n as f64 * f64::EPSILON * magnitude
+}
+
+fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
+    let n = z.len();
+    let mut x = start;
+    let mut state: Vec<BoundState> = (0..n)
+        .map(|i| {
+            if g[i] == 0.0 {
+                x[i] = 0.0;
+                BoundState::Lower
+            } else if x[i] >= g[i] {
+                x[i] = g[i];
+                BoundState::Upper
+            } else if x[i] <= -g[i] {
+                x[i] = -g[i];
+                BoundState::Lower
+            } else {
+                BoundState::Free
+            }
+        })
+        .collect();
+    let max_iterations = 20 * n + 50;
+    for iteration in 1..=max_iterations {
+        let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
+        if !free.is_empty() {
+            let m = free.len();
+            let mut sub = vec![0.0; m * m];
+            let mut rhs = vec![0.0; m];
+            for (a, &i) in free.iter().enumerate() {
+                for (b, &j) in free.iter().enumerate() {
+                    sub[a * m + b] = h[i * n + j];
+                }
+                rhs[a] = z[i]
+                    - (0..n)
+                        .filter(|&j| state[j] != BoundState::Free)
+                        .map(|j| h[i * n + j] * x[j])
+                        .sum::<f64>();
+            }
+            let Some(factor) = Cholesky::new(&sub, m) else {
+                return QpResult {
+                    x,
+                    state,
+                    iterations: iteration,
+                    converged: false,
+                    algorithm: QpAlgorithm::ActiveSet,
+                };
+            };
+            factor.solve_in_place(&mut rhs);
+            // Longest feasible step towards the subproblem's minimiser.
+            let mut step = 1.0;
+            let mut blocking = None;
+            for (a, &i) in free.iter().enumerate() {
+                let p = rhs[a] - x[i];
+                let limit = if p > 0.0 && rhs[a] > g[i] {
+                    Some(((g[i] - x[i]) / p, BoundState::Upper))
+                } else if p < 0.0 && rhs[a] < -g[i] {
+                    Some(((-g[i] - x[i]) / p, BoundState::Lower))
+                } else {
+                    None
+                };
+                if let Some((t, bound)) = limit
+                    && t < step
+                {
+                    step = t.max(0.0);
+                    blocking = Some((i, bound));
+                }
+            }
+            for (a, &i) in free.iter().enumerate() {
+                x[i] += step * (rhs[a] - x[i]);
+                x[i] = x[i].clamp(-g[i], g[i]);
+            }
+            if let Some((i, bound)) = blocking {
+                state[i] = bound;
+                x[i] = if bound == BoundState::Upper {
+                    g[i]
+                } else {
+                    -g[i]
+                };
+                continue;
+            }
+        }
+        // At the subproblem's minimiser: release the bound with the worst multiplier.
+        let grad = gradient(h, z, &x);
+        let mut worst: Option<(usize, f64)> = None;
+        for i in 0..n {
+            if g[i] == 0.0 {
+                continue;
+            }
+            let tolerance = gradient_tolerance(h, z, &x, i);
+            let violation = match state[i] {
+                BoundState::Free => 0.0,
+                BoundState::Upper => grad[i] - tolerance,
+                BoundState::Lower => -grad[i] - tolerance,
+            };
+            if violation > 0.0 && worst.is_none_or(|(_, w)| violation > w) {
+                worst = Some((i, violation));
+            }
+        }
+        match worst {
+            Some((i, _)) => state[i] = BoundState::Free,
+            None => {
+                return QpResult {
+                    x,
+                    state,
+                    iterations: iteration,
+                    converged: true,
+                    algorithm: QpAlgorithm::ActiveSet,
+                };
+            }
+        }
+    }
+    QpResult {
+        x,
+        state,
+        iterations: max_iterations,
+        converged: false,
+        algorithm: QpAlgorithm::ActiveSet,
+    }
+}
+
+/// Most projected Newton steps before falling back to MPRGP.
+const PROJECTED_NEWTON_MAX_STEPS: usize = 200;
+
+/// Bertsekas' projected Newton method (1982) on the scaled problem. Each step splits the
+/// variables into binding ones (at or within ε of a bound, gradient pushing outwards), which
+/// take a projected gradient step, and the rest, which take a Newton step with the Cholesky
+/// factor of their block of H; an Armijo search along the projected arc keeps the objective
+/// falling. Many bounds change per step, so it identifies the active set in a few dozen
+/// Cholesky solves where the primal active-set method needs one solve per bound. Returns the
+/// iterate at the first step that reached the minimiser of its face (the caller certifies it),
+/// with the number of steps, or `None` on a singular block or after too many steps.
+fn projected_newton(h: &[f64], z: &[f64], g: &[f64]) -> Option<(Vec<f64>, usize)> {
+    let n = z.len();
+    let objective = |x: &[f64]| -> f64 {
+        let hx: f64 = (0..n)
+            .map(|i| {
+                x[i] * h[i * n..(i + 1) * n]
+                    .iter()
+                    .zip(x)
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>()
+            })
+            .sum();
+        0.5 * hx - z.iter().zip(x).map(|(a, b)| a * b).sum::<f64>()
+    };
+    let g_max = g.iter().fold(0.0f64, |m, v| m.max(*v));
+    let mut x = vec![0.0; n];
+    let mut value = objective(&x);
+    for step in 1..=PROJECTED_NEWTON_MAX_STEPS {
+        let grad = gradient(h, z, &x);
+        // ‖x − P(x − ∇f)‖, the size of the projected gradient, sets the ε of "near a bound".
+        let projected_gradient = (0..n)
+            .map(|i| (x[i] - (x[i] - grad[i]).clamp(-g[i], g[i])).abs())
+            .fold(0.0f64, f64::max);
+        let near = (1e-3 * g_max).min(projected_gradient);
+        let binding: Vec<bool> = (0..n)
+            .map(|i| {
+                g[i] == 0.0
+                    || (x[i] <= -g[i] + near && grad[i] > 0.0)
+                    || (x[i] >= g[i] - near && grad[i] < 0.0)
+            })
+            .collect();
+        let free: Vec<usize> = (0..n).filter(|&i| !binding[i]).collect();
+        let mut direction: Vec<f64> = grad.iter().map(|v| -v).collect();
+        if !free.is_empty() {
+            let m = free.len();
+            let mut sub = vec![0.0; m * m];
+            let mut rhs = vec![0.0; m];
+            for (a, &i) in free.iter().enumerate() {
+                for (b, &j) in free.iter().enumerate() {
+                    sub[a * m + b] = h[i * n + j];
+                }
+                rhs[a] = -grad[i];
+            }
+            let factor = Cholesky::new(&sub, m)?;
+            factor.solve_in_place(&mut rhs);
+            for (a, &i) in free.iter().enumerate() {
+                direction[i] = rhs[a];
+            }
+        }
+        // A full step that stays inside the box lands on the minimiser of the face.
+        let face_minimum = free.iter().all(|&i| (x[i] + direction[i]).abs() <= g[i])
+            && (0..n).all(|i| !binding[i] || (x[i] + direction[i]).abs() >= g[i]);
+        let mut length = 1.0;
+        let mut accepted = None;
+        for _ in 0..60 {
+            let trial: Vec<f64> = (0..n)
+                .map(|i| (x[i] + length * direction[i]).clamp(-g[i], g[i]))
+                .collect();
+            let predicted: f64 = (0..n)
+                .map(|i| {
+                    if binding[i] {
+                        grad[i] * (x[i] - trial[i])
+                    } else {
+                        -length * grad[i] * direction[i]
+                    }
+                })
+                .sum();
+            let trial_value = objective(&trial);
+            if value - trial_value >= 1e-4 * predicted {
+                accepted = Some((trial, trial_value));
+                break;
+            }
+            length *= 0.5;
+        }
+        let Some((trial, trial_value)) = accepted else {
+            // No decrease left to find at working precision: hand over what we have.
+            return Some((x, step));
+        };
+        x = trial;
+        value = trial_value;
+        if x.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        if face_minimum && length == 1.0 {
+            return Some((x, step));
+        }
+    }
+    None
+}
+
+/// MPRGP on the scaled problem; returns the iterate and the number of steps.
+fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
+    let n = z.len();
+    let mul = |v: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                h[i * n..(i + 1) * n]
+                    .iter()
+                    .zip(v)
+                    .map(|(a, b)| a * b)
+                    .sum()
+            })
+            .collect()
+    };
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
+    // ‖H‖ bound (Gershgorin); step length ᾱ = 1/‖H‖ ∈ (0, 2/‖H‖].
+    let norm = (0..n)
+        .map(|i| h[i * n..(i + 1) * n].iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    let alpha_bar = 1.0 / norm;
+    let free_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                if x[i] > -g[i] && x[i] < g[i] {
+                    gr[i]
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    };
+    let chopped_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                if x[i] <= -g[i] {
+                    gr[i].min(0.0)
+                } else if x[i] >= g[i] {
+                    gr[i].max(0.0)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    };
+    let project = |x: &mut [f64]| {
+        for i in 0..n {
+            x[i] = x[i].clamp(-g[i], g[i]);
+        }
+    };
+    let mut x = vec![0.0; n];
+    let mut gr = gradient(h, z, &x);
+    let mut phi = free_gradient(&x, &gr);
+    let mut p = phi.clone();
+    let tolerance = 1e-13 * dot(z, z).sqrt().max(f64::MIN_POSITIVE);
+    let max_steps = 50 * n + 200;
+    for step in 1..=max_steps {
+        let beta = chopped_gradient(&x, &gr);
+        let projected: f64 = phi.iter().zip(&beta).map(|(a, b)| (a + b).powi(2)).sum();
+        if projected.sqrt() <= tolerance {
+            return (x, step);
+        }
+        // Reduced free gradient for the proportioning test.
+        let reduced: f64 = (0..n)
+            .map(|i| {
+                let r = if phi[i] > 0.0 {
+                    ((x[i] + g[i]) / alpha_bar).min(phi[i])
+                } else {
+                    ((x[i] - g[i]) / alpha_bar).max(phi[i])
+                };
+                r * phi[i]
+            })
+            .sum();
+        if dot(&beta, &beta) <= reduced {
+            let hp = mul(&p);
+            let php = dot(&p, &hp);
+            if php <= 0.0 {
+                return (x, step);
+            }
+            let a_cg = dot(&gr, &p) / php;
+            // Largest feasible step along −p.
+            let mut a_f = f64::INFINITY;
+            for i in 0..n {
+                if p[i] > 0.0 {
+                    a_f = a_f.min((x[i] + g[i]) / p[i]);
+                } else if p[i] < 0.0 {
+                    a_f = a_f.min((x[i] - g[i]) / p[i]);
+                }
+            }
+            if a_cg <= a_f {
+                for i in 0..n {
+                    x[i] -= a_cg * p[i];
+                    gr[i] -= a_cg * hp[i];
+                }
+                phi = free_gradient(&x, &gr);
+                let gamma = dot(&phi, &hp) / php;
+                for i in 0..n {
+                    p[i] = phi[i] - gamma * p[i];
+                }
+            } else {
+                for i in 0..n {
+                    x[i] -= a_f * p[i];
+                    gr[i] -= a_f * hp[i];
+                }
+                let phi_half = free_gradient(&x, &gr);
+                for i in 0..n {
+                    x[i] -= alpha_bar * phi_half[i];
+                }
+                project(&mut x);
+                gr = gradient(h, z, &x);
+                phi = free_gradient(&x, &gr);
+                p = phi.clone();
+            }
+        } else {
+            let hd = mul(&beta);
+            let dhd = dot(&beta, &hd);
+            if dhd <= 0.0 {
+                return (x, step);
+            }
+            let a_cg = dot(&gr, &beta) / dhd;
+            for i in 0..n {
+                x[i] -= a_cg * beta[i];
+                gr[i] -= a_cg * hd[i];
+            }
+            project(&mut x);
+            phi = free_gradient(&x, &gr);
+            p = phi.clone();
+        }
+    }
+    (x, max_steps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn random_problem(n: usize, seed: u64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let mut state = seed;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        let m: Vec<f64> = (0..n * n).map(|_| next()).collect();
+        let mut h = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                h[i * n + j] = (0..n).map(|k| m[i * n + k] * m[j * n + k]).sum::<f64>()
+                    + if i == j { 0.1 } else { 0.0 };
+            }
+        }
+        let z = (0..n).map(|_| 3.0 * next()).collect();
+        let g = (0..n)
+            .map(|i| if i % 7 == 3 { 0.0 } else { next().abs() })
+            .collect();
+        (h, z, g)
+    }
+
+    /// KKT of the box QP: stationarity on free variables, sign of multipliers on bound ones.
+    fn assert_kkt(h: &[f64], z: &[f64], g: &[f64], r: &QpResult) {
+        assert!(r.converged);
+        let grad = gradient(h, z, &r.x);
+        for i in 0..z.len() {
+            assert!(r.x[i].abs() <= g[i] * (1.0 + 1e-15));
+            let scale = 1e-9 * (1.0 + z[i].abs());
+            if g[i] == 0.0 {
+                continue;
+            }
+            match r.state[i] {
+                BoundState::Free => assert!(grad[i].abs() < scale, "free grad {}", grad[i]),
+                BoundState::Upper => assert!(grad[i] < scale),
+                BoundState::Lower => assert!(grad[i] > -scale),
+            }
+        }
+    }
+
+    #[test]
+    fn active_set_and_mprgp_satisfy_kkt() {
+        for (n, seed) in [(1, 1), (2, 2), (8, 3), (20, 4), (33, 5), (80, 6), (200, 7)] {
+            let (h, z, g) = random_problem(n, seed);
+            let r = solve_box_qp(&h, &z, &g);
+            assert_kkt(&h, &z, &g, &r);
+        }
+    }
+
+    #[test]
+    fn unconstrained_minimiser_when_bounds_are_loose() {
+        let h = [2.0, 0.5, 0.5, 1.0];
+        let z = [1.0, -1.0];
+        let r = solve_box_qp(&h, &z, &[100.0, 100.0]);
+        // H x = z by Cramer's rule.
+        let det = 2.0 - 0.25;
+        let expected = [(1.0 + 0.5) / det, (-2.0 - 0.5) / det];
+        assert!((r.x[0] - expected[0]).abs() < 1e-15);
+        assert!((r.x[1] - expected[1]).abs() < 1e-15);
+        assert_eq!(r.state, vec![BoundState::Free; 2]);
+    }
+}

@@ -1,0 +1,353 @@
+//! What `beamfric solve` prints: the JSON document (schema in the README) and the human table.
+//! Non-finite numbers become `null` in JSON and `n/a` in tables, always with a warning.
+
+use serde::Serialize;
+use serde_json::{Value, json};
+
+use crate::fem::{Mesh, PointValues};
+use crate::format::{duration, sci};
+use crate::solve::{Solution, SolveError};
+
+/// What the output needs to know besides the solution.
+pub struct SolveContext<'a> {
+    /// File path or `preset <name>`.
+    pub source: &'a str,
+    pub title: &'a str,
+    pub mesh: &'a Mesh,
+}
+
+fn number(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+fn numbers(v: &[f64]) -> Value {
+    Value::Array(v.iter().map(|&x| number(x)).collect())
+}
+
+fn to_value<T: Serialize>(v: &T) -> Value {
+    serde_json::to_value(v).unwrap_or(Value::Null)
+}
+
+/// The JSON document of a solution. `nodes` includes x, u, slope at every node; `at` the
+/// values at requested positions.
+pub fn solution_json(
+    context: &SolveContext,
+    solution: &Solution,
+    nodes: bool,
+    at: &[(f64, PointValues)],
+) -> Value {
+    let t = &solution.timing;
+    let mut document = json!({
+        "scene": context.source,
+        "title": context.title,
+        "method": solution.method.name(),
+        "elements": context.mesh.elements(),
+        "unknowns": context.mesh.unknowns(),
+        "epsilon": solution.epsilon,
+        "at": at.iter().map(|(x, p)| json!({
+            "x": number(*x),
+            "u": number(p.deflection),
+            "slope": number(p.slope),
+            "moment": number(p.moment),
+            "shear": number(p.shear),
+        })).collect::<Vec<_>>(),
+        "obstacles": solution.obstacles.iter().map(|o| json!({
+            "x": number(o.x),
+            "u": number(o.u),
+            "slope": number(o.slope),
+            "force": number(o.force),
+            "moment": number(o.moment),
+            "sliding": o.sliding,
+            "swivel": o.swivel,
+        })).collect::<Vec<_>>(),
+        "kkt_residual": number(solution.kkt_residual),
+        "error": solution.error.as_ref().map(to_value),
+        "timing": {
+            "unit": "s",
+            "assembly": t.assembly.as_secs_f64(),
+            "factorization": t.factorization.as_secs_f64(),
+            "dual_solve": t.dual_solve.as_secs_f64(),
+            "reconstruction": t.reconstruction.as_secs_f64(),
+            "total": t.total().as_secs_f64(),
+        },
+        "condition": to_value(&solution.conditioning),
+        "details": to_value(&solution.details),
+        "warnings": to_value(&solution.warnings),
+    });
+    if nodes {
+        document["nodes"] = json!({
+            "x": numbers(&context.mesh.nodes),
+            "u": numbers(&solution.field.deflection),
+            "slope": numbers(&solution.field.slope),
+        });
+    }
+    document
+}
+
+/// The JSON document when the method gave no solution.
+pub fn refusal_json(context: &SolveContext, error: &SolveError) -> Value {
+    json!({
+        "scene": context.source,
+        "title": context.title,
+        "method": error.method.name(),
+        "elements": context.mesh.elements(),
+        "refused": {
+            "kind": to_value(&error.kind),
+            "reason": error.reason,
+            "suggestion": error.suggestion.name(),
+        },
+    })
+}
+
+/// The human-readable summary of a solution.
+pub fn solution_table(
+    context: &SolveContext,
+    solution: &Solution,
+    at: &[(f64, PointValues)],
+    show_time: bool,
+) -> String {
+    let mut out = String::new();
+    let mut line = |s: String| {
+        out.push_str(&s);
+        out.push('\n');
+    };
+    let eps = solution
+        .epsilon
+        .map(|e| format!(", ε = {}", sci(e, 2)))
+        .unwrap_or_default();
+    line(format!(
+        "{} ({}) — method {}, {} elements, N = {} unknowns{eps}",
+        context.title,
+        context.source,
+        solution.method,
+        context.mesh.elements(),
+        context.mesh.unknowns()
+    ));
+    line(String::new());
+    if !solution.obstacles.is_empty() {
+        line(format!(
+            "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  state",
+            "#", "x [m]", "u [m]", "u' [rad]", "force [N]", "moment [N m]"
+        ));
+        for (i, o) in solution.obstacles.iter().enumerate() {
+            line(format!(
+                "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  {}",
+                i + 1,
+                sci(o.x, 4),
+                sci(o.u, 6),
+                sci(o.slope, 6),
+                sci(o.force, 6),
+                sci(o.moment, 6),
+                o.state()
+            ));
+        }
+        line(String::new());
+    }
+    for (x, p) in at {
+        line(format!(
+            "at x = {} m: u = {} m, u' = {} rad, M = {} N m, T = {} N",
+            sci(*x, 6),
+            sci(p.deflection, 8),
+            sci(p.slope, 8),
+            sci(p.moment, 6),
+            sci(p.shear, 6)
+        ));
+    }
+    if !at.is_empty() {
+        line(String::new());
+    }
+    line(format!(
+        "max |u|          {} m",
+        sci(solution.max_deflection(), 8)
+    ));
+    line(format!(
+        "KKT residual     {} (relative)",
+        sci(solution.kkt_residual, 2)
+    ));
+    match &solution.error {
+        Some(e) => match (e.max_abs, e.max_rel, e.mean_abs) {
+            (Some(max), Some(rel), Some(mean)) => line(format!(
+                "error vs {:<11} max {} m ({} relative), mean {} m",
+                serde_json::to_value(e.reference)
+                    .ok()
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default(),
+                sci(max, 2),
+                sci(rel, 2),
+                sci(mean, 2)
+            )),
+            _ if e.reference == crate::solve::Reference::ThisSolution => {
+                line("error            this solution is the reference".to_string())
+            }
+            _ => line("error            n/a (non-finite values)".to_string()),
+        },
+        None => line("error            not computed".to_string()),
+    }
+    let c = &solution.conditioning;
+    let mut conds = Vec::new();
+    let mut push = |name: &str, v: &Option<crate::linalg::condition::ConditionNumber>| {
+        if let Some(v) = v {
+            let relation = match v.kind {
+                crate::linalg::condition::ConditionKind::Exact => "=",
+                crate::linalg::condition::ConditionKind::Estimate => "≈",
+                crate::linalg::condition::ConditionKind::LowerBound => "≥",
+            };
+            conds.push(format!("{name} {relation} {}", sci(v.value, 2)));
+        }
+    };
+    push("cond(A)", &c.stiffness);
+    push("cond(D^-1/2 A D^-1/2)", &c.stiffness_scaled);
+    let over = match (solution.details.conditioned_cases, solution.details.cases) {
+        (Some(used), Some(all)) if (used as u64) < all => format!(" (over {used} of {all} cases)"),
+        _ => String::new(),
+    };
+    push(&format!("max cond(Â){over}"), &c.regularized_max);
+    push(
+        &format!("max cond(scaled Â){over}"),
+        &c.regularized_scaled_max,
+    );
+    push("cond(S)", &c.dual);
+    if !conds.is_empty() {
+        line(format!("condition        {}", conds.join(", ")));
+    }
+    let d = &solution.details;
+    if let Some(cases) = d.cases {
+        line(format!("cases            {cases} enumerated"));
+    }
+    if let Some(it) = d.newton_iterations {
+        line(format!("Newton           {it} iterations"));
+    }
+    if show_time {
+        let t = &solution.timing;
+        line(format!(
+            "time             {} (assembly {}, factorization {}, dual solve {}, reconstruction {})",
+            duration(t.total()),
+            duration(t.assembly),
+            duration(t.factorization),
+            duration(t.dual_solve),
+            duration(t.reconstruction)
+        ));
+    }
+    if solution.warnings.is_empty() {
+        line("warnings         none".to_string());
+    } else {
+        for w in &solution.warnings {
+            line(format!("warning          {}", w.message));
+        }
+    }
+    out
+}
+
+fn csv_number(v: Option<f64>) -> String {
+    v.filter(|v| v.is_finite())
+        .map_or(String::new(), |v| format!("{v:e}"))
+}
+
+fn warning_names(codes: impl Iterator<Item = crate::solve::WarningCode>) -> String {
+    codes
+        .map(|c| {
+            serde_json::to_value(c)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default()
+        })
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// The mesh sweep as CSV: one row per method and mesh size. Numbers are empty where they
+/// would mean nothing (a refused method, the reference itself), and `status` says why.
+pub fn mesh_sweep_csv(points: &[crate::study::MeshPoint]) -> String {
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let _ = writer.write_record([
+        "method",
+        "elements",
+        "epsilon",
+        "status",
+        "reference",
+        "max_abs_m",
+        "max_rel",
+        "mean_abs_m",
+        "mean_rel",
+        "run_time_s",
+        "kkt_residual",
+        "warnings",
+    ]);
+    for p in points {
+        let reference = p.error.map(|e| {
+            serde_json::to_value(e.reference)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default()
+        });
+        let status = match &p.refused {
+            Some(reason) => reason.clone(),
+            None if p.is_reference() => "reference".into(),
+            None if p.warnings.is_empty() => "ok".into(),
+            None => "warned".into(),
+        };
+        let solved = p.refused.is_none();
+        let e = p.error.filter(|_| solved);
+        let _ = writer.write_record([
+            p.method.name().to_string(),
+            p.elements.to_string(),
+            csv_number(p.epsilon),
+            status,
+            reference.unwrap_or_default(),
+            csv_number(e.and_then(|e| e.max_abs)),
+            csv_number(e.and_then(|e| e.max_rel)),
+            csv_number(e.and_then(|e| e.mean_abs)),
+            csv_number(e.and_then(|e| e.mean_rel)),
+            csv_number(solved.then_some(p.run_time.as_secs_f64())),
+            csv_number(p.kkt_residual),
+            warning_names(p.warnings.iter().copied()),
+        ]);
+    }
+    String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+/// The ε sweep as CSV: one row per ε.
+pub fn epsilon_sweep_csv(points: &[crate::study::EpsPoint]) -> String {
+    let mut writer = csv::Writer::from_writer(Vec::new());
+    let _ = writer.write_record([
+        "epsilon",
+        "reference",
+        "max_abs_m",
+        "max_rel",
+        "mean_abs_m",
+        "mean_rel",
+        "cond_max",
+        "cond_max_kind",
+        "cond_scaled_max",
+        "cond_scaled_kind",
+        "conditioned_cases",
+        "run_time_s",
+        "warnings",
+    ]);
+    let kind = |c: Option<crate::linalg::condition::ConditionNumber>| {
+        c.map(|c| to_value(&c.kind).as_str().unwrap_or("").to_string())
+            .unwrap_or_default()
+    };
+    for p in points {
+        let e = p.error;
+        let reference = e
+            .map(|e| to_value(&e.reference).as_str().unwrap_or("").to_string())
+            .unwrap_or_default();
+        let _ = writer.write_record([
+            format!("{:e}", p.epsilon),
+            reference,
+            csv_number(e.and_then(|e| e.max_abs)),
+            csv_number(e.and_then(|e| e.max_rel)),
+            csv_number(e.and_then(|e| e.mean_abs)),
+            csv_number(e.and_then(|e| e.mean_rel)),
+            csv_number(p.cond_max.map(|c| c.value)),
+            kind(p.cond_max),
+            csv_number(p.cond_scaled_max.map(|c| c.value)),
+            kind(p.cond_scaled_max),
+            p.conditioned_cases.map_or(String::new(), |c| c.to_string()),
+            format!("{:e}", p.run_time.as_secs_f64()),
+            warning_names(p.warnings.iter().map(|w| w.code)),
+        ]);
+    }
+    String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
+}

@@ -1,0 +1,410 @@
+//! `beamfric report`: error against run time for every method over mesh sizes, and the
+//! regularisation trade-off over ε, as a Markdown report with tables, the explorer's charts as
+//! text, CSV files and an SVG figure (plotters) next to it. Where a method is refused, or its
+//! result is meaningless (indefinite factorization, non-finite values), the report says so
+//! instead of printing numbers; the reference's own row is marked, never shown as error 0.
+
+use std::fmt::Write;
+use std::path::Path;
+
+use crate::format::{duration, sci};
+use crate::scene::{Scene, save_atomic};
+use crate::solve::{Method, WarningCode};
+use crate::study::{self, MeshPoint, Progress};
+use crate::tui::app::Look;
+use crate::tui::buffer_to_text;
+use crate::tui::view::{StudyChart, chart_buffer};
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportOptions {
+    /// Mesh sizes of the mesh sweep.
+    pub sizes: Vec<usize>,
+    /// Runs per point (median run time).
+    pub repeat: usize,
+    /// ε values of the ε sweep (at the scene's n).
+    pub epsilons: Vec<f64>,
+    /// The command line that produced the report, quoted in it.
+    pub command: String,
+}
+
+/// A report's files.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Report {
+    pub markdown: String,
+    pub mesh_csv: String,
+    pub epsilon_csv: Option<String>,
+    pub svg: String,
+}
+
+/// The files a report writes into its directory.
+pub const FILES: [&str; 4] = [
+    "report.md",
+    "mesh-sweep.csv",
+    "epsilon-sweep.csv",
+    "error-vs-time.svg",
+];
+
+/// How a point is shown: its numbers, or why there are none.
+fn status(point: &MeshPoint) -> Result<bool, String> {
+    if let Some(reason) = &point.refused {
+        return Err(reason.clone());
+    }
+    if point.is_reference() {
+        return Err("reference".into());
+    }
+    if point
+        .warnings
+        .contains(&WarningCode::IndefiniteFactorization)
+    {
+        return Err("unreliable: A indefinite in floating point".into());
+    }
+    if point.warnings.contains(&WarningCode::NonFinite) || point.error.is_none() {
+        return Err("n/a: non-finite values".into());
+    }
+    Ok(point.warnings.contains(&WarningCode::StiffnessConditioning))
+}
+
+/// The processor and core count, for the record of where run times were measured.
+fn machine() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|text| {
+            text.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, v)| v.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown processor".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{model}, {cores} cores")
+}
+
+/// Runs the studies and builds the report.
+pub fn build(
+    scene: &Scene,
+    source: &str,
+    options: &ReportOptions,
+    progress: Progress,
+) -> Result<Report, String> {
+    let (problem, settings) = scene.validate(source).map_err(|e| e.to_string())?;
+    let never = &|| false;
+    let mesh_points = study::mesh_sweep(
+        &problem,
+        &Method::ALL,
+        &options.sizes,
+        options.repeat,
+        settings.epsilon,
+        never,
+        progress,
+    )
+    .map_err(|_| "cancelled".to_string())?;
+    let eps_points = study::epsilon_sweep(
+        &problem,
+        settings.elements,
+        Method::Regularized,
+        &options.epsilons,
+        never,
+        progress,
+    )
+    .map_err(|_| "cancelled".to_string())?;
+
+    let mut md = String::new();
+    let title = if scene.title.is_empty() {
+        source
+    } else {
+        &scene.title
+    };
+    let _ = writeln!(md, "# Error against run time: {title}\n");
+    if !scene.description.is_empty() {
+        let _ = writeln!(md, "{}\n", scene.description);
+    }
+    let _ = writeln!(
+        md,
+        "Produced by `{}`. Run times are medians of {} run(s) of each method's stages \
+         (assembly, factorization, dual solve, reconstruction) on this machine: {}. Errors are \
+         the largest nodal |u − u_ref| over max |u_ref|, against {}.\n",
+        options.command,
+        options.repeat,
+        machine(),
+        if crate::solve::closed_form(&problem).is_ok() {
+            "the closed form (50)"
+        } else {
+            "the flexibility method on the same mesh (whose own rows read \"reference\")"
+        }
+    );
+
+    // Methods over mesh sizes: one row per n, one column per method.
+    let methods: Vec<Method> = Method::ALL
+        .into_iter()
+        .filter(|m| mesh_points.iter().any(|p| p.method == *m))
+        .collect();
+    let _ = writeln!(md, "## Every method over mesh sizes\n");
+    let _ = writeln!(
+        md,
+        "Each cell: relative error · run time. † marks a result the method itself flagged \
+         (the stiffness route's conditioning warning: expect rounding errors near \
+         0.02·cond·eps).\n"
+    );
+    let _ = write!(md, "| n |");
+    for m in &methods {
+        let _ = write!(md, " {m} |");
+    }
+    let _ = write!(md, "\n|---|");
+    for _ in &methods {
+        let _ = write!(md, "---|");
+    }
+    md.push('\n');
+    let mut notes: Vec<String> = Vec::new();
+    let mut sizes: Vec<usize> = mesh_points.iter().map(|p| p.elements).collect();
+    sizes.dedup();
+    for elements in sizes {
+        let row: Vec<&MeshPoint> = mesh_points
+            .iter()
+            .filter(|p| p.elements == elements)
+            .collect();
+        let _ = write!(md, "| {elements} |");
+        for m in &methods {
+            let cell = match row.iter().find(|p| p.method == *m) {
+                None => "—".to_string(),
+                Some(p) => match status(p) {
+                    Ok(flagged) => format!(
+                        "{}{} · {}",
+                        sci(p.error.and_then(|e| e.max_rel).unwrap_or(f64::NAN), 2),
+                        if flagged { "†" } else { "" },
+                        duration(p.run_time)
+                    ),
+                    Err(why) if why == "reference" => {
+                        format!("reference · {}", duration(p.run_time))
+                    }
+                    Err(why) => {
+                        if !notes.contains(&why) {
+                            notes.push(why.clone());
+                        }
+                        let index = notes.iter().position(|n| *n == why).unwrap_or(0) + 1;
+                        let short = why.split(':').next().unwrap_or("").to_string();
+                        format!("{short} [{index}]")
+                    }
+                },
+            };
+            let _ = write!(md, " {cell} |");
+        }
+        md.push('\n');
+    }
+    if !notes.is_empty() {
+        md.push('\n');
+        for (i, note) in notes.iter().enumerate() {
+            let _ = writeln!(md, "[{}] {note}  ", i + 1);
+        }
+    }
+
+    // The chart, as the explorer draws it, of the results the table shows numbers for.
+    let shown: Vec<MeshPoint> = mesh_points
+        .iter()
+        .filter(|p| status(p).is_ok() || p.is_reference())
+        .cloned()
+        .collect();
+    let chart = chart_buffer(
+        StudyChart::ErrorTime {
+            points: &shown,
+            by_time: true,
+        },
+        "Error vs run time",
+        100,
+        30,
+        Look {
+            ascii: false,
+            color: false,
+        },
+    );
+    let _ = writeln!(
+        md,
+        "\n```\n{}```\n\n![Error against run time](error-vs-time.svg)\n",
+        buffer_to_text(&chart, false)
+    );
+
+    // The regularisation trade-off at the scene's n.
+    let epsilon_csv = match &eps_points {
+        Ok(points) => {
+            let _ = writeln!(
+                md,
+                "## Regularisation: error and conditioning against ε (n = {})\n",
+                settings.elements
+            );
+            let _ = writeln!(
+                md,
+                "| ε | max rel. error | mean abs. error [m] | largest cond₂(Â) | Jacobi-scaled | run time |\n|---|---|---|---|---|---|"
+            );
+            for p in points {
+                let e = p.error;
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {} | {} | {} | {} |",
+                    sci(p.epsilon, 2),
+                    sci(e.and_then(|e| e.max_rel).unwrap_or(f64::NAN), 2),
+                    sci(e.and_then(|e| e.mean_abs).unwrap_or(f64::NAN), 2),
+                    p.cond_max.map_or("—".into(), |c| sci(c.value, 2)),
+                    p.cond_scaled_max.map_or("—".into(), |c| sci(c.value, 2)),
+                    duration(p.run_time)
+                );
+            }
+            for (chart, name) in [
+                (StudyChart::EpsError(points), "Regularisation error vs ε"),
+                (
+                    StudyChart::EpsCondition(points),
+                    "Largest cond2 of the cases vs ε",
+                ),
+            ] {
+                let buffer = chart_buffer(
+                    chart,
+                    name,
+                    100,
+                    22,
+                    Look {
+                        ascii: false,
+                        color: false,
+                    },
+                );
+                let _ = writeln!(md, "\n```\n{}```", buffer_to_text(&buffer, false));
+            }
+            Some(crate::output::epsilon_sweep_csv(points))
+        }
+        Err(e) => {
+            let _ = writeln!(
+                md,
+                "## Regularisation against ε\n\nNot computed: {e}. The semismooth Newton method \
+                 solves the same ε-problem (`beamfric sweep epsilon --method regularized-newton`).\n"
+            );
+            None
+        }
+    };
+    let _ = writeln!(
+        md,
+        "\nFiles: [mesh-sweep.csv](mesh-sweep.csv){}, [error-vs-time.svg](error-vs-time.svg).",
+        if epsilon_csv.is_some() {
+            ", [epsilon-sweep.csv](epsilon-sweep.csv)"
+        } else {
+            ""
+        }
+    );
+    Ok(Report {
+        markdown: md,
+        mesh_csv: crate::output::mesh_sweep_csv(&mesh_points),
+        epsilon_csv,
+        svg: svg_figure(&mesh_points, title),
+    })
+}
+
+/// Error against run time, log–log, one series per method (plotters' SVG backend).
+fn svg_figure(points: &[MeshPoint], title: &str) -> String {
+    use plotters::prelude::*;
+    let series: Vec<(Method, Vec<(f64, f64)>)> = Method::ALL
+        .into_iter()
+        .map(|m| {
+            let data = points
+                .iter()
+                .filter(|p| p.method == m && status(p).is_ok())
+                .filter_map(|p| {
+                    let e = p.error?.max_rel?;
+                    let t = p.run_time.as_secs_f64();
+                    (e > 0.0 && t > 0.0).then_some((t, e))
+                })
+                .collect();
+            (m, data)
+        })
+        .filter(|(_, d): &(Method, Vec<(f64, f64)>)| !d.is_empty())
+        .collect();
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|(_, d)| d.iter().copied()).collect();
+    let bound = |f: fn(&(f64, f64)) -> f64| {
+        let values: Vec<f64> = all.iter().map(f).collect();
+        let low = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let high = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if low.is_finite() && high.is_finite() {
+            (
+                10f64.powf(low.log10().floor()),
+                10f64.powf(high.log10().ceil()),
+            )
+        } else {
+            (1e-6, 1.0)
+        }
+    };
+    let (x, y) = (bound(|p| p.0), bound(|p| p.1));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        let _ = root.fill(&WHITE);
+        let built = ChartBuilder::on(&root)
+            .caption(
+                format!("{title}: error against run time"),
+                ("sans-serif", 18),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d((x.0..x.1).log_scale(), (y.0..y.1).log_scale());
+        if let Ok(mut chart) = built {
+            let decade = |v: &f64| format!("1e{}", v.log10().round() as i32);
+            let _ = chart
+                .configure_mesh()
+                .x_desc("run time [s]")
+                .y_desc("max relative nodal error")
+                .x_label_formatter(&decade)
+                .y_label_formatter(&decade)
+                .draw();
+            const COLORS: [RGBColor; 6] = [
+                RGBColor(0, 114, 178),
+                RGBColor(0, 158, 115),
+                RGBColor(213, 94, 0),
+                RGBColor(204, 121, 167),
+                RGBColor(86, 64, 0),
+                RGBColor(90, 90, 90),
+            ];
+            for (method, data) in &series {
+                let index = Method::ALL.iter().position(|m| m == method).unwrap_or(0);
+                let color = COLORS[index % COLORS.len()].to_rgba();
+                if let Ok(drawn) = chart.draw_series(
+                    data.iter()
+                        .map(move |&(t, e)| Circle::new((t, e), 4, color.filled())),
+                ) {
+                    drawn
+                        .label(method.name())
+                        .legend(move |(x, y)| Circle::new((x, y), 4, color.filled()));
+                }
+            }
+            let _ = chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw();
+        }
+        let _ = root.present();
+    }
+    svg
+}
+
+/// Writes the report's files into `dir` (created if needed), each atomically. Existing files
+/// are replaced only with `overwrite`; otherwise nothing is written. Returns the paths written.
+pub fn write(report: &Report, dir: &Path, overwrite: bool) -> Result<Vec<String>, String> {
+    if !overwrite && let Some(existing) = FILES.iter().map(|f| dir.join(f)).find(|p| p.exists()) {
+        return Err(format!(
+            "{} exists: pass --force to replace the report, or choose another --out",
+            existing.display()
+        ));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let mut written = Vec::new();
+    let mut put = |name: &str, text: &str| -> Result<(), String> {
+        let path = dir.join(name);
+        save_atomic(&path, text, true).map_err(|e| e.to_string())?;
+        written.push(path.display().to_string());
+        Ok(())
+    };
+    put(FILES[0], &report.markdown)?;
+    put(FILES[1], &report.mesh_csv)?;
+    if let Some(csv) = &report.epsilon_csv {
+        put(FILES[2], csv)?;
+    }
+    put(FILES[3], &report.svg)?;
+    Ok(written)
+}

@@ -1,0 +1,42 @@
+//! `dual`: the dual problem (49) of paper 2.7.2 without the explicit inverse. One factorization
+//! of A with the friction nodes last gives K = S⁻¹ and b̃; S = K⁻¹ and z0 = K⁻¹ b̃ are 2k×2k and
+//! 2k; the box QP min ½λᵀSλ − z0ᵀλ, |λ| ≤ g is solved exactly (active set) or by MPRGP for
+//! large 2k; the primal solution follows from c_F = z0 − Sλ and one back substitution (48).
+//! O(n) work and memory.
+
+use super::stiffness_route::{condense, indefinite_warning};
+use super::{Method, MethodOutput, SolveError, SolveOptions, Stopwatch, Timing, dual_output};
+use crate::fem::Mesh;
+use crate::linalg::boxqp::solve_box_qp;
+use crate::linalg::dense::mat_vec;
+use crate::model::Problem;
+
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
+    let mut timing = Timing::default();
+    let condensed = condense(problem, mesh, Method::Dual, &mut timing)?;
+    let indefinite_warning_opt = indefinite_warning(&condensed, mesh);
+    let mut clock = Stopwatch::start();
+    let (s, z0, indefinite_k) = condensed.dual_matrices(Method::Dual, mesh)?;
+    timing.factorization += clock.lap();
+
+    let g = problem.thresholds();
+    let qp = solve_box_qp(&s, &z0, &g);
+    let lambda = &qp.x;
+    timing.dual_solve = clock.lap();
+
+    // c_F = B A⁻¹ (b − Bᵀλ) = z0 − S λ.
+    let s_lambda = mat_vec(&s, lambda);
+    let friction_values: Vec<f64> = z0.iter().zip(&s_lambda).map(|(z, sl)| z - sl).collect();
+    let field = condensed.reconstruct(&friction_values);
+    timing.reconstruction = clock.lap();
+
+    let warnings = indefinite_warning_opt
+        .into_iter()
+        .chain(indefinite_k)
+        .collect();
+    Ok(dual_output(mesh, field, &qp, &s, timing, warnings, options))
+}

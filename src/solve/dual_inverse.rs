@@ -1,0 +1,118 @@
+//! `dual-inverse`: the dual method of paper 2.7.2 exactly as the paper computes it — the
+//! explicit inverse A⁻¹ (dense, faer's Cholesky), Â = B A⁻¹ Bᵀ and b̂ = B A⁻¹ b of (49), the box
+//! QP, then c = A⁻¹ (b − Bᵀ λ) of (48) by a dense product. O(N³) time and O(N²) memory: it is
+//! here to show why the paper's dual was slow (its Figures 6 and 8), and refuses sizes whose
+//! inverse would not fit comfortably ([`SolveOptions::max_dense_unknowns`]).
+
+use faer::linalg::solvers::DenseSolveCore;
+use faer::{Col, Mat, Side};
+
+use super::stiffness_route::breakdown;
+use super::{
+    Method, MethodOutput, SolveError, SolveErrorKind, SolveOptions, Stopwatch, Timing, dual_output,
+};
+use crate::fem::{BlockMatrix, Mesh, NodalField, StiffnessMatrix, load_vector};
+use crate::linalg::boxqp::solve_box_qp;
+use crate::model::Problem;
+
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
+    let n = mesh.unknowns();
+    if n > options.max_dense_unknowns {
+        return Err(SolveError {
+            method: Method::DualInverse,
+            kind: SolveErrorKind::Refused,
+            reason: format!(
+                "the dense inverse of A would have N² = {:.1e} entries ({:.0} MB) for n = {} \
+                 elements; the limit is N = {} unknowns",
+                (n as f64).powi(2),
+                (n as f64).powi(2) * 8.0 / 1e6,
+                mesh.elements(),
+                options.max_dense_unknowns
+            ),
+            suggestion: Method::Dual,
+        });
+    }
+    let mut timing = Timing::default();
+    let mut clock = Stopwatch::start();
+    let matrix = StiffnessMatrix::new(mesh);
+    let mut a = Mat::<f64>::zeros(n, n);
+    for i in 0..n / 2 {
+        let d = matrix.diag(i);
+        a[(2 * i, 2 * i)] = d[0];
+        a[(2 * i + 1, 2 * i)] = d[1];
+        a[(2 * i, 2 * i + 1)] = d[1];
+        a[(2 * i + 1, 2 * i + 1)] = d[2];
+        if 2 * i + 2 < n {
+            let u = matrix.upper(i);
+            for r in 0..2 {
+                for c in 0..2 {
+                    a[(2 * i + r, 2 * i + 2 + c)] = u[2 * r + c];
+                    a[(2 * i + 2 + c, 2 * i + r)] = u[2 * r + c];
+                }
+            }
+        }
+    }
+    let (load_u, load_t) = load_vector(problem, mesh);
+    let b = Col::from_fn(n, |i| {
+        if i % 2 == 0 {
+            load_u[i / 2 + 1]
+        } else {
+            load_t[i / 2 + 1]
+        }
+    });
+    timing.assembly = clock.lap();
+
+    let factor = a.llt(Side::Lower).map_err(|_| {
+        breakdown(
+            Method::DualInverse,
+            mesh,
+            "the dense Cholesky factorization of A failed".into(),
+        )
+    })?;
+    drop(a);
+    let inverse = factor.inverse();
+    drop(factor);
+    timing.factorization = clock.lap();
+
+    // Rows of B: the friction DOFs (u and u' of each obstacle node).
+    let dofs: Vec<usize> = mesh
+        .obstacle_nodes
+        .iter()
+        .flat_map(|&node| [2 * (node - 1), 2 * (node - 1) + 1])
+        .collect();
+    let dim = dofs.len();
+    let inverse_b = &inverse * &b;
+    let s: Vec<f64> = (0..dim * dim)
+        .map(|ij| inverse[(dofs[ij / dim], dofs[ij % dim])])
+        .collect();
+    let z0: Vec<f64> = dofs.iter().map(|&d| inverse_b[d]).collect();
+    let qp = solve_box_qp(&s, &z0, &problem.thresholds());
+    let lambda = qp.x.clone();
+    timing.dual_solve = clock.lap();
+
+    let mut load = b;
+    for (q, &d) in dofs.iter().enumerate() {
+        load[d] -= lambda[q];
+    }
+    let c = &inverse * &load;
+    let mut field = NodalField::zeros(mesh.nodes.len());
+    for i in 0..n / 2 {
+        field.deflection[i + 1] = c[2 * i];
+        field.slope[i + 1] = c[2 * i + 1];
+    }
+    timing.reconstruction = clock.lap();
+
+    Ok(dual_output(
+        mesh,
+        field,
+        &qp,
+        &s,
+        timing,
+        Vec::new(),
+        options,
+    ))
+}

@@ -1,0 +1,261 @@
+//! `regularized`: the method of paper 2.7.1. |z| is replaced by the Huber-type ω̃_ε of (40), so
+//! the optimality condition A c − b + ∇q̃_ε(c) = 0 is linear in each of the three regions of
+//! every friction DOF (Table 1): outside [−ε, ε] the gradient adds ∓g_i to the right-hand side,
+//! inside it adds g_i/ε to the diagonal (43). All 3^{2k} = 9^k combinations are solved and the
+//! one whose solution lies in its own regions is kept.
+//!
+//! Each case's system (43) is solved through the Schur complement on the friction DOFs (the
+//! cases differ only there), so A is factored once and each case costs one 2k×2k Cholesky.
+//! The enumeration refuses when 9^k exceeds [`SolveOptions::max_cases`].
+
+use super::stiffness_route::{condense, indefinite_warning};
+use super::{
+    Method, MethodDetails, MethodOutput, SolveError, SolveErrorKind, SolveOptions, Stopwatch,
+    Timing, Warning, WarningCode,
+};
+use crate::fem::Mesh;
+use crate::linalg::dense::Cholesky;
+use crate::model::Problem;
+
+/// The region of a friction DOF in Table 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Region {
+    /// c < −ε: gradient −g.
+    Negative,
+    /// |c| ≤ ε: gradient g c / ε.
+    Middle,
+    /// c > ε: gradient +g.
+    Positive,
+}
+
+impl Region {
+    fn from_digit(d: u64) -> Region {
+        match d {
+            0 => Region::Middle,
+            1 => Region::Positive,
+            _ => Region::Negative,
+        }
+    }
+
+    /// How far c is outside the region, in units of ε (0 when inside).
+    pub(super) fn violation(self, c: f64, epsilon: f64) -> f64 {
+        let outside = match self {
+            Region::Negative => c + epsilon,
+            Region::Middle => c.abs() - epsilon,
+            Region::Positive => epsilon - c,
+        };
+        outside.max(0.0) / epsilon
+    }
+
+    /// The region c lies in.
+    pub(super) fn of(c: f64, epsilon: f64) -> Region {
+        if c > epsilon {
+            Region::Positive
+        } else if c < -epsilon {
+            Region::Negative
+        } else {
+            Region::Middle
+        }
+    }
+
+    /// The friction force g ω̃'_ε(c) (41).
+    pub(super) fn multiplier(self, c: f64, g: f64, epsilon: f64) -> f64 {
+        match self {
+            Region::Negative => -g,
+            Region::Middle => g * c / epsilon,
+            Region::Positive => g,
+        }
+    }
+}
+
+/// Number of cases 9^k, or `None` on overflow.
+pub(super) fn case_count(obstacles: usize) -> Option<u64> {
+    9u64.checked_pow(u32::try_from(obstacles).ok()?)
+}
+
+/// Solves one case: (K + D) c = b̃ − d, with D = g/ε on middle DOFs, d = ±g on outer ones.
+fn solve_case(
+    stiffness: &[f64],
+    load: &[f64],
+    g: &[f64],
+    regions: &[Region],
+    epsilon: f64,
+) -> Option<Vec<f64>> {
+    let dim = load.len();
+    let mut matrix = stiffness.to_vec();
+    let mut rhs = load.to_vec();
+    for (q, region) in regions.iter().enumerate() {
+        match region {
+            Region::Middle => matrix[q * dim + q] += g[q] / epsilon,
+            Region::Positive => rhs[q] -= g[q],
+            Region::Negative => rhs[q] += g[q],
+        }
+    }
+    let factor = Cholesky::new(&matrix, dim)?;
+    factor.solve_in_place(&mut rhs);
+    Some(rhs)
+}
+
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
+    let k = problem.obstacles.len();
+    let cases = case_count(k).filter(|&c| c <= options.max_cases);
+    let Some(cases) = cases else {
+        return Err(SolveError {
+            method: Method::Regularized,
+            kind: SolveErrorKind::Refused,
+            reason: format!(
+                "{k} obstacles need 9^{k} = {} linear systems, more than the limit of {}",
+                case_count(k).map_or("more than 1.8e19".to_string(), |c| c.to_string()),
+                options.max_cases
+            ),
+            suggestion: Method::RegularizedNewton,
+        });
+    };
+    let epsilon = options.epsilon;
+    let mut timing = Timing::default();
+    let condensed = condense(problem, mesh, Method::Regularized, &mut timing)?;
+    let indefinite_warning_opt = indefinite_warning(&condensed, mesh);
+    let mut clock = Stopwatch::start();
+    let dim = condensed.dim;
+    let g = problem.thresholds();
+
+    let mut best: Option<(f64, Vec<Region>, Vec<f64>)> = None;
+    let mut regions = vec![Region::Middle; dim];
+    for case in 0..cases {
+        let mut code = case;
+        for r in regions.iter_mut() {
+            *r = Region::from_digit(code % 3);
+            code /= 3;
+        }
+        let Some(c) = solve_case(&condensed.stiffness, &condensed.load, &g, &regions, epsilon)
+        else {
+            continue;
+        };
+        let violation = regions
+            .iter()
+            .zip(&c)
+            .map(|(r, &c)| r.violation(c, epsilon))
+            .fold(0.0, f64::max);
+        if best.as_ref().is_none_or(|(v, _, _)| violation < *v) {
+            best = Some((violation, regions.clone(), c));
+            if violation == 0.0 {
+                break;
+            }
+        }
+    }
+    timing.dual_solve = clock.lap();
+    let Some((violation, regions, friction_values)) = best else {
+        return Err(super::stiffness_route::breakdown(
+            Method::Regularized,
+            mesh,
+            "no case matrix K + g/ε is positive definite".into(),
+        ));
+    };
+    let field = condensed.reconstruct(&friction_values);
+    timing.reconstruction = clock.lap();
+
+    let mut warnings: Vec<Warning> = indefinite_warning_opt.into_iter().collect();
+    if violation > 1e-6 {
+        warnings.push(Warning::new(
+            WarningCode::RegularizationInconsistent,
+            format!(
+                "no case of Table 1 is consistent to rounding; the closest was kept \
+                 ({violation:.1e} ε outside its region)"
+            ),
+        ));
+    }
+    let condition_cases = condition_cases(&g, epsilon, cases, &regions, mesh.unknowns());
+    let details = MethodDetails {
+        cases: Some(cases),
+        ..MethodDetails::default()
+    };
+    Ok(regularized_output(
+        field,
+        (&regions, &friction_values, &g, epsilon),
+        timing,
+        warnings,
+        details,
+        condition_cases,
+    ))
+}
+
+/// The g/ε additions to K's diagonal of the case with these regions (43).
+pub(super) fn middle_additions(regions: &[Region], g: &[f64], epsilon: f64) -> Vec<(usize, f64)> {
+    regions
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| **r == Region::Middle)
+        .map(|(q, _)| (q, g[q] / epsilon))
+        .collect()
+}
+
+/// What both regularised methods hand back: the friction forces g ω̃'_ε(c) of (41) and the
+/// friction states from the kept `regions` and friction-DOF `values` (a DOF moves when it is
+/// outside [−ε, ε]).
+pub(super) fn regularized_output(
+    field: crate::fem::NodalField,
+    (regions, values, g, epsilon): (&[Region], &[f64], &[f64], f64),
+    timing: Timing,
+    warnings: Vec<Warning>,
+    details: MethodDetails,
+    condition_cases: Vec<Vec<(usize, f64)>>,
+) -> MethodOutput {
+    let lambda: Vec<f64> = regions
+        .iter()
+        .zip(values)
+        .zip(g)
+        .map(|((r, &c), &g)| r.multiplier(c, g, epsilon))
+        .collect();
+    MethodOutput {
+        field,
+        lambda: lambda.chunks(2).map(|c| [c[0], c[1]]).collect(),
+        moving: regions
+            .chunks(2)
+            .map(|r| [r[0] != Region::Middle, r[1] != Region::Middle])
+            .collect(),
+        timing,
+        warnings,
+        details,
+        dual_condition: None,
+        regularized_cases: condition_cases,
+    }
+}
+
+/// Most cases whose condition numbers are all computed (one obstacle: 9).
+pub const CONDITIONED_CASES: u64 = 9;
+
+/// The diagonal additions of the cases whose condition numbers are reported: every case when
+/// there are at most [`CONDITIONED_CASES`] and the matrices are small enough for exact
+/// eigenvalues, else the kept case and the one with every DOF in the middle region (the
+/// largest additions g/ε). [`crate::solve::MethodDetails::conditioned_cases`] says which.
+fn condition_cases(
+    g: &[f64],
+    epsilon: f64,
+    cases: u64,
+    kept: &[Region],
+    unknowns: usize,
+) -> Vec<Vec<(usize, f64)>> {
+    let dim = g.len();
+    let additions = |regions: &[Region]| middle_additions(regions, g, epsilon);
+    if cases <= CONDITIONED_CASES && unknowns <= crate::linalg::condition::DENSE_LIMIT {
+        (0..cases)
+            .map(|case| {
+                let mut code = case;
+                let regions: Vec<Region> = (0..dim)
+                    .map(|_| {
+                        let r = Region::from_digit(code % 3);
+                        code /= 3;
+                        r
+                    })
+                    .collect();
+                additions(&regions)
+            })
+            .collect()
+    } else {
+        vec![additions(kept), additions(&vec![Region::Middle; dim])]
+    }
+}

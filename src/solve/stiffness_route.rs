@@ -1,0 +1,145 @@
+//! The part of the stiffness route that `dual`, `regularized` and `regularized-newton` share:
+//! assemble A and b of (38), factor A once with the friction nodes last
+//! ([`FrictionLastFactor`]) and condense onto the 2k friction DOFs; afterwards, rebuild the
+//! primal solution from the friction DOF values (48).
+//!
+//! On the friction DOFs the problem reads: K c_F = b̃ − λ with K the Schur complement and
+//! b̃ = b_F − A_FI A_II⁻¹ b_I. Hence S = B A⁻¹ Bᵀ = K⁻¹ and z0 = K⁻¹ b̃ (49), and the cases of
+//! the regularised method (43) only change K's diagonal and b̃.
+
+use super::{Method, SolveError, SolveErrorKind, Stopwatch, Timing};
+use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
+use crate::linalg::blocktri::FrictionLastFactor;
+use crate::linalg::dense::{Cholesky, mat_vec};
+use crate::model::Problem;
+
+/// A factored stiffness matrix, condensed on the friction DOFs.
+pub(super) struct Condensed<'m> {
+    factor: FrictionLastFactor<StiffnessMatrix<'m>>,
+    /// The forward-eliminated right-hand side by node (u-part, u'-part), ends included; it
+    /// becomes the solution in place.
+    rhs: (Vec<f64>, Vec<f64>),
+    /// K, 2k×2k row-major.
+    pub stiffness: Vec<f64>,
+    /// b̃ (2k).
+    pub load: Vec<f64>,
+    /// 2k.
+    pub dim: usize,
+}
+
+/// Assembles and factors; times the two stages into `timing`.
+pub(super) fn condense<'m>(
+    problem: &Problem,
+    mesh: &'m Mesh,
+    method: Method,
+    timing: &mut Timing,
+) -> Result<Condensed<'m>, SolveError> {
+    let mut clock = Stopwatch::start();
+    let matrix = StiffnessMatrix::new(mesh);
+    let (mut u, mut t) = load_vector(problem, mesh);
+    timing.assembly = clock.lap();
+    let boundary: Vec<usize> = mesh.obstacle_nodes.iter().map(|&node| node - 1).collect();
+    let n = mesh.elements();
+    let (factor, load) =
+        FrictionLastFactor::with_rhs(matrix, &boundary, &mut u[1..n], &mut t[1..n]).map_err(
+            |b| {
+                breakdown(
+                    method,
+                    mesh,
+                    format!("the pivot of node {} is singular", b.block + 1),
+                )
+            },
+        )?;
+    timing.factorization = clock.lap();
+    Ok(Condensed {
+        stiffness: factor.schur.clone(),
+        dim: factor.friction_dofs(),
+        factor,
+        rhs: (u, t),
+        load,
+    })
+}
+
+impl Condensed<'_> {
+    /// The first node whose pivot was not positive definite, if rounding destroyed A.
+    pub fn first_indefinite_node(&self) -> Option<usize> {
+        self.factor.first_indefinite.map(|block| block + 1)
+    }
+
+    /// The nodal solution for the given values on the friction DOFs.
+    pub fn reconstruct(self, friction_values: &[f64]) -> NodalField {
+        let (mut u, mut t) = self.rhs;
+        let n = u.len() - 1;
+        self.factor
+            .backward(&mut u[1..n], &mut t[1..n], friction_values);
+        NodalField {
+            deflection: u,
+            slope: t,
+        }
+    }
+}
+
+/// S (2k×2k row-major), z0, and a warning when K had to be inverted by LU.
+pub(super) type DualMatrices = (Vec<f64>, Vec<f64>, Option<super::Warning>);
+
+impl Condensed<'_> {
+    /// S = K⁻¹ and z0 = K⁻¹ b̃ of (49). K is SPD in exact arithmetic; when rounding has made it
+    /// indefinite, the inverse comes from an LU factorization instead and the warning says so.
+    pub fn dual_matrices(&self, method: Method, mesh: &Mesh) -> Result<DualMatrices, SolveError> {
+        let dim = self.dim;
+        if let Some(k) = Cholesky::new(&self.stiffness, dim) {
+            return Ok((k.inverse(), k.solve(&self.load), None));
+        }
+        use faer::linalg::solvers::DenseSolveCore;
+        let k = faer::Mat::from_fn(dim, dim, |i, j| self.stiffness[i * dim + j]);
+        let inverse = k.partial_piv_lu().inverse();
+        let s: Vec<f64> = (0..dim * dim)
+            .map(|ij| inverse[(ij / dim, ij % dim)])
+            .collect();
+        if s.iter().any(|v| !v.is_finite()) {
+            return Err(breakdown(
+                method,
+                mesh,
+                "the condensed stiffness on the friction DOFs is singular".into(),
+            ));
+        }
+        let z0 = mat_vec(&s, &self.load);
+        let warning = super::Warning::new(
+            super::WarningCode::IndefiniteFactorization,
+            format!(
+                "the condensed stiffness K on the friction DOFs is not positive definite in \
+                 floating point at n = {}: rounding has destroyed it and this result means nothing",
+                mesh.elements()
+            ),
+        );
+        Ok((s, z0, Some(warning)))
+    }
+}
+
+/// The warning for a factorization that went on through indefinite pivots.
+pub(super) fn indefinite_warning(condensed: &Condensed, mesh: &Mesh) -> Option<super::Warning> {
+    condensed.first_indefinite_node().map(|node| {
+        super::Warning::new(
+            super::WarningCode::IndefiniteFactorization,
+            format!(
+                "A is not positive definite in floating point at n = {} (first at node {node} of \
+                 {}): rounding has destroyed the stiffness matrix and this result means nothing",
+                mesh.elements(),
+                mesh.elements()
+            ),
+        )
+    })
+}
+
+/// The error for a factorization that broke down in floating point.
+pub(super) fn breakdown(method: Method, mesh: &Mesh, what: String) -> SolveError {
+    SolveError {
+        method,
+        kind: SolveErrorKind::Breakdown,
+        reason: format!(
+            "{what} at n = {} elements: rounding of the stiffness matrix has destroyed it",
+            mesh.elements()
+        ),
+        suggestion: Method::Flexibility,
+    }
+}

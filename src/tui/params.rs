@@ -1,0 +1,257 @@
+//! The explorer's parameter list: which rows a scene has, how each is labelled and shown (with
+//! its unit, in engineering form), and how a keystroke or typed text changes it. Changes return
+//! a candidate scene; the update function validates it with the scene rules before keeping it,
+//! so the explorer accepts exactly what a scene file would.
+//!
+//! Steps: loads, modulus, section dimensions, thresholds and ε move on a log scale (×10^0.1
+//! fine, ×10 coarse; zero steps to ±1 unit), obstacle positions linearly (l/200 fine, l/20
+//! coarse, never past a neighbour or a support), elements by 10 % (at least one) or ×10, and
+//! the method cycles.
+
+use crate::format::eng;
+use crate::scene::{MAX_ELEMENTS, Scene, Section};
+use crate::solve::Method;
+
+/// A dimension of the cross-section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    Width,
+    Height,
+    Radius,
+    Inertia,
+}
+
+/// One editable row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Row {
+    LoadStart,
+    LoadEnd,
+    Young,
+    Section(Dimension),
+    ObstacleX(usize),
+    Sliding(usize),
+    Swivel(usize),
+    Epsilon,
+    Elements,
+    Method,
+}
+
+/// The rows of `scene`, in display order.
+pub fn rows(scene: &Scene) -> Vec<Row> {
+    let mut rows = vec![Row::LoadStart, Row::LoadEnd, Row::Young];
+    match scene.beam.section {
+        Section::Rectangle { .. } => {
+            rows.push(Row::Section(Dimension::Width));
+            rows.push(Row::Section(Dimension::Height));
+        }
+        Section::Circle { .. } => rows.push(Row::Section(Dimension::Radius)),
+        Section::Custom { .. } => rows.push(Row::Section(Dimension::Inertia)),
+    }
+    for i in 0..scene.obstacles.len() {
+        rows.extend([Row::ObstacleX(i), Row::Sliding(i), Row::Swivel(i)]);
+    }
+    rows.extend([Row::Epsilon, Row::Elements, Row::Method]);
+    rows
+}
+
+impl Row {
+    /// The label, e.g. `load f0 (x = 0)`.
+    pub fn label(self) -> String {
+        match self {
+            Row::LoadStart => "load f0 (x=0)".into(),
+            Row::LoadEnd => "load f1 (x=l)".into(),
+            Row::Young => "modulus E".into(),
+            Row::Section(Dimension::Width) => "width".into(),
+            Row::Section(Dimension::Height) => "height".into(),
+            Row::Section(Dimension::Radius) => "radius".into(),
+            Row::Section(Dimension::Inertia) => "inertia J".into(),
+            Row::ObstacleX(i) => format!("obstacle {} x", i + 1),
+            Row::Sliding(_) => "  sliding g1".into(),
+            Row::Swivel(_) => "  swivel g2".into(),
+            Row::Epsilon => "epsilon ε".into(),
+            Row::Elements => "elements n".into(),
+            Row::Method => "method".into(),
+        }
+    }
+
+    /// The unit of the value.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Row::LoadStart | Row::LoadEnd => "N/m",
+            Row::Young => "Pa",
+            Row::Section(Dimension::Inertia) => "m^4",
+            Row::Section(_) | Row::ObstacleX(_) => "m",
+            Row::Sliding(_) => "N",
+            Row::Swivel(_) => "N m",
+            Row::Epsilon | Row::Elements | Row::Method => "",
+        }
+    }
+
+    /// The obstacle a row belongs to.
+    pub fn obstacle(self) -> Option<usize> {
+        match self {
+            Row::ObstacleX(i) | Row::Sliding(i) | Row::Swivel(i) => Some(i),
+            _ => None,
+        }
+    }
+
+    /// The value as a number, for rows that have one.
+    pub fn number(self, scene: &Scene) -> Option<f64> {
+        Some(match self {
+            Row::LoadStart => scene.load.f0,
+            Row::LoadEnd => scene.load.f1(),
+            Row::Young => scene.beam.young,
+            Row::Section(d) => section_value(&scene.beam.section, d)?,
+            Row::ObstacleX(i) => scene.obstacles.get(i)?.x,
+            Row::Sliding(i) => scene.obstacles.get(i)?.sliding,
+            Row::Swivel(i) => scene.obstacles.get(i)?.swivel,
+            Row::Epsilon => scene.solver.epsilon,
+            Row::Elements => scene.mesh.elements as f64,
+            Row::Method => return None,
+        })
+    }
+
+    /// The value as shown: engineering form and unit.
+    pub fn value(self, scene: &Scene) -> String {
+        match self {
+            Row::Method => scene.solver.method.name().to_string(),
+            Row::Elements => scene.mesh.elements.to_string(),
+            _ => {
+                let number = self.number(scene).map_or("?".into(), eng);
+                if self.unit().is_empty() {
+                    number
+                } else {
+                    format!("{number} {}", self.unit())
+                }
+            }
+        }
+    }
+}
+
+fn section_value(section: &Section, d: Dimension) -> Option<f64> {
+    match (*section, d) {
+        (Section::Rectangle { width, .. }, Dimension::Width) => Some(width),
+        (Section::Rectangle { height, .. }, Dimension::Height) => Some(height),
+        (Section::Circle { radius }, Dimension::Radius) => Some(radius),
+        (Section::Custom { inertia }, Dimension::Inertia) => Some(inertia),
+        _ => None,
+    }
+}
+
+fn set_number(scene: &mut Scene, row: Row, value: f64) {
+    match row {
+        Row::LoadStart => {
+            // Keep a constant load constant: f1 follows f0 when it was not given.
+            scene.load.f0 = value;
+        }
+        Row::LoadEnd => scene.load.f1 = Some(value),
+        Row::Young => scene.beam.young = value,
+        Row::Section(d) => {
+            let s = &mut scene.beam.section;
+            match (s, d) {
+                (Section::Rectangle { width, .. }, Dimension::Width) => *width = value,
+                (Section::Rectangle { height, .. }, Dimension::Height) => *height = value,
+                (Section::Circle { radius }, Dimension::Radius) => *radius = value,
+                (Section::Custom { inertia }, Dimension::Inertia) => *inertia = value,
+                _ => {}
+            }
+        }
+        Row::ObstacleX(i) => scene.obstacles[i].x = value,
+        Row::Sliding(i) => scene.obstacles[i].sliding = value,
+        Row::Swivel(i) => scene.obstacles[i].swivel = value,
+        Row::Epsilon => scene.solver.epsilon = value,
+        Row::Elements => {
+            // Out-of-range counts are left for validation to reject with its message.
+            scene.mesh.elements = if value.is_finite() && value >= 0.0 {
+                value.round().min(usize::MAX as f64) as usize
+            } else {
+                0
+            }
+        }
+        Row::Method => {}
+    }
+}
+
+/// A log-scale step of `value` by `factor` up (direction +1) or down (−1); zero steps to ±1.
+fn log_step(value: f64, direction: i32, factor: f64) -> f64 {
+    if value == 0.0 {
+        return f64::from(direction.signum());
+    }
+    let up = (direction > 0) == (value > 0.0);
+    if up { value * factor } else { value / factor }
+}
+
+/// The scene after one step of `row` (fine or coarse) in `direction` (+1 or −1). Not yet
+/// validated.
+pub fn step(scene: &Scene, row: Row, direction: i32, coarse: bool) -> Scene {
+    let mut next = scene.clone();
+    let factor = if coarse { 10.0 } else { 10f64.powf(0.1) };
+    match row {
+        Row::Method => {
+            let all = Method::ALL;
+            let i = all
+                .iter()
+                .position(|m| *m == scene.solver.method)
+                .unwrap_or(0);
+            let j = (i as i32 + direction).rem_euclid(all.len() as i32) as usize;
+            next.solver.method = all[j];
+        }
+        Row::Elements => {
+            let n = scene.mesh.elements as f64;
+            let target = if coarse {
+                if direction > 0 { n * 10.0 } else { n / 10.0 }
+            } else {
+                let change = (n * 0.1).round().max(1.0);
+                n + f64::from(direction) * change
+            };
+            next.mesh.elements = target.round().clamp(1.0, MAX_ELEMENTS as f64) as usize;
+        }
+        Row::ObstacleX(i) => {
+            let l = scene.beam.length;
+            let step = if coarse { l / 20.0 } else { l / 200.0 };
+            let x = scene.obstacles[i].x + f64::from(direction) * step;
+            // Never past a neighbour or a support: stop a thousandth of l before it.
+            let gap = l / 1000.0;
+            let lower = if i == 0 {
+                0.0
+            } else {
+                scene.obstacles[i - 1].x
+            } + gap;
+            let upper = scene.obstacles.get(i + 1).map_or(l, |o| o.x) - gap;
+            next.obstacles[i].x = x.clamp(lower, upper.max(lower));
+        }
+        _ => {
+            if let Some(value) = row.number(scene) {
+                set_number(&mut next, row, log_step(value, direction, factor));
+            }
+        }
+    }
+    next
+}
+
+/// The scene with `row` set from typed text. Errors say what would be accepted.
+pub fn set_from_text(scene: &Scene, row: Row, text: &str) -> Result<Scene, String> {
+    let text = text.trim();
+    let mut next = scene.clone();
+    if row == Row::Method {
+        let method = Method::ALL
+            .into_iter()
+            .find(|m| m.name() == text)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Method::ALL.iter().map(|m| m.name()).collect();
+                format!("'{text}' is not a method; one of {}", names.join(", "))
+            })?;
+        next.solver.method = method;
+        return Ok(next);
+    }
+    let value: f64 = text
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number (write e.g. 5e4 or 0.8)"))?;
+    if row == Row::Elements && (value.fract() != 0.0 || value < 0.0) {
+        return Err(format!(
+            "'{text}': the number of elements is a whole number ≥ 1"
+        ));
+    }
+    set_number(&mut next, row, value);
+    Ok(next)
+}

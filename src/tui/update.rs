@@ -1,0 +1,311 @@
+//! The one place that changes the explorer's state: [`update`] takes an [`Action`] and
+//! applies it. Every change of the scene goes through the scene's validation; a rejected value
+//! leaves the state as it was and says why.
+
+use crate::scene::{ObstacleSpec, PRESETS, Scene, save_atomic};
+
+use super::action::Action;
+use super::app::{App, Diagram, Mode};
+use super::params::{Row, set_from_text, step};
+
+/// Longest text a prompt accepts.
+const PROMPT_LIMIT: usize = 200;
+
+/// Applies `action` to the state.
+pub fn update(app: &mut App, action: Action) {
+    match action {
+        Action::Interrupt => {
+            app.quit = true;
+            return;
+        }
+        Action::Resize(width, height) => {
+            app.size = (width, height);
+            return;
+        }
+        _ => {}
+    }
+    match app.mode.clone() {
+        Mode::Normal => normal(app, action),
+        Mode::Help => app.mode = Mode::Normal,
+        Mode::Editing { row, buffer } => editing(app, action, row, buffer),
+        Mode::Presets { index } => presets(app, action, index),
+        Mode::Save { buffer } => save_prompt(app, action, buffer),
+        Mode::ConfirmOverwrite { path } => confirm_overwrite(app, action, path),
+    }
+}
+
+/// Keeps `candidate` if it is a valid scene (and re-solves), else reports the rule it broke.
+fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
+    candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
+    match candidate.validate(&app.source) {
+        Ok(_) => {
+            app.scene = candidate;
+            app.message = None;
+            app.resolve();
+            true
+        }
+        Err(e) => {
+            app.message = Some(format!("rejected: {}: {}", e.field, e.rule));
+            false
+        }
+    }
+}
+
+fn normal(app: &mut App, action: Action) {
+    let rows = app.rows();
+    match action {
+        Action::Up | Action::Char('k') => app.selected = app.selected.saturating_sub(1),
+        Action::Down | Action::Char('j') => app.selected = (app.selected + 1).min(rows.len() - 1),
+        Action::Decrease { coarse } => change(app, -1, coarse),
+        Action::Increase { coarse } => change(app, 1, coarse),
+        Action::Char('h') => change(app, -1, false),
+        Action::Char('l') => change(app, 1, false),
+        Action::Char('[') => change(app, -1, true),
+        Action::Char(']') => change(app, 1, true),
+        Action::Enter => {
+            app.mode = Mode::Editing {
+                row: app.selected_row(),
+                buffer: String::new(),
+            }
+        }
+        Action::Char('a') => add_obstacle(app),
+        Action::Char('d') => delete_obstacle(app),
+        Action::Char('m') => {
+            let next = step(&app.scene, Row::Method, 1, false);
+            try_apply(app, next);
+        }
+        Action::Char('p') => {
+            let index = PRESETS
+                .iter()
+                .position(|p| app.source == format!("preset {}", p.name))
+                .unwrap_or(0);
+            app.mode = Mode::Presets { index };
+        }
+        Action::Char('s') => {
+            app.mode = Mode::Save {
+                buffer: app.save_path.clone(),
+            }
+        }
+        Action::Char('r') => {
+            app.scene = app.loaded.clone();
+            app.selected = app.selected.min(app.rows().len() - 1);
+            app.resolve();
+            app.message = Some("reset to the scene as loaded".into());
+        }
+        Action::Char('?') => app.mode = Mode::Help,
+        Action::Char('q') | Action::Escape => app.quit = true,
+        Action::Char('b') => {
+            app.diagram = match app.diagram {
+                Diagram::Deflection => Diagram::Moment,
+                Diagram::Moment => Diagram::Shear,
+                Diagram::Shear => Diagram::Deflection,
+            }
+        }
+        Action::Char('t') => {
+            app.show_timings = !app.show_timings;
+            app.refresh_studies();
+        }
+        Action::NextPanel => {
+            let count = app.panels().len().max(1);
+            app.focus = (app.focus + 1) % count;
+        }
+        Action::Char(c) => {
+            app.message = Some(format!("no command on '{c}': press ? for the keys"));
+        }
+        Action::Backspace => {}
+        Action::Interrupt | Action::Resize(..) => unreachable!("handled before the mode"),
+    }
+}
+
+fn change(app: &mut App, direction: i32, coarse: bool) {
+    let row = app.selected_row();
+    let candidate = step(&app.scene, row, direction, coarse);
+    if candidate == app.scene {
+        app.message = Some(format!("{} cannot go further", row.label().trim()));
+        return;
+    }
+    try_apply(app, candidate);
+}
+
+fn add_obstacle(app: &mut App) {
+    let l = app.scene.beam.length;
+    let mut points: Vec<f64> = vec![0.0];
+    points.extend(app.scene.obstacles.iter().map(|o| o.x));
+    points.push(l);
+    // The middle of the widest gap.
+    let (a, b) = points
+        .windows(2)
+        .map(|w| (w[0], w[1]))
+        .max_by(|p, q| (p.1 - p.0).total_cmp(&(q.1 - q.0)))
+        .expect("at least two points");
+    let template = app
+        .selected_row()
+        .obstacle()
+        .or(app.scene.obstacles.len().checked_sub(1))
+        .map(|i| app.scene.obstacles[i]);
+    let new = ObstacleSpec {
+        x: 0.5 * (a + b),
+        sliding: template.map_or(1e2, |o| o.sliding),
+        swivel: template.map_or(5e4, |o| o.swivel),
+    };
+    let mut candidate = app.scene.clone();
+    candidate.obstacles.push(new);
+    if try_apply(app, candidate) {
+        let index = app
+            .scene
+            .obstacles
+            .iter()
+            .position(|o| *o == new)
+            .unwrap_or(0);
+        app.selected = app
+            .rows()
+            .iter()
+            .position(|r| *r == Row::ObstacleX(index))
+            .unwrap_or(0);
+        app.message = Some(format!("obstacle {} added at x = {} m", index + 1, new.x));
+    }
+}
+
+fn delete_obstacle(app: &mut App) {
+    let Some(index) = app.selected_row().obstacle() else {
+        app.message = Some("select a row of an obstacle to delete it".into());
+        return;
+    };
+    let mut candidate = app.scene.clone();
+    candidate.obstacles.remove(index);
+    if try_apply(app, candidate) {
+        app.selected = app.selected.min(app.rows().len() - 1);
+        app.message = Some(format!("obstacle {} deleted", index + 1));
+    }
+}
+
+fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
+    match action {
+        Action::Char(c) => {
+            if buffer.chars().count() < PROMPT_LIMIT {
+                buffer.push(c);
+            }
+            app.mode = Mode::Editing { row, buffer };
+        }
+        Action::Backspace => {
+            buffer.pop();
+            app.mode = Mode::Editing { row, buffer };
+        }
+        Action::Enter => {
+            app.mode = Mode::Normal;
+            if buffer.trim().is_empty() {
+                return;
+            }
+            match set_from_text(&app.scene, row, &buffer) {
+                Ok(candidate) => {
+                    if try_apply(app, candidate) && row.obstacle().is_some() {
+                        // A typed position may reorder the obstacles: follow the row's value.
+                        app.selected = app.selected.min(app.rows().len() - 1);
+                    }
+                }
+                Err(message) => app.message = Some(format!("rejected: {message}")),
+            }
+        }
+        Action::Escape => app.mode = Mode::Normal,
+        _ => app.mode = Mode::Editing { row, buffer },
+    }
+}
+
+fn presets(app: &mut App, action: Action, index: usize) {
+    let count = PRESETS.len();
+    match action {
+        Action::Up | Action::Char('k') => {
+            app.mode = Mode::Presets {
+                index: index.saturating_sub(1),
+            }
+        }
+        Action::Down | Action::Char('j') => {
+            app.mode = Mode::Presets {
+                index: (index + 1).min(count - 1),
+            }
+        }
+        Action::Enter => {
+            app.mode = Mode::Normal;
+            let preset = &PRESETS[index.min(count - 1)];
+            let source = format!("preset {}", preset.name);
+            match Scene::from_toml(preset.text, &source) {
+                Ok(mut scene) => {
+                    scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
+                    if scene.validate(&source).is_ok() {
+                        app.loaded = scene.clone();
+                        app.scene = scene;
+                        app.source = source;
+                        app.save_path = app
+                            .save_directory
+                            .join(format!("{}.toml", preset.name))
+                            .display()
+                            .to_string();
+                        app.selected = 0;
+                        app.focus = 0;
+                        app.resolve();
+                        app.message = Some(format!("loaded {}", preset.name));
+                    }
+                }
+                Err(e) => app.message = Some(e.to_string()),
+            }
+        }
+        Action::Escape | Action::Char('q') => app.mode = Mode::Normal,
+        _ => {}
+    }
+}
+
+fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
+    match action {
+        Action::Char(c) => {
+            if buffer.chars().count() < PROMPT_LIMIT {
+                buffer.push(c);
+            }
+            app.mode = Mode::Save { buffer };
+        }
+        Action::Backspace => {
+            buffer.pop();
+            app.mode = Mode::Save { buffer };
+        }
+        Action::Enter => {
+            let path = buffer.trim().to_string();
+            if path.is_empty() {
+                app.mode = Mode::Normal;
+                app.message = Some("not saved: no file name".into());
+            } else if std::path::Path::new(&path).exists() {
+                app.mode = Mode::ConfirmOverwrite { path };
+            } else {
+                app.mode = Mode::Normal;
+                save(app, &path, false);
+            }
+        }
+        Action::Escape => {
+            app.mode = Mode::Normal;
+            app.message = Some("not saved".into());
+        }
+        _ => app.mode = Mode::Save { buffer },
+    }
+}
+
+fn confirm_overwrite(app: &mut App, action: Action, path: String) {
+    app.mode = Mode::Normal;
+    match action {
+        Action::Char('y') | Action::Char('Y') => save(app, &path, true),
+        _ => app.message = Some(format!("not saved: {path} left as it was")),
+    }
+}
+
+fn save(app: &mut App, path: &str, overwrite: bool) {
+    let mut text = String::new();
+    if !app.scene.description.is_empty() {
+        text.push_str(&format!("# {}\n", app.scene.description));
+    }
+    text.push_str("# Saved by the beamfric explorer.\n");
+    text.push_str(&app.scene.to_toml());
+    match save_atomic(std::path::Path::new(path), &text, overwrite) {
+        Ok(()) => {
+            app.save_path = path.to_string();
+            app.message = Some(format!("saved to {path}"));
+        }
+        Err(e) => app.message = Some(format!("not saved: {e}")),
+    }
+}

@@ -1,0 +1,108 @@
+//! Overlays drawn over the frame: the help (every key) and the preset picker.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Flex, Layout, Rect};
+use ratatui::text::Line;
+use ratatui::widgets::{Clear, Paragraph, Wrap};
+
+use super::Theme;
+use crate::scene::{PRESETS, Scene};
+use crate::tui::app::{App, Mode};
+
+/// Every key, as the help lists it.
+pub const KEYS: &[(&str, &str)] = &[
+    ("↑ ↓  k j", "select a parameter"),
+    ("← →  h l", "change it by a fine step"),
+    ("Shift+← →  [ ]", "change it by a coarse step"),
+    ("Enter", "type an exact value (Enter sets, Esc cancels)"),
+    ("a", "add an obstacle in the widest gap"),
+    ("d", "delete the selected obstacle"),
+    ("m", "cycle the method"),
+    ("p", "pick a preset"),
+    ("s", "save the scene to a TOML file"),
+    ("r", "reset to the scene as loaded"),
+    ("b", "deflection, bending moment, shear"),
+    ("Tab", "next panel (when one is shown at a time)"),
+    ("t", "show or hide run times"),
+    ("?", "this help"),
+    ("q  Esc  Ctrl-C", "quit"),
+];
+
+fn centered(area: Rect, width: u16, height: u16) -> Rect {
+    let [row] = Layout::vertical([Constraint::Length(height.min(area.height))])
+        .flex(Flex::Center)
+        .areas(area);
+    let [cell] = Layout::horizontal([Constraint::Length(width.min(area.width))])
+        .flex(Flex::Center)
+        .areas(row);
+    cell
+}
+
+pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    match &app.mode {
+        Mode::Help => help(frame, app, theme, area),
+        Mode::Presets { index } => presets(frame, theme, area, *index),
+        _ => {}
+    }
+}
+
+fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let mut lines: Vec<Line> = KEYS
+        .iter()
+        .map(|(key, what)| Line::from(format!("{key:>16}  {what}")))
+        .collect();
+    lines.push(Line::from(""));
+    lines.push(Line::styled(
+        "Values: loads, modulus, section, thresholds and ε step by ×10^0.1 (coarse ×10);",
+        theme.dim(),
+    ));
+    lines.push(Line::styled(
+        "positions by l/200 (coarse l/20); elements by 10 % (coarse ×10). Units: SI.",
+        theme.dim(),
+    ));
+    if !app.scene.description.is_empty() {
+        lines.push(Line::from(""));
+        lines.push(Line::from(app.scene.description.clone()));
+    }
+    let width = 84u16.min(area.width);
+    let inner = width.saturating_sub(2).max(1) as usize;
+    let rows: usize = lines.iter().map(|l| l.width().div_ceil(inner).max(1)).sum();
+    let rect = centered(area, width, rows as u16 + 2);
+    frame.render_widget(Clear, rect);
+    frame.render_widget(
+        Paragraph::new(lines)
+            .wrap(Wrap { trim: false })
+            .block(theme.block(" Keys (any key closes) ", true)),
+        rect,
+    );
+}
+
+fn presets(frame: &mut Frame, theme: &Theme, area: Rect, index: usize) {
+    let lines: Vec<Line> = PRESETS
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let title = Scene::from_toml(p.text, p.name)
+                .map(|s| s.title)
+                .unwrap_or_default();
+            let text = format!("{:<24}{title}", p.name);
+            if i == index {
+                Line::styled(text, theme.selected())
+            } else {
+                Line::from(text)
+            }
+        })
+        .collect();
+    let height = lines.len() as u16 + 2;
+    let rect = centered(area, 72, height);
+    frame.render_widget(Clear, rect);
+    // Keep the highlighted entry visible when the list is taller than the screen.
+    let visible = rect.height.saturating_sub(2) as usize;
+    let offset = (index + 1).saturating_sub(visible) as u16;
+    frame.render_widget(
+        Paragraph::new(lines)
+            .scroll((offset, 0))
+            .block(theme.block(" Presets (Enter loads, Esc cancels) ", true)),
+        rect,
+    );
+}

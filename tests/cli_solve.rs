@@ -1,0 +1,175 @@
+//! `beamfric solve` from the outside: the JSON document, the table, and errors as one line.
+
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn beamfric(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = beamfric(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("valid JSON")
+}
+
+fn stderr_line(out: &Output) -> String {
+    let text = String::from_utf8_lossy(&out.stderr).to_string();
+    assert_eq!(text.trim_end().lines().count(), 1, "not one line: {text:?}");
+    text.trim_end().to_string()
+}
+
+#[test]
+fn json_has_every_documented_field() {
+    let doc = json(&[
+        "solve",
+        "--scene",
+        "benchmark-1",
+        "--format",
+        "json",
+        "--at",
+        "0.4,0.8",
+    ]);
+    for key in [
+        "method",
+        "elements",
+        "nodes",
+        "at",
+        "obstacles",
+        "kkt_residual",
+        "error",
+        "timing",
+        "condition",
+        "warnings",
+    ] {
+        assert!(doc.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(doc["method"], "dual");
+    assert_eq!(doc["elements"], 20);
+    let nodes = &doc["nodes"];
+    assert_eq!(nodes["x"].as_array().unwrap().len(), 21);
+    assert_eq!(nodes["u"].as_array().unwrap().len(), 21);
+    assert_eq!(nodes["slope"].as_array().unwrap().len(), 21);
+    let at = doc["at"].as_array().unwrap();
+    assert_eq!(at.len(), 2);
+    let u_at = at[1]["u"].as_f64().unwrap();
+    assert!((u_at - 0.005_701_610_017_889_088).abs() < 1e-15);
+    let o = &doc["obstacles"][0];
+    assert!((o["force"].as_f64().unwrap() - 100.0).abs() < 1e-9);
+    assert!((o["moment"].as_f64().unwrap() + 4_798.461_538_461_5).abs() < 1e-6);
+    assert_eq!(o["sliding"], true);
+    assert_eq!(o["swivel"], false);
+    assert_eq!(doc["error"]["reference"], "closed-form");
+    assert!(doc["error"]["max_rel"].as_f64().unwrap() < 1e-12);
+    assert!(doc["kkt_residual"].as_f64().unwrap() < 1e-12);
+    assert_eq!(doc["timing"]["unit"], "s");
+    for stage in [
+        "assembly",
+        "factorization",
+        "dual_solve",
+        "reconstruction",
+        "total",
+    ] {
+        assert!(doc["timing"][stage].as_f64().unwrap() >= 0.0, "{stage}");
+    }
+    assert_eq!(doc["condition"]["stiffness"]["kind"], "exact");
+    assert!(doc["warnings"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn overrides_and_no_nodes() {
+    let doc = json(&[
+        "solve",
+        "--scene",
+        "benchmark-3",
+        "--method",
+        "flexibility",
+        "--elements",
+        "40",
+        "--format",
+        "json",
+        "--no-nodes",
+    ]);
+    assert!(doc.get("nodes").is_none());
+    assert_eq!(doc["elements"], 40);
+    assert_eq!(doc["method"], "flexibility");
+    // No closed form for four obstacles: flexibility is its own reference, not "error 0".
+    assert_eq!(doc["error"]["reference"], "self");
+    assert!(doc["error"]["max_rel"].is_null());
+    assert_eq!(doc["obstacles"].as_array().unwrap().len(), 4);
+}
+
+#[test]
+fn the_table_is_for_people() {
+    let out = beamfric(&["solve", "--scene", "benchmark-1"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("Benchmark 1"));
+    assert!(text.contains("slides"));
+    assert!(text.contains("u [m]"));
+    assert!(text.contains("error vs closed-form"));
+}
+
+#[test]
+fn bad_input_is_one_clear_line_and_a_failure() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["solve", "--scene", "nope"], "not a preset name"),
+        (
+            &["solve", "--elements", "0"],
+            "--elements = 0: must be between 1 and",
+        ),
+        (&["solve", "--epsilon", "-1"], "--epsilon = -1"),
+        (&["solve", "--elements", "many"], "invalid value 'many'"),
+        (&["solve", "--method", "fast"], "invalid value 'fast'"),
+        (
+            &["solve", "--at", "2"],
+            "--at 2: positions must lie on the beam",
+        ),
+        (&["solve", "--format", "xml"], "invalid value 'xml'"),
+    ];
+    for (args, expected) in cases {
+        let out = beamfric(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let line = stderr_line(&out);
+        assert!(line.contains(expected), "{args:?}: {line}");
+        assert!(out.stdout.is_empty());
+    }
+    let dir = std::env::temp_dir().join(format!("beamfric-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("broken.toml");
+    std::fs::write(&path, "[beam]\nlength = -1\n").unwrap();
+    let out = beamfric(&["solve", "--scene", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let line = stderr_line(&out);
+    assert!(line.contains("broken.toml"), "{line}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_refused_method_says_which_one_works() {
+    let out = beamfric(&[
+        "solve",
+        "--scene",
+        "benchmark-3",
+        "--method",
+        "closed-form",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(3));
+    let line = stderr_line(&out);
+    assert!(line.contains("closed-form not applicable"), "{line}");
+    assert!(line.contains("flexibility"), "{line}");
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["refused"]["kind"], "not-applicable");
+    assert_eq!(doc["refused"]["suggestion"], "flexibility");
+}

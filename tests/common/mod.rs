@@ -1,0 +1,84 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use beamfric::fem::Mesh;
+use beamfric::model::Problem;
+use beamfric::scene::{self, Scene};
+use beamfric::solve::{ConditionLevel, Method, Solution, SolveOptions, solve};
+
+/// A preset's scene.
+pub fn preset_scene(name: &str) -> Scene {
+    let preset = scene::preset(name).expect("preset exists");
+    Scene::from_toml(preset.text, name).expect("preset parses")
+}
+
+/// A validated problem from a scene.
+pub fn problem(scene: &Scene) -> Problem {
+    scene.validate("test").expect("valid scene").0
+}
+
+/// Options without condition numbers (fast) and with the reference error.
+pub fn options(epsilon: f64) -> SolveOptions {
+    SolveOptions {
+        epsilon,
+        condition: ConditionLevel::Off,
+        ..SolveOptions::default()
+    }
+}
+
+/// Solves a problem on `elements` elements.
+pub fn solve_with(problem: &Problem, elements: usize, method: Method, epsilon: f64) -> Solution {
+    let mesh = Mesh::new(problem, elements);
+    solve(problem, &mesh, method, &options(epsilon))
+        .unwrap_or_else(|e| panic!("{method} failed: {e}"))
+}
+
+/// max |a − b| / max |b|.
+pub fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    if scale == 0.0 { diff } else { diff / scale }
+}
+
+/// The reference values of `../shared/reference-values`, copied into `tests/data`: nodal x, u,
+/// slope and the (force, moment) pairs.
+pub struct ReferenceValues {
+    pub x: Vec<f64>,
+    pub u: Vec<f64>,
+    pub slope: Vec<f64>,
+    pub friction: Vec<[f64; 2]>,
+}
+
+pub fn reference_values(name: &str) -> ReferenceValues {
+    let path = format!("{}/tests/data/{name}-n20.csv", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("reference file");
+    let mut values = ReferenceValues {
+        x: vec![],
+        u: vec![],
+        slope: vec![],
+        friction: vec![],
+    };
+    for line in text.lines() {
+        if let Some(rest) = line.strip_prefix("# obstacle") {
+            let number = |key: &str| -> f64 {
+                let start = rest.find(key).unwrap() + key.len();
+                rest[start..]
+                    .split_whitespace()
+                    .next()
+                    .unwrap()
+                    .parse()
+                    .unwrap()
+            };
+            values.friction.push([number("force="), number("moment=")]);
+        } else if !line.starts_with('#') && !line.starts_with('x') && !line.is_empty() {
+            let v: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+            values.x.push(v[0]);
+            values.u.push(v[1]);
+            values.slope.push(v[2]);
+        }
+    }
+    values
+}

@@ -1,0 +1,301 @@
+//! The explorer (issue 3): frames after key sequences as insta snapshots, and what keys do to
+//! the state and the solution. The frames of every preset are in `render.rs`.
+
+use beamfric::scene::{PRESETS, Panel, Scene, preset};
+use beamfric::solve::{Method, SolveErrorKind};
+use beamfric::tui::action::{Action, parse_keys};
+use beamfric::tui::app::{App, Look, Mode, StudyState};
+use beamfric::tui::update::update;
+use beamfric::tui::{RenderOptions, buffer_to_text, draw_to_buffer, render};
+
+const LOOK: Look = Look {
+    ascii: false,
+    color: false,
+};
+
+fn scene(name: &str) -> Scene {
+    Scene::from_toml(preset(name).unwrap().text, name).unwrap()
+}
+
+fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
+    let options = RenderOptions {
+        width,
+        height,
+        look: LOOK,
+        timings: false,
+    };
+    let buffer = render(
+        scene(name),
+        format!("preset {name}"),
+        &parse_keys(keys),
+        options,
+    )
+    .unwrap();
+    buffer_to_text(&buffer, false)
+}
+
+fn app(name: &str) -> App {
+    App::new(scene(name), format!("preset {name}"), LOOK, false).unwrap()
+}
+
+fn press(app: &mut App, keys: &str) {
+    for action in parse_keys(keys) {
+        update(app, action);
+    }
+}
+
+#[test]
+fn frames_after_key_sequences() {
+    let cases = [
+        // Load: f0 up by two fine steps and a coarse one.
+        ("load", "benchmark-1", "Right Right S-Right"),
+        // Sliding threshold above the shear the point carries: it sticks.
+        (
+            "threshold",
+            "benchmark-1",
+            "Down Down Down Down Down Down S-Right S-Right S-Right",
+        ),
+        // Obstacle position: ten fine steps to the left.
+        (
+            "position",
+            "benchmark-1",
+            "Down Down Down Down Down Left Left Left Left Left Left Left Left Left Left",
+        ),
+        // ε: regularised method, ε two decades down.
+        (
+            "epsilon",
+            "lesson-epsilon",
+            "Down Down Down Down Down Down Down Down S-Left S-Left",
+        ),
+        ("typed-value", "benchmark-1", "Enter 3e4 Enter"),
+        ("rejected-value", "benchmark-1", "Enter abc Enter"),
+        ("add-obstacle", "benchmark-1", "a"),
+        ("delete-obstacle", "benchmark-3", "Down Down Down Down d"),
+        ("method-refused", "eight-obstacles", "m m"),
+        ("moment-diagram", "benchmark-1", "b"),
+        ("help", "benchmark-1", "?"),
+        ("presets", "benchmark-1", "p Down"),
+        ("tab", "benchmark-3", "Tab Tab"),
+    ];
+    for (label, name, keys) in cases {
+        for (w, h) in [(120, 40), (80, 24)] {
+            insta::assert_snapshot!(format!("keys-{label}-{w}x{h}"), frame(name, w, h, keys));
+        }
+    }
+}
+
+#[test]
+fn a_too_small_terminal_says_so() {
+    let text = frame("benchmark-1", 40, 10, "");
+    assert!(text.contains("terminal too small: 40x10"), "{text}");
+    assert!(text.contains("60x16"), "{text}");
+    for (w, h) in [(1, 1), (2, 50), (200, 3), (59, 16), (60, 15)] {
+        let text = frame("benchmark-1", w, h, "");
+        assert_eq!(text.lines().count(), h as usize);
+    }
+}
+
+#[test]
+fn frames_are_deterministic() {
+    let keys = "Down Right a Tab m";
+    assert_eq!(
+        frame("benchmark-3", 120, 40, keys),
+        frame("benchmark-3", 120, 40, keys)
+    );
+}
+
+#[test]
+fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
+    let mut app = app("benchmark-1");
+    let before = app.solution.as_ref().unwrap().obstacles[0];
+    assert!(before.sliding && (before.force - 100.0).abs() < 1e-9);
+    // Row 6 is the sliding threshold; three coarse steps: 100 N → 1e5 N, above the shear.
+    press(
+        &mut app,
+        "Down Down Down Down Down Down S-Right S-Right S-Right",
+    );
+    assert_eq!(app.scene.obstacles[0].sliding, 1e5);
+    let after = app.solution.as_ref().unwrap().obstacles[0];
+    assert!(!after.sliding && !after.swivel);
+    assert!(after.force.abs() < 1e5 && after.force > 100.0);
+    assert_eq!(after.u, 0.0);
+}
+
+#[test]
+fn keys_change_the_state_and_the_solution() {
+    let mut app = app("benchmark-1");
+    let u0 = app.solution.as_ref().unwrap().max_deflection();
+    // Load: one fine step multiplies f (and, with the point still sliding, changes u).
+    press(&mut app, "Right");
+    assert!((app.scene.load.f0 / 5e4 - 10f64.powf(0.1)).abs() < 1e-12);
+    assert!(app.solution.as_ref().unwrap().max_deflection() > u0);
+    // A typed exact value; a bad one changes nothing and says why.
+    press(&mut app, "Enter 3e4 Enter");
+    assert_eq!(app.scene.load.f0, 3e4);
+    press(&mut app, "Enter abc Enter");
+    assert_eq!(app.scene.load.f0, 3e4);
+    assert!(app.message.as_deref().unwrap().contains("not a number"));
+    // A value the scene rules reject: a negative threshold.
+    press(&mut app, "Down Down Down Down Down Down Enter -5 Enter");
+    assert_eq!(app.scene.obstacles[0].sliding, 1e2);
+    assert!(app.message.as_deref().unwrap().contains("zero or positive"));
+    // Reset.
+    press(&mut app, "r");
+    assert_eq!(app.scene, scene("benchmark-1"));
+    // Method and ε (row 8, counted from the top).
+    press(&mut app, "m");
+    assert_eq!(app.solution.as_ref().unwrap().method, Method::Flexibility);
+    press(&mut app, "Up Up Up Up Up Up Up Up Up Up Up Up");
+    press(&mut app, "Down Down Down Down Down Down Down Down S-Left");
+    assert_eq!(app.selected_row(), beamfric::tui::params::Row::Epsilon);
+    assert!((app.scene.solver.epsilon - 1e-7).abs() < 1e-20);
+}
+
+#[test]
+fn obstacles_stay_ordered_inside_and_apart() {
+    let mut app = app("benchmark-3");
+    // Push obstacle 1 to the right far past obstacle 2, and obstacle 4 past the support.
+    press(&mut app, "Down Down Down Down");
+    for _ in 0..100 {
+        update(&mut app, Action::Increase { coarse: true });
+    }
+    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    assert!(xs.windows(2).all(|w| w[0] < w[1]), "{xs:?}");
+    assert!(xs[0] < xs[1] - 1e-4);
+    // Add obstacles until the gaps are small; every one lands inside, ordered.
+    for _ in 0..6 {
+        press(&mut app, "a");
+    }
+    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    assert_eq!(xs.len(), 10);
+    assert!(xs.windows(2).all(|w| w[0] < w[1]) && xs[0] > 0.0 && xs[9] < 1.0);
+    // Delete the selected one.
+    press(&mut app, "d");
+    assert_eq!(app.scene.obstacles.len(), 9);
+    // d on a row that is not an obstacle explains itself.
+    press(&mut app, "r Up Up Up Up Up Up Up Up d");
+    assert_eq!(app.scene.obstacles.len(), 4);
+    assert!(
+        app.message
+            .as_deref()
+            .unwrap()
+            .contains("select a row of an obstacle")
+    );
+}
+
+#[test]
+fn a_method_that_does_not_apply_says_why() {
+    let mut app = app("benchmark-3");
+    while app.scene.solver.method != Method::ClosedForm {
+        press(&mut app, "m");
+    }
+    let error = app.solution.as_ref().unwrap_err();
+    assert_eq!(error.kind, SolveErrorKind::NotApplicable);
+    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    assert!(text.contains("closed-form not applicable"), "{text}");
+}
+
+#[test]
+fn presets_load_from_the_picker_and_panels_follow_the_scene() {
+    let mut app = app("benchmark-1");
+    let index = PRESETS
+        .iter()
+        .position(|p| p.name == "lesson-epsilon")
+        .unwrap();
+    press(&mut app, "p");
+    for _ in 0..index {
+        press(&mut app, "Down");
+    }
+    press(&mut app, "Enter");
+    assert_eq!(app.source, "preset lesson-epsilon");
+    assert_eq!(app.panels(), vec![Panel::EpsError, Panel::EpsCond]);
+    // Panels the scene does not list are neither drawn nor computed.
+    assert_eq!(app.mesh_study.state, StudyState::Idle);
+    assert!(matches!(app.eps_study.state, StudyState::Pending));
+    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    assert!(!text.contains("Deflection") && !text.contains("Error vs n"));
+    assert!(
+        text.contains("computing the ε sweep"),
+        "a pending panel says so"
+    );
+}
+
+#[test]
+fn outdated_study_results_are_never_taken() {
+    let mut app = app("benchmark-1");
+    let old = app.pending_studies();
+    assert_eq!(old.len(), 2);
+    let results: Vec<_> = old.iter().map(beamfric::tui::studies::run_now).collect();
+    // A keystroke that changes the mesh makes both studies outdated.
+    press(
+        &mut app,
+        "Down Down Down Down Down Down Down Down Down Right",
+    );
+    assert_eq!(app.scene.mesh.elements, 22);
+    for result in results {
+        assert!(!app.accept(result));
+    }
+    assert!(matches!(app.eps_study.state, StudyState::Pending));
+    // The current ones are taken.
+    for request in app.pending_studies() {
+        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
+    }
+    assert!(matches!(app.eps_study.state, StudyState::Ready(_)));
+}
+
+#[test]
+fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
+    let dir = std::env::temp_dir().join(format!("beamfric-save-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("saved.toml");
+    let path_text = path.to_str().unwrap().to_string();
+    let mut app = app("benchmark-3");
+    press(&mut app, "Right");
+    update(&mut app, Action::Char('s'));
+    // Replace the suggested name with ours.
+    while let Mode::Save { buffer } = &app.mode {
+        if buffer.is_empty() {
+            break;
+        }
+        update(&mut app, Action::Backspace);
+    }
+    press(&mut app, &path_text);
+    press(&mut app, "Enter");
+    assert!(app.message.as_deref().unwrap().starts_with("saved to"));
+    let (loaded, _) = beamfric::scene::load(&path_text).unwrap();
+    assert_eq!(loaded.load, app.scene.load);
+    assert_eq!(loaded.obstacles, app.scene.obstacles);
+    // Saving again asks; "n" leaves the file as it was, "y" replaces it.
+    press(&mut app, "Right");
+    update(&mut app, Action::Char('s'));
+    press(&mut app, "Enter");
+    assert!(matches!(app.mode, Mode::ConfirmOverwrite { .. }));
+    press(&mut app, "n");
+    assert_eq!(
+        beamfric::scene::load(&path_text).unwrap().0.load,
+        loaded.load
+    );
+    update(&mut app, Action::Char('s'));
+    press(&mut app, "Enter y");
+    assert_eq!(
+        beamfric::scene::load(&path_text).unwrap().0.load,
+        app.scene.load
+    );
+    // No temporary files are left behind.
+    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(entries.len(), 1);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn quitting_and_interrupting() {
+    for keys in ["q", "Esc", "C-c"] {
+        let mut app = app("benchmark-1");
+        press(&mut app, keys);
+        assert!(app.quit, "{keys}");
+    }
+    // Esc first closes an overlay.
+    let mut app = app("benchmark-1");
+    press(&mut app, "? Esc");
+    assert!(!app.quit && app.mode == Mode::Normal);
+}

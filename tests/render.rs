@@ -1,0 +1,178 @@
+//! Headless rendering (issues 3 and 4): the frame of every preset at 120×40 and 80×24, in
+//! Unicode and in ASCII, as insta snapshots; ASCII frames contain only ASCII; frames are
+//! byte-identical from run to run and between the library and `beamfric render`.
+
+use std::process::Command;
+
+use beamfric::scene::{PRESETS, Scene, preset};
+use beamfric::tui::app::Look;
+use beamfric::tui::{RenderOptions, buffer_to_text, draw_to_buffer, prepare};
+
+const SIZES: [(u16, u16); 2] = [(120, 40), (80, 24)];
+
+fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
+    RenderOptions {
+        width,
+        height,
+        look: Look {
+            ascii,
+            color: false,
+        },
+        timings: false,
+    }
+}
+
+/// The four frames of a preset (two sizes, two looks), from one prepared state.
+fn frames(name: &str) -> Vec<(String, String)> {
+    let scene = Scene::from_toml(preset(name).unwrap().text, name).unwrap();
+    let mut app = prepare(
+        scene,
+        format!("preset {name}"),
+        &[],
+        options(120, 40, false),
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    for ascii in [false, true] {
+        app.look.ascii = ascii;
+        for (w, h) in SIZES {
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            let label = format!("{name}-{w}x{h}{}", if ascii { "-ascii" } else { "" });
+            out.push((label, text));
+        }
+    }
+    out
+}
+
+fn beamfric(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+macro_rules! preset_snapshots {
+    ($($test:ident: $name:literal,)*) => {$(
+        #[test]
+        fn $test() {
+            for (label, text) in frames($name) {
+                let (w, h) = if label.contains("120x40") { (120, 40) } else { (80, 24) };
+                assert_eq!(text.lines().count(), h, "{label}");
+                assert!(text.lines().all(|l| l.chars().count() == w), "{label}");
+                if label.ends_with("-ascii") {
+                    assert!(text.is_ascii(), "{label}: non-ASCII output");
+                }
+                insta::assert_snapshot!(label, text);
+            }
+        }
+    )*};
+}
+
+preset_snapshots! {
+    snapshot_benchmark_1: "benchmark-1",
+    snapshot_benchmark_2: "benchmark-2",
+    snapshot_benchmark_3: "benchmark-3",
+    snapshot_lesson_epsilon: "lesson-epsilon",
+    snapshot_lesson_mesh: "lesson-mesh",
+    snapshot_fine_mesh: "fine-mesh",
+    snapshot_epsilon_1e_16: "epsilon-1e-16",
+    snapshot_zero_thresholds: "zero-thresholds",
+    snapshot_huge_thresholds: "huge-thresholds",
+    snapshot_modulus_contrast: "modulus-contrast",
+    snapshot_obstacle_near_support: "obstacle-near-support",
+    snapshot_close_obstacles: "close-obstacles",
+    snapshot_eight_obstacles: "eight-obstacles",
+    snapshot_tiny_beam: "tiny-beam",
+    snapshot_huge_beam: "huge-beam",
+    snapshot_zero_load: "zero-load",
+}
+
+#[test]
+fn every_preset_has_a_snapshot_test() {
+    let source = include_str!("render.rs");
+    for p in PRESETS {
+        assert!(source.contains(&format!("\"{}\",", p.name)), "{}", p.name);
+    }
+}
+
+#[test]
+fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() {
+    let keys = "Down Right a m Tab";
+    let first = beamfric(&[
+        "render",
+        "--scene",
+        "benchmark-3",
+        "--size",
+        "100x30",
+        "--keys",
+        keys,
+    ]);
+    assert!(first.status.success());
+    let second = beamfric(&[
+        "render",
+        "--scene",
+        "benchmark-3",
+        "--size",
+        "100x30",
+        "--keys",
+        keys,
+    ]);
+    assert_eq!(first.stdout, second.stdout, "two renders differ");
+    let scene = Scene::from_toml(preset("benchmark-3").unwrap().text, "b3").unwrap();
+    let actions = beamfric::tui::action::parse_keys(keys);
+    let buffer = beamfric::tui::render(
+        scene,
+        "preset benchmark-3".into(),
+        &actions,
+        options(100, 30, false),
+    )
+    .unwrap();
+    assert_eq!(
+        String::from_utf8(first.stdout).unwrap(),
+        buffer_to_text(&buffer, false)
+    );
+}
+
+#[test]
+fn ascii_output_is_ascii_and_color_output_has_escapes() {
+    let out = beamfric(&[
+        "render",
+        "--scene",
+        "benchmark-1",
+        "--size",
+        "90x28",
+        "--ascii",
+        "--keys",
+        "?",
+    ]);
+    assert!(out.status.success());
+    assert!(out.stdout.is_ascii());
+    assert_eq!(String::from_utf8_lossy(&out.stdout).lines().count(), 28);
+    let colored = beamfric(&[
+        "render",
+        "--scene",
+        "benchmark-1",
+        "--size",
+        "90x28",
+        "--color",
+    ]);
+    let text = String::from_utf8(colored.stdout).unwrap();
+    assert!(text.contains("\x1b["), "no ANSI escapes with --color");
+    let plain = beamfric(&["render", "--scene", "benchmark-1", "--size", "90x28"]);
+    assert!(!String::from_utf8(plain.stdout).unwrap().contains('\x1b'));
+}
+
+#[test]
+fn bad_render_arguments_are_one_line() {
+    for (args, expected) in [
+        (vec!["render", "--size", "wide"], "WIDTHxHEIGHT"),
+        (vec!["render", "--size", "0x10"], "from 1 to 1000"),
+        (vec!["render", "--scene", "nope"], "not a preset name"),
+    ] {
+        let out = beamfric(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(expected), "{err}");
+    }
+}
