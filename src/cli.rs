@@ -15,6 +15,9 @@ use crate::solve::{ConditionLevel, Method, SolveOptions, solve};
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status when the method gave no solution (refused, not applicable, broke down).
 pub const EXIT_NO_SOLUTION: u8 = 3;
+/// Exit status of `solve` when the solution has non-finite values: it is printed (with `null`
+/// or `n/a` in their place and the `non-finite` warning) but is no answer a script should use.
+pub const EXIT_NOT_FINITE: u8 = 4;
 
 /// Explore a clamped beam through point obstacles with given sliding and swivel friction.
 #[derive(Debug, Parser)]
@@ -623,7 +626,15 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
                 Format::Table => solution_table(&context, &solution, &at, true),
             };
             let _ = stdout.write_all(text.as_bytes());
-            Ok(ExitCode::SUCCESS)
+            if solution.is_finite() && solution.kkt_residual.is_finite() {
+                Ok(ExitCode::SUCCESS)
+            } else {
+                eprintln!(
+                    "beamfric: {} gave non-finite values: see the warnings",
+                    settings.method
+                );
+                Ok(ExitCode::from(EXIT_NOT_FINITE))
+            }
         }
         Err(error) => {
             if args.format == Format::Json {

@@ -173,3 +173,55 @@ fn a_refused_method_says_which_one_works() {
     assert_eq!(doc["refused"]["kind"], "not-applicable");
     assert_eq!(doc["refused"]["suggestion"], "flexibility");
 }
+
+#[test]
+fn a_non_finite_solution_is_reported_not_shown() {
+    let dir = std::env::temp_dir().join(format!("beamfric-nonfinite-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("huge.toml");
+    let (scene, _) = beamfric::scene::load("benchmark-1").unwrap();
+    let mut scene = scene;
+    // Valid numbers each, but f1 − f0 overflows.
+    scene.load.f0 = 1.7e308;
+    scene.load.f1 = Some(-1.7e308);
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let path = path.to_str().unwrap();
+
+    let out = beamfric(&["solve", "--scene", path, "--format", "json"]);
+    assert_eq!(out.status.code(), Some(4));
+    assert!(stderr_line(&out).contains("non-finite"));
+    let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["warnings"][0]["code"], "non-finite", "{doc}");
+    assert!(doc["kkt_residual"].is_null(), "{}", doc["kkt_residual"]);
+    assert!(doc["obstacles"][0]["force"].is_null());
+    assert!(doc["nodes"]["u"][1].is_null());
+    for field in ["max_abs", "max_rel", "mean_abs", "mean_rel"] {
+        assert!(
+            doc["error"][field].is_null(),
+            "{field}: {}",
+            doc["error"][field]
+        );
+    }
+
+    let out = beamfric(&["solve", "--scene", path]);
+    assert_eq!(out.status.code(), Some(4));
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("KKT residual     n/a"), "{table}");
+    assert!(table.contains("max |u|          n/a"), "{table}");
+    assert!(table.contains("unknown"), "{table}");
+
+    // The explorer's frame: n/a and the warning, never NaN, inf or a made-up 0.
+    let out = beamfric(&["render", "--scene", path, "--size", "120x40"]);
+    assert!(out.status.success());
+    let frame = String::from_utf8_lossy(&out.stdout);
+    // Everything above the warning line (which says "NaN or infinite" in words).
+    let (numbers, _) = frame.split_once("\nwarning").expect("a warning line");
+    for bad in ["NaN", "nan", "inf", "error 0 "] {
+        assert!(!numbers.contains(bad), "{bad:?} in\n{frame}");
+    }
+    assert!(
+        frame.contains("KKT n/a") && frame.contains("NaN or infinite"),
+        "{frame}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -299,3 +299,39 @@ fn quitting_and_interrupting() {
     press(&mut app, "? Esc");
     assert!(!app.quit && app.mode == Mode::Normal);
 }
+
+#[test]
+fn a_failed_save_says_why_and_loses_nothing() {
+    let dir = std::env::temp_dir().join(format!("beamfric-save-fail-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A "directory" that is a file: nothing can be saved under it.
+    let blocker = dir.join("not-a-directory");
+    std::fs::write(&blocker, "in the way").unwrap();
+    let target = blocker.join("scene.toml");
+    let mut app = app("benchmark-3");
+    press(&mut app, "Right Right Down Left");
+    let scene_before = app.scene.clone();
+    let selected_before = app.selected;
+    update(&mut app, Action::Char('s'));
+    while let Mode::Save { buffer } = &app.mode {
+        if buffer.is_empty() {
+            break;
+        }
+        update(&mut app, Action::Backspace);
+    }
+    press(&mut app, target.to_str().unwrap());
+    press(&mut app, "Enter");
+    let message = app.message.clone().unwrap();
+    assert!(message.starts_with("not saved: cannot save"), "{message}");
+    assert!(message.contains("scene.toml"), "{message}");
+    // The reason from the file system, in words.
+    assert!(message.contains("Not a directory"), "{message}");
+    // The state is as it was, the explorer back in its normal mode, nothing written.
+    assert_eq!(app.scene, scene_before);
+    assert_eq!(app.selected, selected_before);
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(std::fs::read_to_string(&blocker).unwrap(), "in the way");
+    let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert_eq!(entries.len(), 1, "a temporary file was left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

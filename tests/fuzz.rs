@@ -90,7 +90,7 @@ fn fresh(name: &str, dir: &Path) -> App {
     let mut scene = Scene::from_toml(preset.text, name).unwrap();
     scene.mesh.elements = scene.mesh.elements.min(ELEMENT_BUDGET);
     let look = Look {
-        ascii: name.len() % 2 == 0,
+        ascii: name.len().is_multiple_of(2),
         color: true,
     };
     let mut app = App::new(scene, format!("preset {name}"), look, false).unwrap();

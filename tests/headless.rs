@@ -294,3 +294,64 @@ fn the_report_writes_markdown_csv_and_svg_and_is_honest() {
     assert_eq!(rows, 33);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_report_never_replaces_files_without_force() {
+    let dir = std::env::temp_dir().join(format!("beamfric-report-force-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("report.md"), "mine").unwrap();
+    let args = |force: bool| {
+        let mut args = vec![
+            "report",
+            "--scene",
+            "benchmark-1",
+            "--out",
+            dir.to_str().unwrap(),
+            "--to",
+            "100",
+            "--points",
+            "2",
+            "--repeat",
+            "1",
+        ];
+        if force {
+            args.push("--force");
+        }
+        args
+    };
+    let out = beamfric(&args(false));
+    assert!(!out.status.success());
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.contains("report.md exists") && message.contains("--force"),
+        "{message}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("report.md")).unwrap(),
+        "mine"
+    );
+    let out = beamfric(&args(true));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        std::fs::read_to_string(dir.join("report.md"))
+            .unwrap()
+            .starts_with("# ")
+    );
+    // Only the report's files: no temporary ones left.
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut expected: Vec<_> = beamfric::report::FILES
+        .iter()
+        .map(|f| f.to_string())
+        .collect();
+    expected.sort();
+    assert_eq!(names, expected);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

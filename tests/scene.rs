@@ -187,3 +187,54 @@ fn scenes_survive_a_round_trip_through_toml() {
         assert_eq!(scene, again, "{}", preset.name);
     }
 }
+
+#[test]
+fn whole_file_mistakes_are_named() {
+    // An empty file: the first required table is named.
+    assert_mentions(&reject(""), &["missing field `beam`"]);
+    // Not TOML at all: the line is given.
+    assert_mentions(&reject("this is not a scene\n"), &["line 1"]);
+    // A required field left out.
+    assert_mentions(
+        &reject(&GOOD.replace("young = 2.15e11\n", "")),
+        &["missing field `young`", "[beam]"],
+    );
+    // A field given twice.
+    assert_mentions(
+        &reject(&GOOD.replace("f0 = 5e4", "f0 = 5e4\nf0 = 1e4")),
+        &["duplicate key", "f0"],
+    );
+    // Too many obstacles for the solvers' limits.
+    let mut crowded = GOOD.replace("[[obstacle]]\nx = 0.8\nsliding = 1e2\nswivel = 5e4\n", "");
+    for i in 1..=beamfric::scene::MAX_OBSTACLES + 1 {
+        let x = i as f64 / (beamfric::scene::MAX_OBSTACLES + 2) as f64;
+        crowded.push_str(&format!("[[obstacle]]\nx = {x}\nsliding = 1\nswivel = 1\n"));
+    }
+    assert_mentions(
+        &reject(&crowded),
+        &[
+            "257 obstacles",
+            &format!("at most {}", beamfric::scene::MAX_OBSTACLES),
+        ],
+    );
+    // The explorer's panels: an unknown name lists the known ones, none at all is refused.
+    assert_mentions(
+        &reject(&format!(
+            "{GOOD}[view]\npanels = [\"deflection\", \"spectrum\"]\n"
+        )),
+        &["unknown variant `spectrum`", "deflection"],
+    );
+    assert_mentions(
+        &reject(&format!("{GOOD}[view]\npanels = []\n")),
+        &["view.panels"],
+    );
+    // Non-finite numbers inside an obstacle are named by index.
+    assert_mentions(
+        &mutate("sliding = 1e2", "sliding = nan"),
+        &["obstacle[1].sliding", "finite"],
+    );
+    assert_mentions(
+        &mutate("swivel = 5e4", "swivel = inf"),
+        &["obstacle[1].swivel", "finite"],
+    );
+}

@@ -261,8 +261,15 @@ pub struct ObstacleResult {
 }
 
 impl ObstacleResult {
-    /// The friction state in words: `stuck`, `slides`, `swivels` or `slides and swivels`.
+    /// The friction state in words: `stuck`, `slides`, `swivels` or `slides and swivels`;
+    /// `unknown` when the numbers it rests on are not finite.
     pub fn state(&self) -> &'static str {
+        if ![self.u, self.slope, self.force, self.moment]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return "unknown";
+        }
         match (self.sliding, self.swivel) {
             (false, false) => "stuck",
             (true, false) => "slides",
@@ -334,12 +341,15 @@ pub struct Solution {
 }
 
 impl Solution {
-    /// The largest |u| over the nodes [m].
+    /// The largest |u| over the nodes [m]; NaN when any is not finite (never a quiet 0).
     pub fn max_deflection(&self) -> f64 {
-        self.field
-            .deflection
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
+        self.field.deflection.iter().fold(0.0f64, |m, v| {
+            if v.is_finite() && !m.is_nan() {
+                m.max(v.abs())
+            } else {
+                f64::NAN
+            }
+        })
     }
 
     /// Is every reported number finite?
@@ -481,11 +491,15 @@ fn certify(
         details,
     };
     if !solution.is_finite() || !solution.kkt_residual.is_finite() {
-        solution.warnings.push(Warning::new(
-            WarningCode::NonFinite,
-            "the solution contains NaN or infinite values: an input is out of \
+        // First: it is what matters most about this solution.
+        solution.warnings.insert(
+            0,
+            Warning::new(
+                WarningCode::NonFinite,
+                "the solution contains NaN or infinite values: an input is out of \
              floating-point range for this method; no number is shown",
-        ));
+            ),
+        );
     }
     if options.reference {
         solution.error = reference_error(problem, mesh, &solution);
@@ -507,6 +521,11 @@ fn kkt_residual(
     lambda: &[[f64; 2]],
     obstacles: &[ObstacleResult],
 ) -> f64 {
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    if !finite(&field.deflection) || !finite(&field.slope) || !lambda.iter().all(|l| finite(l)) {
+        // Not a residual of 0 by `max` skipping NaN: no certificate at all.
+        return f64::NAN;
+    }
     let (stationarity, scale) =
         kkt_stationarity(problem, mesh, &field.deflection, &field.slope, lambda);
     let mut residual = if scale > 0.0 {
@@ -703,10 +722,14 @@ pub fn compare(
     reference_field: &NodalField,
 ) -> ErrorReport {
     let stats = |a: &[f64], b: &[f64]| {
+        if !a.iter().chain(b).all(|v| v.is_finite()) {
+            // No error at all rather than one that `max` computed by skipping NaN.
+            return (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
+        }
         let (mut max_abs, mut sum, mut scale) = (0.0f64, 0.0f64, 0.0f64);
         for (x, y) in a.iter().zip(b) {
             let d = (x - y).abs();
-            max_abs = if d.is_nan() { f64::NAN } else { max_abs.max(d) };
+            max_abs = max_abs.max(d);
             sum += d;
             scale = scale.max(y.abs());
         }
