@@ -10,6 +10,8 @@
 //!   last against faer's general sparse Cholesky doing the same job (factor A, then S and z0 of
 //!   (49) from 2k + 1 solves). This is why the banded solver is written by hand.
 //! - `dual-inverse`: the paper's explicit inverse, for the O(N³) curve.
+//! - `many-obstacles`: k = 16 … 128 obstacles at n = 1000, where the box QP has 2k > 32
+//!   unknowns and runs projected Newton before the active-set method certifies its answer.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -189,12 +191,44 @@ fn dual_inverse(c: &mut Criterion) {
     group.finish();
 }
 
+/// Benchmark 3's beam with `k` evenly spaced obstacles whose thresholds cycle from zero to
+/// clamping, so that some slide, some swivel and some stick.
+fn crowded(k: usize) -> Problem {
+    let mut scene = scene("benchmark-3");
+    let sliding = [0.0, 1e2, 1e4, 1e7];
+    let swivel = [1e6, 0.0, 1e2, 1e4];
+    scene.obstacles = (1..=k)
+        .map(|j| ObstacleSpec {
+            x: j as f64 / (k + 1) as f64 * scene.beam.length,
+            sliding: sliding[j % 4],
+            swivel: swivel[(j / 4) % 4],
+        })
+        .collect();
+    scene.validate("crowded").unwrap().0
+}
+
+fn many_obstacles(c: &mut Criterion) {
+    let mut group = c.benchmark_group("many-obstacles");
+    group.sample_size(10);
+    for k in [16usize, 32, 64, 128] {
+        let problem = crowded(k);
+        let mesh = Mesh::new(&problem, 1000);
+        for method in [Method::Dual, Method::Flexibility, Method::RegularizedNewton] {
+            group.bench_with_input(BenchmarkId::new(method.name(), k), &mesh, |b, mesh| {
+                b.iter(|| solve(&problem, mesh, method, &options(false)).unwrap())
+            });
+        }
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     methods,
     keystroke,
     regularized_vs_k,
     factorization,
-    dual_inverse
+    dual_inverse,
+    many_obstacles
 );
 criterion_main!(benches);
