@@ -343,13 +343,12 @@ pub struct Solution {
 impl Solution {
     /// The largest |u| over the nodes [m]; NaN when any is not finite (never a quiet 0).
     pub fn max_deflection(&self) -> f64 {
-        self.field.deflection.iter().fold(0.0f64, |m, v| {
-            if v.is_finite() && !m.is_nan() {
-                m.max(v.abs())
-            } else {
-                f64::NAN
-            }
-        })
+        let u = &self.field.deflection;
+        if u.iter().all(|v| v.is_finite()) {
+            u.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+        } else {
+            f64::NAN
+        }
     }
 
     /// Is every reported number finite?
