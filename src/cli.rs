@@ -9,7 +9,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::fem::Mesh;
 use crate::output::{SolveContext, refusal_json, solution_json, solution_table};
 use crate::scene::{self, Scene};
-use crate::solve::{ConditionLevel, Method, SolveOptions, solve};
+use crate::solve::{ConditionLevel, Method, SolveOptions, WarningCode, solve};
 
 /// Exit status for bad input (scene, arguments).
 pub const EXIT_BAD_INPUT: u8 = 2;
@@ -626,14 +626,15 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
                 Format::Table => solution_table(&context, &solution, &at, true),
             };
             let _ = stdout.write_all(text.as_bytes());
-            if solution.is_finite() && solution.kkt_residual.is_finite() {
-                Ok(ExitCode::SUCCESS)
-            } else {
+            // Exactly when the user is told, by the `non-finite` warning.
+            if solution.has_warning(WarningCode::NonFinite) {
                 eprintln!(
                     "beamfric: {} gave non-finite values: see the warnings",
                     settings.method
                 );
                 Ok(ExitCode::from(EXIT_NOT_FINITE))
+            } else {
+                Ok(ExitCode::SUCCESS)
             }
         }
         Err(error) => {

@@ -351,6 +351,11 @@ impl Solution {
         }
     }
 
+    /// Does the certification carry a warning of this kind?
+    pub fn has_warning(&self, code: WarningCode) -> bool {
+        self.warnings.iter().any(|w| w.code == code)
+    }
+
     /// Is every reported number finite?
     pub fn is_finite(&self) -> bool {
         self.field
