@@ -3,9 +3,10 @@
 //! excluded (they run on the worker thread; the panels say "computing" meanwhile). Also the
 //! cost of drawing a frame whose every panel has its data.
 
+use beamfric::plot::Look;
 use beamfric::scene::{Scene, preset};
-use beamfric::tui::action::Action;
-use beamfric::tui::app::{App, Look};
+use beamfric::tui::app::App;
+use beamfric::tui::keymap::Action;
 use beamfric::tui::update::update;
 use beamfric::tui::{studies, view};
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -19,7 +20,16 @@ fn app(elements: usize) -> App {
         ascii: false,
         color: true,
     };
-    App::new(scene, "preset benchmark-1".into(), look, true).unwrap()
+    App::new(
+        beamfric::scene::LoadedScene::new(
+            scene,
+            beamfric::scene::SceneSource::Preset("benchmark-1"),
+        )
+        .unwrap(),
+        look,
+        true,
+    )
+    .unwrap()
 }
 
 fn keystroke(c: &mut Criterion) {

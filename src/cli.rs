@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::fem::Mesh;
 use crate::output::{SolveContext, refusal_json, solution_json, solution_table};
-use crate::scene::{self, Scene};
+use crate::scene::{self, LoadedScene};
 use crate::solve::{ConditionLevel, Method, SolveOptions, WarningCode, solve};
 
 /// Exit status for bad input (scene, arguments).
@@ -293,26 +293,30 @@ pub fn run(cli: Cli) -> ExitCode {
     }
 }
 
-/// Loads a scene and applies command-line overrides, validating them with the scene's rules.
+/// Loads a scene and applies command-line overrides, checked by the scene's rules for those
+/// fields (the physics is validated once, by loading: the overrides do not change it).
 pub fn load_with_overrides(
     name: &str,
     method: Option<Method>,
     elements: Option<usize>,
     epsilon: Option<f64>,
-) -> Result<(Scene, String), String> {
-    let (mut scene, source) = scene::load(name).map_err(|e| e.to_string())?;
+) -> Result<LoadedScene, String> {
+    let mut loaded = scene::load(name).map_err(|e| e.to_string())?;
     if let Some(n) = elements {
         scene::check_elements(n).map_err(|rule| format!("--elements {rule}"))?;
-        scene.mesh.elements = n;
+        loaded.scene.mesh.elements = n;
+        loaded.settings.elements = n;
     }
     if let Some(e) = epsilon {
         scene::check_epsilon(e).map_err(|rule| format!("--epsilon {rule}"))?;
-        scene.solver.epsilon = e;
+        loaded.scene.solver.epsilon = e;
+        loaded.settings.epsilon = e;
     }
     if let Some(m) = method {
-        scene.solver.method = m;
+        loaded.scene.solver.method = m;
+        loaded.settings.method = m;
     }
-    Ok((scene, source))
+    Ok(loaded)
 }
 
 /// Colours unless the user or the NO_COLOR convention (any non-empty value) says no.
@@ -321,12 +325,12 @@ fn colors_wanted(no_color: bool) -> bool {
 }
 
 fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> {
-    let (scene, source) = scene::load(name).map_err(|e| e.to_string())?;
-    let look = crate::tui::app::Look {
+    let loaded = scene::load(name).map_err(|e| e.to_string())?;
+    let look = crate::plot::Look {
         ascii,
         color: colors_wanted(no_color),
     };
-    match crate::tui::run(scene, source, look)? {
+    match crate::tui::run(loaded, look)? {
         crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
         // The conventional status of a process ended by a signal.
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
@@ -334,19 +338,19 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
 }
 
 fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
-    let (scene, source) = scene::load(&args.scene).map_err(|e| e.to_string())?;
-    let actions = crate::tui::action::parse_keys(&args.keys);
+    let loaded = scene::load(&args.scene).map_err(|e| e.to_string())?;
+    let keys = crate::tui::keymap::parse_keys(&args.keys);
     let options = crate::tui::RenderOptions {
         width: args.size.0,
         height: args.size.1,
-        look: crate::tui::app::Look {
+        look: crate::plot::Look {
             ascii: args.ascii,
             color: args.color,
         },
         timings: args.timings,
     };
-    let buffer = crate::tui::render(scene, source, &actions, options)?;
-    let text = crate::tui::buffer_to_text(&buffer, args.color);
+    let buffer = crate::tui::render(loaded, &keys, options)?;
+    let text = crate::plot::buffer_to_text(&buffer, args.color);
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     Ok(ExitCode::SUCCESS)
 }
@@ -447,8 +451,12 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
             args.method
         ));
     }
-    let (scene, source) = load_with_overrides(&args.scene, None, args.elements, None)?;
-    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    let LoadedScene {
+        source,
+        problem,
+        settings,
+        ..
+    } = load_with_overrides(&args.scene, None, args.elements, None)?;
     let epsilons = crate::study::log_space(args.from, args.to, args.points);
     let progress = ProgressLine::new("sweep epsilon");
     let result = crate::study::epsilon_sweep(
@@ -472,7 +480,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
         || crate::output::epsilon_sweep_csv(&points),
         || {
             serde_json::json!({
-                "scene": source,
+                "scene": source.to_string(),
                 "method": args.method.name(),
                 "elements": settings.elements,
                 "points": points,
@@ -486,8 +494,12 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
     check_elements_range(args.from, args.to)?;
     check_count("--points", args.points, 1..=200)?;
     check_count("--repeat", args.repeat, 1..=100)?;
-    let (scene, source) = load_with_overrides(&args.scene, None, None, args.epsilon)?;
-    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    let LoadedScene {
+        source,
+        problem,
+        settings,
+        ..
+    } = load_with_overrides(&args.scene, None, None, args.epsilon)?;
     let methods = if args.methods.is_empty() {
         Method::ALL.to_vec()
     } else {
@@ -511,7 +523,7 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
         || crate::output::mesh_sweep_csv(&points),
         || {
             serde_json::json!({
-                "scene": source,
+                "scene": source.to_string(),
                 "repeat": args.repeat,
                 "epsilon": settings.epsilon,
                 "points": points,
@@ -525,12 +537,11 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
     check_elements_range(args.from, args.to)?;
     check_count("--points", args.points, 1..=200)?;
     check_count("--repeat", args.repeat, 1..=100)?;
-    let (scene, source) = scene::load(&args.scene).map_err(|e| e.to_string())?;
-    let name = source.trim_start_matches("preset ").to_string();
-    let stem = std::path::Path::new(&name)
-        .file_stem()
-        .map_or(name.clone(), |s| s.to_string_lossy().to_string());
-    let out = args.out.clone().unwrap_or_else(|| format!("report-{stem}"));
+    let loaded = scene::load(&args.scene).map_err(|e| e.to_string())?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| format!("report-{}", loaded.source.stem()));
     // Refuse before measuring, not after.
     if !args.force
         && let Some(existing) = crate::report::FILES
@@ -553,7 +564,7 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
         ),
     };
     let progress = ProgressLine::new("report");
-    let report = crate::report::build(&scene, &source, &options, &|done, total, what| {
+    let report = crate::report::build(&loaded, &options, &|done, total, what| {
         progress.report(done, total, what)
     });
     progress.finish();
@@ -567,8 +578,11 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
 fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
     let reports = match &args.scene {
         Some(name) => {
-            let (scene, source) = scene::load(name).map_err(|e| e.to_string())?;
-            vec![crate::check::check_scene(&source, &scene)]
+            let loaded = scene::load(name).map_err(|e| e.to_string())?;
+            vec![crate::check::check_scene(
+                &loaded.source.to_string(),
+                &loaded.scene,
+            )]
         }
         None => crate::check::check_presets(),
     };
@@ -588,9 +602,13 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
 }
 
 fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
-    let (scene, source) =
-        load_with_overrides(&args.scene, args.method, args.elements, args.epsilon)?;
-    let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
+    let LoadedScene {
+        scene,
+        source,
+        problem,
+        settings,
+    } = load_with_overrides(&args.scene, args.method, args.elements, args.epsilon)?;
+    let source = source.to_string();
     for &x in &args.at {
         if !(x.is_finite() && (0.0..=problem.length).contains(&x)) {
             return Err(format!(

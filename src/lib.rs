@@ -9,6 +9,7 @@
 //! - [`linalg`]: the block-tridiagonal factorization, the box QP, condition numbers.
 //! - [`solve`]: one module per method and the common [`solve::Solution`].
 //! - [`study`]: ε sweeps and mesh sweeps (the explorer's charts, `sweep`, `report`).
+//! - [`plot`]: look, theme, ASCII mapping and log-axis charts shared by the explorer and reports.
 //! - [`tui`]: the explorer (terminal UI and headless rendering).
 //! - [`check`]: the stability suite on the presets (`beamfric check`).
 //! - [`report`]: the error-against-run-time report (`beamfric report`).
@@ -25,6 +26,7 @@ pub mod format;
 pub mod linalg;
 pub mod model;
 pub mod output;
+pub mod plot;
 pub mod report;
 pub mod scene;
 pub mod solve;

@@ -179,7 +179,7 @@ fn a_non_finite_solution_is_reported_not_shown() {
     let dir = std::env::temp_dir().join(format!("beamfric-nonfinite-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("huge.toml");
-    let (scene, _) = beamfric::scene::load("benchmark-1").unwrap();
+    let scene = beamfric::scene::load("benchmark-1").unwrap().scene;
     let mut scene = scene;
     // Valid numbers each, but f1 − f0 overflows.
     scene.load.f0 = 1.7e308;

@@ -1,20 +1,21 @@
 //! The explorer (issue 3): frames after key sequences as insta snapshots, and what keys do to
 //! the state and the solution. The frames of every preset are in `render.rs`.
 
-use beamfric::scene::{PRESETS, Panel, Scene, preset};
+use beamfric::plot::{Look, buffer_to_text};
+use beamfric::scene::{LoadedScene, PRESETS, Panel, SceneSource, preset};
 use beamfric::solve::{Method, SolveErrorKind};
-use beamfric::tui::action::{Action, parse_keys};
-use beamfric::tui::app::{App, Look, Mode, StudyState};
-use beamfric::tui::update::update;
-use beamfric::tui::{RenderOptions, buffer_to_text, draw_to_buffer, render};
+use beamfric::tui::app::{App, Mode};
+use beamfric::tui::keymap::{Key, parse_keys};
+use beamfric::tui::studies::StudyState;
+use beamfric::tui::{RenderOptions, draw_to_buffer, render};
 
 const LOOK: Look = Look {
     ascii: false,
     color: false,
 };
 
-fn scene(name: &str) -> Scene {
-    Scene::from_toml(preset(name).unwrap().text, name).unwrap()
+fn scene(name: &str) -> LoadedScene {
+    LoadedScene::preset(preset(name).unwrap()).unwrap()
 }
 
 fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
@@ -24,23 +25,17 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         look: LOOK,
         timings: false,
     };
-    let buffer = render(
-        scene(name),
-        format!("preset {name}"),
-        &parse_keys(keys),
-        options,
-    )
-    .unwrap();
+    let buffer = render(scene(name), &parse_keys(keys), options).unwrap();
     buffer_to_text(&buffer, false)
 }
 
 fn app(name: &str) -> App {
-    App::new(scene(name), format!("preset {name}"), LOOK, false).unwrap()
+    App::new(scene(name), LOOK, false).unwrap()
 }
 
 fn press(app: &mut App, keys: &str) {
-    for action in parse_keys(keys) {
-        update(app, action);
+    for key in parse_keys(keys) {
+        beamfric::tui::press(app, key);
     }
 }
 
@@ -141,7 +136,7 @@ fn keys_change_the_state_and_the_solution() {
     assert!(app.message.as_deref().unwrap().contains("zero or positive"));
     // Reset.
     press(&mut app, "r");
-    assert_eq!(app.scene, scene("benchmark-1"));
+    assert_eq!(app.scene, scene("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
     assert_eq!(app.solution.as_ref().unwrap().method, Method::Flexibility);
@@ -157,7 +152,7 @@ fn obstacles_stay_ordered_inside_and_apart() {
     // Push obstacle 1 to the right far past obstacle 2, and obstacle 4 past the support.
     press(&mut app, "Down Down Down Down");
     for _ in 0..100 {
-        update(&mut app, Action::Increase { coarse: true });
+        beamfric::tui::press(&mut app, Key::ShiftRight);
     }
     let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
     assert!(xs.windows(2).all(|w| w[0] < w[1]), "{xs:?}");
@@ -207,11 +202,17 @@ fn presets_load_from_the_picker_and_panels_follow_the_scene() {
         press(&mut app, "Down");
     }
     press(&mut app, "Enter");
-    assert_eq!(app.source, "preset lesson-epsilon");
+    assert_eq!(app.source, SceneSource::Preset("lesson-epsilon"));
     assert_eq!(app.panels(), vec![Panel::EpsError, Panel::EpsCond]);
     // Panels the scene does not list are neither drawn nor computed.
-    assert_eq!(app.mesh_study.state, StudyState::Idle);
-    assert!(matches!(app.eps_study.state, StudyState::Pending));
+    assert!(matches!(
+        app.study_state(Panel::ErrorTime),
+        StudyState::Idle
+    ));
+    assert!(matches!(
+        app.study_state(Panel::EpsError),
+        StudyState::Pending
+    ));
     let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
     assert!(!text.contains("Deflection") && !text.contains("Error vs n"));
     assert!(
@@ -235,12 +236,18 @@ fn outdated_study_results_are_never_taken() {
     for result in results {
         assert!(!app.accept(result));
     }
-    assert!(matches!(app.eps_study.state, StudyState::Pending));
+    assert!(matches!(
+        app.study_state(Panel::EpsError),
+        StudyState::Pending
+    ));
     // The current ones are taken.
     for request in app.pending_studies() {
         assert!(app.accept(beamfric::tui::studies::run_now(&request)));
     }
-    assert!(matches!(app.eps_study.state, StudyState::Ready(_)));
+    assert!(matches!(
+        app.study_state(Panel::EpsError),
+        StudyState::Ready(_)
+    ));
 }
 
 #[test]
@@ -251,34 +258,34 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
     let path_text = path.to_str().unwrap().to_string();
     let mut app = app("benchmark-3");
     press(&mut app, "Right");
-    update(&mut app, Action::Char('s'));
+    beamfric::tui::press(&mut app, Key::Char('s'));
     // Replace the suggested name with ours.
     while let Mode::Save { buffer } = &app.mode {
         if buffer.is_empty() {
             break;
         }
-        update(&mut app, Action::Backspace);
+        beamfric::tui::press(&mut app, Key::Backspace);
     }
     press(&mut app, &path_text);
     press(&mut app, "Enter");
     assert!(app.message.as_deref().unwrap().starts_with("saved to"));
-    let (loaded, _) = beamfric::scene::load(&path_text).unwrap();
+    let loaded = beamfric::scene::load(&path_text).unwrap().scene;
     assert_eq!(loaded.load, app.scene.load);
     assert_eq!(loaded.obstacles, app.scene.obstacles);
     // Saving again asks; "n" leaves the file as it was, "y" replaces it.
     press(&mut app, "Right");
-    update(&mut app, Action::Char('s'));
+    beamfric::tui::press(&mut app, Key::Char('s'));
     press(&mut app, "Enter");
     assert!(matches!(app.mode, Mode::ConfirmOverwrite { .. }));
     press(&mut app, "n");
     assert_eq!(
-        beamfric::scene::load(&path_text).unwrap().0.load,
+        beamfric::scene::load(&path_text).unwrap().scene.load,
         loaded.load
     );
-    update(&mut app, Action::Char('s'));
+    beamfric::tui::press(&mut app, Key::Char('s'));
     press(&mut app, "Enter y");
     assert_eq!(
-        beamfric::scene::load(&path_text).unwrap().0.load,
+        beamfric::scene::load(&path_text).unwrap().scene.load,
         app.scene.load
     );
     // No temporary files are left behind.
@@ -312,12 +319,12 @@ fn a_failed_save_says_why_and_loses_nothing() {
     press(&mut app, "Right Right Down Left");
     let scene_before = app.scene.clone();
     let selected_before = app.selected;
-    update(&mut app, Action::Char('s'));
+    beamfric::tui::press(&mut app, Key::Char('s'));
     while let Mode::Save { buffer } = &app.mode {
         if buffer.is_empty() {
             break;
         }
-        update(&mut app, Action::Backspace);
+        beamfric::tui::press(&mut app, Key::Backspace);
     }
     press(&mut app, target.to_str().unwrap());
     press(&mut app, "Enter");

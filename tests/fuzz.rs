@@ -7,13 +7,28 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use beamfric::fem::Mesh;
-use beamfric::scene::{PRESETS, Scene};
+use beamfric::plot::Look;
+use beamfric::scene::{LoadedScene, PRESETS, Scene, SceneSource};
 use beamfric::solve::{Method, SolveOptions, WarningCode, solve};
-use beamfric::tui::action::Action;
-use beamfric::tui::app::{App, Look, Mode};
+use beamfric::tui::app::{App, Mode};
 use beamfric::tui::draw_to_buffer;
+use beamfric::tui::keymap::{Action, Key};
 use beamfric::tui::update::update;
 use beamfric::tui::view;
+
+/// What the fuzzer feeds the explorer: keys, as from the terminal, and resizes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Input {
+    Key(Key),
+    Resize(u16, u16),
+}
+
+fn apply(app: &mut App, input: Input) {
+    match input {
+        Input::Key(key) => beamfric::tui::press(app, key),
+        Input::Resize(w, h) => update(app, Action::Resize(w, h)),
+    }
+}
 use proptest::prelude::*;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -44,39 +59,41 @@ fn typed_text() -> impl Strategy<Value = String> {
     ]
 }
 
-fn action() -> impl Strategy<Value = Vec<Action>> {
+fn action() -> impl Strategy<Value = Vec<Input>> {
+    let key = |k: Key| Just(Input::Key(k));
     let single = prop_oneof![
-        6 => Just(Action::Up),
-        6 => Just(Action::Down),
-        4 => any::<bool>().prop_map(|coarse| Action::Decrease { coarse }),
-        4 => any::<bool>().prop_map(|coarse| Action::Increase { coarse }),
-        1 => Just(Action::Escape),
-        1 => Just(Action::Backspace),
-        1 => Just(Action::NextPanel),
-        1 => Just(Action::Interrupt),
-        2 => (1u16..=160, 1u16..=50).prop_map(|(w, h)| Action::Resize(w, h)),
+        6 => key(Key::Up),
+        6 => key(Key::Down),
+        4 => prop::sample::select(vec![Key::Left, Key::ShiftLeft]).prop_map(Input::Key),
+        4 => prop::sample::select(vec![Key::Right, Key::ShiftRight]).prop_map(Input::Key),
+        1 => key(Key::Esc),
+        1 => key(Key::Backspace),
+        1 => prop::sample::select(vec![Key::Tab, Key::BackTab]).prop_map(Input::Key),
+        1 => key(Key::Ctrl('c')),
+        1 => prop::sample::select(vec!['d', 'z', 'u', 'r']).prop_map(|c| Input::Key(Key::Ctrl(c))),
+        2 => (1u16..=160, 1u16..=50).prop_map(|(w, h)| Input::Resize(w, h)),
         6 => prop::sample::select(vec![
             'a', 'd', 'm', 'p', 's', 'r', 'b', 't', '?', 'q', 'k', 'j', 'h', 'l', '[', ']',
             'y', 'n', 'x', '5', 'é',
         ])
-        .prop_map(Action::Char),
+        .prop_map(|c| Input::Key(Key::Char(c))),
     ]
     .prop_map(|a| vec![a]);
     // A typed value: Enter, text, Enter.
     let typed = typed_text().prop_map(|text| {
-        let mut actions = vec![Action::Enter];
-        actions.extend(text.chars().map(Action::Char));
-        actions.push(Action::Enter);
-        actions
+        let mut inputs = vec![Input::Key(Key::Enter)];
+        inputs.extend(text.chars().map(|c| Input::Key(Key::Char(c))));
+        inputs.push(Input::Key(Key::Enter));
+        inputs
     });
     // A preset switch: p, some moves, Enter.
     let preset = (0usize..PRESETS.len()).prop_map(|i| {
-        let mut actions = vec![Action::Char('p')];
-        actions.extend(std::iter::repeat_n(Action::Down, i));
-        actions.push(Action::Enter);
-        actions
+        let mut inputs = vec![Input::Key(Key::Char('p'))];
+        inputs.extend(std::iter::repeat_n(Input::Key(Key::Down), i));
+        inputs.push(Input::Key(Key::Enter));
+        inputs
     });
-    prop_oneof![30 => single, 4 => typed, 1 => preset, 1 => Just(vec![Action::Enter])]
+    prop_oneof![30 => single, 4 => typed, 1 => preset, 1 => Just(vec![Input::Key(Key::Enter)])]
 }
 
 fn temp_dir() -> PathBuf {
@@ -93,7 +110,8 @@ fn fresh(name: &str, dir: &Path) -> App {
         ascii: name.len().is_multiple_of(2),
         color: true,
     };
-    let mut app = App::new(scene, format!("preset {name}"), look, false).unwrap();
+    let loaded = LoadedScene::new(scene, SceneSource::Preset(preset.name)).unwrap();
+    let mut app = App::new(loaded, look, false).unwrap();
     app.set_save_directory(dir.to_path_buf());
     app
 }
@@ -132,7 +150,7 @@ fn check(app: &App) -> Result<(), TestCaseError> {
 }
 
 /// Applies one script of actions to a fresh explorer; returns the keys applied.
-fn run_script(start: usize, script: Vec<Vec<Action>>) -> Result<usize, TestCaseError> {
+fn run_script(start: usize, script: Vec<Vec<Input>>) -> Result<usize, TestCaseError> {
     let dir = temp_dir();
     let mut app = fresh(PRESETS[start].name, &dir);
     let prefix = dir.display().to_string();
@@ -141,26 +159,25 @@ fn run_script(start: usize, script: Vec<Vec<Action>>) -> Result<usize, TestCaseE
     for action in script.into_iter().flatten() {
         // Saves stay inside the temporary directory: never erase into its path.
         if let Mode::Save { buffer } = &app.mode
-            && action == Action::Backspace
+            && action == Input::Key(Key::Backspace)
             && buffer.len() <= prefix.len() + 1
         {
             continue;
         }
-        update(&mut app, action);
+        apply(&mut app, action);
         applied += 1;
         if app.quit {
-            let name = app.source.trim_start_matches("preset ").to_string();
-            let known = PRESETS
-                .iter()
-                .find(|p| p.name == name)
-                .map_or("benchmark-1", |p| p.name);
+            let known = match app.source {
+                SceneSource::Preset(name) => name,
+                SceneSource::File(_) => "benchmark-1",
+            };
             app = fresh(known, &dir);
         }
         if app.scene.mesh.elements > ELEMENT_BUDGET {
             let mut scene = app.scene.clone();
             scene.mesh.elements = 200;
             let (source, look) = (app.source.clone(), app.look);
-            app = App::new(scene, source, look, false).unwrap();
+            app = App::new(LoadedScene::new(scene, source).unwrap(), look, false).unwrap();
             app.set_save_directory(dir.clone());
         }
         check(&app)?;
@@ -233,9 +250,9 @@ proptest! {
         let mut app = ready_app().clone();
         app.look.ascii = ascii;
         for _ in 0..diagram {
-            update(&mut app, Action::Char('b'));
+            beamfric::tui::press(&mut app, Key::Char('b'));
         }
-        let text = beamfric::tui::buffer_to_text(&draw_to_buffer(&app, width, height).unwrap(), false);
+        let text = beamfric::plot::buffer_to_text(&draw_to_buffer(&app, width, height).unwrap(), false);
         prop_assert_eq!(text.lines().count(), height as usize);
         if ascii {
             prop_assert!(text.is_ascii());
@@ -248,14 +265,13 @@ fn ready_app() -> &'static App {
     static READY: std::sync::OnceLock<App> = std::sync::OnceLock::new();
     READY.get_or_init(|| {
         let preset = beamfric::scene::preset("benchmark-3").unwrap();
-        let scene = Scene::from_toml(preset.text, "b3").unwrap();
+        let loaded = LoadedScene::preset(preset).unwrap();
         let look = Look {
             ascii: false,
             color: false,
         };
         beamfric::tui::prepare(
-            scene,
-            "preset benchmark-3".into(),
+            loaded,
             &[],
             beamfric::tui::RenderOptions {
                 width: 120,

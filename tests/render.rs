@@ -4,9 +4,9 @@
 
 use std::process::Command;
 
-use beamfric::scene::{PRESETS, Scene, preset};
-use beamfric::tui::app::Look;
-use beamfric::tui::{RenderOptions, buffer_to_text, draw_to_buffer, prepare};
+use beamfric::plot::{Look, buffer_to_text};
+use beamfric::scene::{LoadedScene, PRESETS, preset};
+use beamfric::tui::{RenderOptions, draw_to_buffer, prepare};
 
 const SIZES: [(u16, u16); 2] = [(120, 40), (80, 24)];
 
@@ -24,14 +24,8 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
 
 /// The four frames of a preset (two sizes, two looks), from one prepared state.
 fn frames(name: &str) -> Vec<(String, String)> {
-    let scene = Scene::from_toml(preset(name).unwrap().text, name).unwrap();
-    let mut app = prepare(
-        scene,
-        format!("preset {name}"),
-        &[],
-        options(120, 40, false),
-    )
-    .unwrap();
+    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let mut app = prepare(loaded, &[], options(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
         app.look.ascii = ascii;
@@ -118,15 +112,9 @@ fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() 
         keys,
     ]);
     assert_eq!(first.stdout, second.stdout, "two renders differ");
-    let scene = Scene::from_toml(preset("benchmark-3").unwrap().text, "b3").unwrap();
-    let actions = beamfric::tui::action::parse_keys(keys);
-    let buffer = beamfric::tui::render(
-        scene,
-        "preset benchmark-3".into(),
-        &actions,
-        options(100, 30, false),
-    )
-    .unwrap();
+    let loaded = LoadedScene::preset(preset("benchmark-3").unwrap()).unwrap();
+    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let buffer = beamfric::tui::render(loaded, &keys, options(100, 30, false)).unwrap();
     assert_eq!(
         String::from_utf8(first.stdout).unwrap(),
         buffer_to_text(&buffer, false)

@@ -55,10 +55,12 @@ fn the_good_scene_and_every_preset_validate() {
         .validate("good")
         .unwrap();
     for preset in PRESETS {
-        let (scene, source) = load(preset.name).unwrap();
-        assert_eq!(source, format!("preset {}", preset.name));
-        scene.validate(&source).unwrap();
-        assert!(!scene.title.is_empty());
+        let loaded = load(preset.name).unwrap();
+        assert_eq!(loaded.source.to_string(), format!("preset {}", preset.name));
+        // Loading validated once and kept what validation built.
+        let (problem, settings) = loaded.scene.validate("again").unwrap();
+        assert_eq!((problem, settings), (loaded.problem, loaded.settings));
+        assert!(!loaded.scene.title.is_empty());
     }
 }
 

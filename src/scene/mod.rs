@@ -5,17 +5,18 @@
 //! the rule it broke, e.g. `beam.toml: obstacle[2].x = 1.2: must lie strictly inside (0, l) =
 //! (0, 1) m`. Unknown fields are errors, not silently ignored.
 
+mod loaded;
 mod presets;
 mod save;
 
 use std::fmt;
-use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
 use crate::model::{LinearLoad, Obstacle, Problem, StiffnessPiece};
 use crate::solve::Method;
 
+pub use loaded::{LoadedScene, SceneSource, load};
 pub use presets::{PRESETS, Preset, preset};
 pub use save::{SaveError, save_atomic};
 
@@ -298,38 +299,6 @@ impl Scene {
             epsilon: self.solver.epsilon,
         }
     }
-}
-
-/// Loads a scene by preset name or file path. A path that exists wins over a preset name.
-/// Returns the scene and its source name for messages.
-pub fn load(name_or_path: &str) -> Result<(Scene, String), SceneError> {
-    let path = Path::new(name_or_path);
-    if path.exists() {
-        let source = name_or_path.to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            source: source.clone(),
-            field: String::new(),
-            rule: format!("cannot read the file: {e}"),
-        })?;
-        let scene = Scene::from_toml(&text, &source)?;
-        scene.validate(&source)?;
-        return Ok((scene, source));
-    }
-    if let Some(preset) = preset(name_or_path) {
-        let source = format!("preset {}", preset.name);
-        let scene = Scene::from_toml(preset.text, &source)?;
-        scene.validate(&source)?;
-        return Ok((scene, source));
-    }
-    let names: Vec<&str> = PRESETS.iter().map(|p| p.name).collect();
-    Err(SceneError {
-        source: name_or_path.to_string(),
-        field: String::new(),
-        rule: format!(
-            "no such file, and not a preset name (presets: {})",
-            names.join(", ")
-        ),
-    })
 }
 
 fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError {

@@ -3,11 +3,15 @@
 
 use crate::fem::Mesh;
 use crate::model::Problem;
-use crate::scene::{Panel, Scene};
+use crate::scene::{LoadedScene, Panel, Scene, SceneSource, Settings};
 use crate::solve::{ConditionLevel, Solution, SolveError, SolveOptions, solve};
-use crate::study::{EpsPoint, MeshPoint};
 
 use super::params::{Row, rows};
+use super::studies::{
+    STUDIES, StudyContext, StudyRequest, StudyResult, StudySlot, StudyState, StudyView, study_of,
+};
+
+pub use crate::plot::Look;
 
 /// What the keyboard is doing.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -34,75 +38,6 @@ pub enum Diagram {
     Shear,
 }
 
-/// How the frame is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Look {
-    /// No Unicode: ASCII borders, markers and text.
-    pub ascii: bool,
-    /// Colours (off with NO_COLOR).
-    pub color: bool,
-}
-
-/// A study's data for the state it was computed for.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StudyState<T> {
-    /// Not needed: no visible panel shows it.
-    Idle,
-    /// Being computed for the current state.
-    Pending,
-    /// Done, for the current state.
-    Ready(T),
-    /// The study cannot run for this state (e.g. the enumeration refuses).
-    Failed(String),
-}
-
-/// What an ε sweep depends on.
-#[derive(Debug, Clone, PartialEq)]
-pub struct EpsInputs {
-    pub problem: Problem,
-    pub elements: usize,
-}
-
-/// What a mesh sweep depends on.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeshInputs {
-    pub problem: Problem,
-    pub epsilon: f64,
-    pub elements: usize,
-    /// Median over this many runs (1 when run times are not shown).
-    pub repeat: usize,
-}
-
-/// A study slot: the inputs its data belongs to and the data.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Study<I, T> {
-    pub inputs: Option<I>,
-    pub state: StudyState<T>,
-}
-
-impl<I, T> Default for Study<I, T> {
-    fn default() -> Self {
-        Study {
-            inputs: None,
-            state: StudyState::Idle,
-        }
-    }
-}
-
-/// A request for the study runner.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StudyRequest {
-    Epsilon(EpsInputs),
-    Mesh(MeshInputs),
-}
-
-/// A finished study, tagged with the inputs it was computed for.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StudyResult {
-    Epsilon(EpsInputs, Result<Vec<EpsPoint>, String>),
-    Mesh(MeshInputs, Result<Vec<MeshPoint>, String>),
-}
-
 /// The explorer's state.
 #[derive(Debug, Clone)]
 pub struct App {
@@ -110,8 +45,10 @@ pub struct App {
     pub scene: Scene,
     /// The scene as loaded, for reset.
     pub loaded: Scene,
-    /// Where the scene came from: a file path or `preset <name>`.
-    pub source: String,
+    /// The problem and settings the loaded scene validated to.
+    pub loaded_problem: (Problem, Settings),
+    /// Where the scene came from.
+    pub source: SceneSource,
     /// The directory new files are saved to by default.
     pub save_directory: std::path::PathBuf,
     /// The file to save to by default.
@@ -134,8 +71,8 @@ pub struct App {
     /// Terminal size in cells, as last reported.
     pub size: (u16, u16),
     pub quit: bool,
-    pub eps_study: Study<EpsInputs, Vec<EpsPoint>>,
-    pub mesh_study: Study<MeshInputs, Vec<MeshPoint>>,
+    /// One slot per study of [`super::studies::STUDIES`], by the same index.
+    pub studies: Vec<StudySlot>,
 }
 
 /// Solve options of the explorer: no condition numbers on the per-keystroke path, the
@@ -149,30 +86,25 @@ pub fn solve_options(scene: &Scene) -> SolveOptions {
 }
 
 impl App {
-    /// The explorer on a valid scene. Obstacles are kept ordered by position.
-    pub fn new(
-        mut scene: Scene,
-        source: String,
-        look: Look,
-        show_timings: bool,
-    ) -> Result<App, String> {
-        scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
-        let (problem, settings) = scene.validate(&source).map_err(|e| e.to_string())?;
-        let mesh = Mesh::new(&problem, settings.elements);
-        let solution = solve(&problem, &mesh, settings.method, &solve_options(&scene));
-        let save_path = if source.starts_with("preset ") {
-            format!("{}.toml", source.trim_start_matches("preset "))
-        } else {
-            source.clone()
-        };
-        let save_directory = std::path::PathBuf::from(".");
+    /// The explorer on a loaded scene. Obstacles are kept ordered by position.
+    pub fn new(loaded: LoadedScene, look: Look, show_timings: bool) -> Result<App, String> {
+        let loaded = sorted(loaded).map_err(|e| e.to_string())?;
+        let save_path = loaded.source.default_file_name().display().to_string();
+        let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
+        let solution = solve(
+            &loaded.problem,
+            &mesh,
+            loaded.settings.method,
+            &solve_options(&loaded.scene),
+        );
         let mut app = App {
-            loaded: scene.clone(),
-            scene,
-            source,
-            save_directory,
+            loaded: loaded.scene.clone(),
+            loaded_problem: (loaded.problem.clone(), loaded.settings),
+            scene: loaded.scene,
+            source: loaded.source,
+            save_directory: std::path::PathBuf::from("."),
             save_path,
-            problem,
+            problem: loaded.problem,
             mesh,
             solution,
             selected: 0,
@@ -184,8 +116,7 @@ impl App {
             look,
             size: (120, 40),
             quit: false,
-            eps_study: Study::default(),
-            mesh_study: Study::default(),
+            studies: vec![StudySlot::default(); STUDIES.len()],
         };
         app.refresh_studies();
         Ok(app)
@@ -193,8 +124,11 @@ impl App {
 
     /// Saves of presets go to `directory` from now on.
     pub fn set_save_directory(&mut self, directory: std::path::PathBuf) {
-        if let Some(name) = self.source.strip_prefix("preset ") {
-            self.save_path = directory.join(format!("{name}.toml")).display().to_string();
+        if let SceneSource::Preset(_) = self.source {
+            self.save_path = directory
+                .join(self.source.default_file_name())
+                .display()
+                .to_string();
         }
         self.save_directory = directory;
     }
@@ -220,12 +154,19 @@ impl App {
         panels
     }
 
-    /// Re-solves after a change of the scene (which is valid).
-    pub(super) fn resolve(&mut self) {
-        let (problem, settings) = self
-            .scene
-            .validate(&self.source)
-            .expect("the explorer only keeps valid scenes");
+    /// Replaces the scene by a newly loaded one (a preset), and re-solves.
+    pub(super) fn load(&mut self, loaded: LoadedScene) {
+        let Ok(loaded) = sorted(loaded) else { return };
+        self.loaded = loaded.scene.clone();
+        self.loaded_problem = (loaded.problem.clone(), loaded.settings);
+        self.scene = loaded.scene;
+        self.source = loaded.source;
+        self.resolve(loaded.problem, loaded.settings);
+    }
+
+    /// Re-solves after a change of the scene, with the problem and settings its validation
+    /// built.
+    pub(super) fn resolve(&mut self, problem: Problem, settings: Settings) {
         self.mesh = Mesh::new(&problem, settings.elements);
         self.problem = problem;
         self.solution = solve(
@@ -241,76 +182,76 @@ impl App {
     /// them). Their data for older inputs is dropped: it is never drawn as current.
     pub(super) fn refresh_studies(&mut self) {
         let panels = self.panels();
-        let eps_needed = panels.contains(&Panel::EpsError) || panels.contains(&Panel::EpsCond);
-        let eps_inputs = EpsInputs {
-            problem: self.problem.clone(),
+        let context = StudyContext {
+            problem: &self.problem,
             elements: self.scene.mesh.elements,
-        };
-        refresh(&mut self.eps_study, eps_needed, eps_inputs);
-        let mesh_inputs = MeshInputs {
-            problem: self.problem.clone(),
             epsilon: self.scene.solver.epsilon,
-            elements: self.scene.mesh.elements,
-            repeat: if self.show_timings { 3 } else { 1 },
+            show_timings: self.show_timings,
         };
-        refresh(
-            &mut self.mesh_study,
-            panels.contains(&Panel::ErrorTime),
-            mesh_inputs,
-        );
+        for (slot, study) in self.studies.iter_mut().zip(STUDIES) {
+            let needed = study.panels().iter().any(|p| panels.contains(p));
+            slot.refresh(needed, study.inputs(context));
+        }
     }
 
     /// The studies that must be computed for the current state.
     pub fn pending_studies(&self) -> Vec<StudyRequest> {
-        let mut requests = Vec::new();
-        if let (StudyState::Pending, Some(inputs)) = (&self.eps_study.state, &self.eps_study.inputs)
-        {
-            requests.push(StudyRequest::Epsilon(inputs.clone()));
-        }
-        if let (StudyState::Pending, Some(inputs)) =
-            (&self.mesh_study.state, &self.mesh_study.inputs)
-        {
-            requests.push(StudyRequest::Mesh(inputs.clone()));
-        }
-        requests
+        self.studies
+            .iter()
+            .enumerate()
+            .filter_map(|(study, slot)| match (&slot.state, &slot.inputs) {
+                (StudyState::Pending, Some(inputs)) => Some(StudyRequest {
+                    study,
+                    inputs: inputs.clone(),
+                }),
+                _ => None,
+            })
+            .collect()
     }
 
     /// Takes a finished study if it belongs to the current state; an outdated result is
     /// dropped. Returns whether it was taken.
     pub fn accept(&mut self, result: StudyResult) -> bool {
-        fn take<I: PartialEq, T>(
-            slot: &mut Study<I, T>,
-            inputs: I,
-            data: Result<T, String>,
-        ) -> bool {
-            if slot.inputs.as_ref() != Some(&inputs) || !matches!(slot.state, StudyState::Pending) {
-                return false;
-            }
-            slot.state = match data {
-                Ok(d) => StudyState::Ready(d),
-                Err(e) => StudyState::Failed(e),
-            };
-            true
+        match self.studies.get_mut(result.study) {
+            Some(slot) => slot.accept(&result.inputs, result.data),
+            None => false,
         }
-        match result {
-            StudyResult::Epsilon(inputs, data) => take(&mut self.eps_study, inputs, data),
-            StudyResult::Mesh(inputs, data) => take(&mut self.mesh_study, inputs, data),
+    }
+
+    /// The state of the study behind `panel` (idle for a panel without one).
+    pub fn study_state(&self, panel: Panel) -> &StudyState {
+        const IDLE: &StudyState = &StudyState::Idle;
+        study_of(panel).map_or(IDLE, |i| &self.studies[i].state)
+    }
+
+    /// What `panel` draws of its study: its data as `T`, or a notice.
+    pub fn study_view<T: 'static>(&self, panel: Panel) -> StudyView<'_, T> {
+        let computing = study_of(panel).map_or("", |i| STUDIES[i].computing());
+        match self.study_state(panel) {
+            StudyState::Ready(data) => match data.downcast_ref::<T>() {
+                Some(data) => StudyView::Ready(data),
+                None => {
+                    StudyView::Notice("internal error: the study's data has another type".into())
+                }
+            },
+            StudyState::Pending => StudyView::Notice(computing.into()),
+            StudyState::Failed(e) => StudyView::Notice(e.clone()),
+            StudyState::Idle => StudyView::Notice("not computed".into()),
         }
     }
 }
 
-fn refresh<I: PartialEq, T>(slot: &mut Study<I, T>, needed: bool, inputs: I) {
-    if !needed {
-        *slot = Study {
-            inputs: None,
-            state: StudyState::Idle,
-        };
-        return;
+/// The loaded scene with its obstacles ordered by position (validated again only when the
+/// order changed, since error messages name obstacles by index).
+fn sorted(mut loaded: LoadedScene) -> Result<LoadedScene, crate::scene::SceneError> {
+    let in_order = loaded
+        .scene
+        .obstacles
+        .windows(2)
+        .all(|w| w[0].x.total_cmp(&w[1].x).is_le());
+    if in_order {
+        return Ok(loaded);
     }
-    if slot.inputs.as_ref() != Some(&inputs) {
-        *slot = Study {
-            inputs: Some(inputs),
-            state: StudyState::Pending,
-        };
-    }
+    loaded.scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
+    LoadedScene::new(loaded.scene, loaded.source)
 }

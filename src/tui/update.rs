@@ -1,11 +1,11 @@
-//! The one place that changes the explorer's state: [`update`] takes an [`Action`] and
-//! applies it. Every change of the scene goes through the scene's validation; a rejected value
+//! The one place that changes the explorer's state: [`update`] takes an [`Action`] (what a
+//! key means in the current mode, from [`super::keymap`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
 //! leaves the state as it was and says why.
 
-use crate::scene::{ObstacleSpec, PRESETS, Scene, save_atomic};
+use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_atomic};
 
-use super::action::Action;
 use super::app::{App, Diagram, Mode};
+use super::keymap::{Action, Key};
 use super::params::{Row, set_from_text, step};
 
 /// Longest text a prompt accepts.
@@ -26,7 +26,11 @@ pub fn update(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help => app.mode = Mode::Normal,
+        Mode::Help => {
+            if action == Action::Cancel {
+                app.mode = Mode::Normal;
+            }
+        }
         Mode::Editing { row, buffer } => editing(app, action, row, buffer),
         Mode::Presets { index } => presets(app, action, index),
         Mode::Save { buffer } => save_prompt(app, action, buffer),
@@ -37,11 +41,11 @@ pub fn update(app: &mut App, action: Action) {
 /// Keeps `candidate` if it is a valid scene (and re-solves), else reports the rule it broke.
 fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
     candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
-    match candidate.validate(&app.source) {
-        Ok(_) => {
+    match candidate.validate(&app.source.to_string()) {
+        Ok((problem, settings)) => {
             app.scene = candidate;
             app.message = None;
-            app.resolve();
+            app.resolve(problem, settings);
             true
         }
         Err(e) => {
@@ -54,54 +58,51 @@ fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
 fn normal(app: &mut App, action: Action) {
     let rows = app.rows();
     match action {
-        Action::Up | Action::Char('k') => app.selected = app.selected.saturating_sub(1),
-        Action::Down | Action::Char('j') => app.selected = (app.selected + 1).min(rows.len() - 1),
+        Action::SelectPrevious => app.selected = app.selected.saturating_sub(1),
+        Action::SelectNext => app.selected = (app.selected + 1).min(rows.len() - 1),
         Action::Decrease { coarse } => change(app, -1, coarse),
         Action::Increase { coarse } => change(app, 1, coarse),
-        Action::Char('h') => change(app, -1, false),
-        Action::Char('l') => change(app, 1, false),
-        Action::Char('[') => change(app, -1, true),
-        Action::Char(']') => change(app, 1, true),
-        Action::Enter => {
+        Action::EditValue => {
             app.mode = Mode::Editing {
                 row: app.selected_row(),
                 buffer: String::new(),
             }
         }
-        Action::Char('a') => add_obstacle(app),
-        Action::Char('d') => delete_obstacle(app),
-        Action::Char('m') => {
+        Action::AddObstacle => add_obstacle(app),
+        Action::DeleteObstacle => delete_obstacle(app),
+        Action::NextMethod => {
             let next = step(&app.scene, Row::Method, 1, false);
             try_apply(app, next);
         }
-        Action::Char('p') => {
+        Action::PickPreset => {
             let index = PRESETS
                 .iter()
-                .position(|p| app.source == format!("preset {}", p.name))
+                .position(|p| app.source == SceneSource::Preset(p.name))
                 .unwrap_or(0);
             app.mode = Mode::Presets { index };
         }
-        Action::Char('s') => {
+        Action::Save => {
             app.mode = Mode::Save {
                 buffer: app.save_path.clone(),
             }
         }
-        Action::Char('r') => {
+        Action::Reset => {
+            let (problem, settings) = app.loaded_problem.clone();
             app.scene = app.loaded.clone();
             app.selected = app.selected.min(app.rows().len() - 1);
-            app.resolve();
+            app.resolve(problem, settings);
             app.message = Some("reset to the scene as loaded".into());
         }
-        Action::Char('?') => app.mode = Mode::Help,
-        Action::Char('q') | Action::Escape => app.quit = true,
-        Action::Char('b') => {
+        Action::ShowHelp => app.mode = Mode::Help,
+        Action::Quit => app.quit = true,
+        Action::NextDiagram => {
             app.diagram = match app.diagram {
                 Diagram::Deflection => Diagram::Moment,
                 Diagram::Moment => Diagram::Shear,
                 Diagram::Shear => Diagram::Deflection,
             }
         }
-        Action::Char('t') => {
+        Action::ToggleTimings => {
             app.show_timings = !app.show_timings;
             app.refresh_studies();
         }
@@ -109,10 +110,21 @@ fn normal(app: &mut App, action: Action) {
             let count = app.panels().len().max(1);
             app.focus = (app.focus + 1) % count;
         }
-        Action::Char(c) => {
+        Action::Unbound(Key::Char(c)) => {
             app.message = Some(format!("no command on '{c}': press ? for the keys"));
         }
-        Action::Backspace => {}
+        Action::Unbound(key @ Key::Ctrl(_)) => {
+            app.message = Some(format!(
+                "no command on {}: press ? for the keys",
+                key.label(false)
+            ));
+        }
+        // Prompt and list actions, and keys without a meaning here.
+        Action::Unbound(_)
+        | Action::Type(_)
+        | Action::DeleteChar
+        | Action::Confirm
+        | Action::Cancel => {}
         Action::Interrupt | Action::Resize(..) => unreachable!("handled before the mode"),
     }
 }
@@ -181,17 +193,17 @@ fn delete_obstacle(app: &mut App) {
 
 fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
     match action {
-        Action::Char(c) => {
+        Action::Type(c) => {
             if buffer.chars().count() < PROMPT_LIMIT {
                 buffer.push(c);
             }
             app.mode = Mode::Editing { row, buffer };
         }
-        Action::Backspace => {
+        Action::DeleteChar => {
             buffer.pop();
             app.mode = Mode::Editing { row, buffer };
         }
-        Action::Enter => {
+        Action::Confirm => {
             app.mode = Mode::Normal;
             if buffer.trim().is_empty() {
                 return;
@@ -206,7 +218,7 @@ fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
                 Err(message) => app.message = Some(format!("rejected: {message}")),
             }
         }
-        Action::Escape => app.mode = Mode::Normal,
+        Action::Cancel => app.mode = Mode::Normal,
         _ => app.mode = Mode::Editing { row, buffer },
     }
 }
@@ -214,59 +226,52 @@ fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
 fn presets(app: &mut App, action: Action, index: usize) {
     let count = PRESETS.len();
     match action {
-        Action::Up | Action::Char('k') => {
+        Action::SelectPrevious => {
             app.mode = Mode::Presets {
                 index: index.saturating_sub(1),
             }
         }
-        Action::Down | Action::Char('j') => {
+        Action::SelectNext => {
             app.mode = Mode::Presets {
                 index: (index + 1).min(count - 1),
             }
         }
-        Action::Enter => {
+        Action::Confirm => {
             app.mode = Mode::Normal;
             let preset = &PRESETS[index.min(count - 1)];
-            let source = format!("preset {}", preset.name);
-            match Scene::from_toml(preset.text, &source) {
-                Ok(mut scene) => {
-                    scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
-                    if scene.validate(&source).is_ok() {
-                        app.loaded = scene.clone();
-                        app.scene = scene;
-                        app.source = source;
-                        app.save_path = app
-                            .save_directory
-                            .join(format!("{}.toml", preset.name))
-                            .display()
-                            .to_string();
-                        app.selected = 0;
-                        app.focus = 0;
-                        app.resolve();
-                        app.message = Some(format!("loaded {}", preset.name));
-                    }
+            match LoadedScene::preset(preset) {
+                Ok(loaded) => {
+                    app.save_path = app
+                        .save_directory
+                        .join(format!("{}.toml", preset.name))
+                        .display()
+                        .to_string();
+                    app.selected = 0;
+                    app.focus = 0;
+                    app.load(loaded);
+                    app.message = Some(format!("loaded {}", preset.name));
                 }
                 Err(e) => app.message = Some(e.to_string()),
             }
         }
-        Action::Escape | Action::Char('q') => app.mode = Mode::Normal,
+        Action::Cancel => app.mode = Mode::Normal,
         _ => {}
     }
 }
 
 fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
     match action {
-        Action::Char(c) => {
+        Action::Type(c) => {
             if buffer.chars().count() < PROMPT_LIMIT {
                 buffer.push(c);
             }
             app.mode = Mode::Save { buffer };
         }
-        Action::Backspace => {
+        Action::DeleteChar => {
             buffer.pop();
             app.mode = Mode::Save { buffer };
         }
-        Action::Enter => {
+        Action::Confirm => {
             let path = buffer.trim().to_string();
             if path.is_empty() {
                 app.mode = Mode::Normal;
@@ -278,7 +283,7 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
                 save(app, &path, false);
             }
         }
-        Action::Escape => {
+        Action::Cancel => {
             app.mode = Mode::Normal;
             app.message = Some("not saved".into());
         }
@@ -289,7 +294,7 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
 fn confirm_overwrite(app: &mut App, action: Action, path: String) {
     app.mode = Mode::Normal;
     match action {
-        Action::Char('y') | Action::Char('Y') => save(app, &path, true),
+        Action::Confirm => save(app, &path, true),
         _ => app.message = Some(format!("not saved: {path} left as it was")),
     }
 }

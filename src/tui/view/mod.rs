@@ -11,13 +11,13 @@ mod overlays;
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
-use ratatui::style::{Color, Modifier, Style};
-use ratatui::symbols::border;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 
-use super::app::{App, Look, Mode};
+use super::app::{App, Mode};
+use super::keymap::hint_line;
 use crate::format::{duration, sci};
+use crate::plot::{Theme, transliterate};
 use crate::scene::Panel;
 use crate::solve::Reference;
 
@@ -25,142 +25,6 @@ use crate::solve::Reference;
 pub const MIN_SIZE: (u16, u16) = (60, 16);
 /// Smallest terminal for every panel at once.
 pub const FULL_SIZE: (u16, u16) = (100, 30);
-
-/// Styles for a [`Look`]: colours only when asked for.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Theme {
-    pub look: Look,
-}
-
-impl Theme {
-    pub fn plain(&self) -> Style {
-        Style::default()
-    }
-    pub fn title(&self) -> Style {
-        let s = Style::default().add_modifier(Modifier::BOLD);
-        if self.look.color {
-            s.fg(Color::Cyan)
-        } else {
-            s
-        }
-    }
-    pub fn selected(&self) -> Style {
-        if self.look.color {
-            Style::default().fg(Color::Black).bg(Color::Cyan)
-        } else {
-            Style::default().add_modifier(Modifier::REVERSED)
-        }
-    }
-    pub fn dim(&self) -> Style {
-        if self.look.color {
-            Style::default().fg(Color::DarkGray)
-        } else {
-            Style::default()
-        }
-    }
-    pub fn warning(&self) -> Style {
-        if self.look.color {
-            Style::default().fg(Color::Yellow)
-        } else {
-            Style::default().add_modifier(Modifier::BOLD)
-        }
-    }
-    pub fn error(&self) -> Style {
-        if self.look.color {
-            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD)
-        } else {
-            Style::default().add_modifier(Modifier::BOLD)
-        }
-    }
-    pub fn series(&self, index: usize) -> Style {
-        const COLORS: [Color; 6] = [
-            Color::Cyan,
-            Color::Yellow,
-            Color::Magenta,
-            Color::Green,
-            Color::Red,
-            Color::Blue,
-        ];
-        if self.look.color {
-            Style::default().fg(COLORS[index % COLORS.len()])
-        } else {
-            Style::default()
-        }
-    }
-    /// A bordered block with a title.
-    pub fn block<'a>(&self, title: impl Into<Line<'a>>, focused: bool) -> Block<'a> {
-        let set = if self.look.ascii {
-            border::Set {
-                top_left: "+",
-                top_right: "+",
-                bottom_left: "+",
-                bottom_right: "+",
-                vertical_left: "|",
-                vertical_right: "|",
-                horizontal_top: "-",
-                horizontal_bottom: "-",
-            }
-        } else if focused {
-            border::THICK
-        } else {
-            border::PLAIN
-        };
-        Block::default()
-            .borders(Borders::ALL)
-            .border_set(set)
-            .title(title)
-            .title_style(self.title())
-    }
-}
-
-/// A chart of study data drawn on its own, for reports.
-#[derive(Debug, Clone, Copy)]
-pub enum StudyChart<'a> {
-    /// Regularisation error against ε.
-    EpsError(&'a [crate::study::EpsPoint]),
-    /// Largest condition numbers of the cases against ε.
-    EpsCondition(&'a [crate::study::EpsPoint]),
-    /// Error against run time (`by_time`) or against n.
-    ErrorTime {
-        points: &'a [crate::study::MeshPoint],
-        by_time: bool,
-    },
-}
-
-/// Draws one study chart, with its title, into a fresh buffer of the given size: the same
-/// drawing as the explorer's panel.
-pub fn chart_buffer(
-    chart: StudyChart,
-    title: &str,
-    width: u16,
-    height: u16,
-    look: Look,
-) -> ratatui::buffer::Buffer {
-    let theme = Theme { look };
-    let mut terminal = ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
-        .expect("an in-memory terminal");
-    let title = format!(" {title} ");
-    terminal
-        .draw(|frame| {
-            let area = frame.area();
-            match chart {
-                StudyChart::EpsError(points) => {
-                    charts::eps_error_chart(frame, &theme, area, title, false, points, None)
-                }
-                StudyChart::EpsCondition(points) => {
-                    charts::eps_condition_chart(frame, &theme, area, title, false, points, None)
-                }
-                StudyChart::ErrorTime { points, by_time } => {
-                    charts::error_time_chart(frame, &theme, area, title, false, points, by_time)
-                }
-            }
-            if look.ascii {
-                super::ascii::transliterate(frame.buffer_mut());
-            }
-        })
-        .expect("drawing into memory does not fail");
-    terminal.backend().buffer().clone()
-}
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
@@ -208,7 +72,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
         overlays::draw(frame, app, &theme, area);
     }
     if app.look.ascii {
-        super::ascii::transliterate(frame.buffer_mut());
+        transliterate(frame.buffer_mut());
     }
 }
 
@@ -438,9 +302,7 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         Mode::ConfirmOverwrite { path } => format!("{path} exists: overwrite it? y / n"),
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
         Mode::Help => "any key closes the help".into(),
-        Mode::Normal => "?:help q:quit ↑↓:select ←→:change [ ]:coarse Enter:type a:add d:delete \
-                         m:method p:preset s:save r:reset b:diagram Tab:panel t:time"
-            .into(),
+        Mode::Normal => hint_line(app.look.ascii),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }

@@ -5,28 +5,10 @@ use ratatui::layout::{Constraint, Flex, Layout, Rect};
 use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph, Wrap};
 
-use super::Theme;
+use crate::plot::Theme;
 use crate::scene::{PRESETS, Scene};
 use crate::tui::app::{App, Mode};
-
-/// Every key, as the help lists it.
-pub const KEYS: &[(&str, &str)] = &[
-    ("↑ ↓  k j", "select a parameter"),
-    ("← →  h l", "change it by a fine step"),
-    ("Shift+← →  [ ]", "change it by a coarse step"),
-    ("Enter", "type an exact value (Enter sets, Esc cancels)"),
-    ("a", "add an obstacle in the widest gap"),
-    ("d", "delete the selected obstacle"),
-    ("m", "cycle the method"),
-    ("p", "pick a preset"),
-    ("s", "save the scene to a TOML file"),
-    ("r", "reset to the scene as loaded"),
-    ("b", "deflection, bending moment, shear"),
-    ("Tab", "next panel (when one is shown at a time)"),
-    ("t", "show or hide run times"),
-    ("?", "this help"),
-    ("q  Esc  Ctrl-C", "quit"),
-];
+use crate::tui::keymap::help_lines;
 
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
     let [row] = Layout::vertical([Constraint::Length(height.min(area.height))])
@@ -47,9 +29,9 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
 }
 
 fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let mut lines: Vec<Line> = KEYS
+    let mut lines: Vec<Line> = help_lines(app.look.ascii)
         .iter()
-        .map(|(key, what)| Line::from(format!("{key:>16}  {what}")))
+        .map(|(keys, what)| Line::from(format!("{keys:>16}  {what}")))
         .collect();
     lines.push(Line::from(""));
     lines.push(Line::styled(

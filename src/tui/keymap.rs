@@ -1,0 +1,543 @@
+//! The one keymap: every key of the explorer, what it means in each mode, and the words the
+//! help overlay and the hint line show for it. Terminal key events and the key names of
+//! `beamfric render --keys` both become [`Key`]s; [`action_for`] turns a key into the
+//! [`Action`] it means in the current mode, from the table [`NORMAL`] in normal mode. The help
+//! ([`help_lines`]) and the hints ([`hint_line`]) are generated from the same table, so they
+//! cannot promise a key that does nothing.
+
+use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+
+use super::app::Mode;
+
+/// A key as the terminal reports it, or as `render --keys` names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Key {
+    Up,
+    Down,
+    Left,
+    Right,
+    ShiftLeft,
+    ShiftRight,
+    Enter,
+    Esc,
+    Tab,
+    BackTab,
+    Backspace,
+    /// A printable character.
+    Char(char),
+    /// A letter with Ctrl held: never the plain letter.
+    Ctrl(char),
+}
+
+/// What the user asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Previous parameter row, or previous entry of a list.
+    SelectPrevious,
+    /// Next parameter row, or next entry of a list.
+    SelectNext,
+    /// Change the selected value one step down; `coarse` for a coarse step.
+    Decrease {
+        coarse: bool,
+    },
+    /// One step up.
+    Increase {
+        coarse: bool,
+    },
+    /// Type an exact value for the selected row.
+    EditValue,
+    AddObstacle,
+    DeleteObstacle,
+    NextMethod,
+    PickPreset,
+    Save,
+    /// Back to the scene as loaded.
+    Reset,
+    /// Deflection, bending moment, shear.
+    NextDiagram,
+    /// The next panel when one is shown at a time.
+    NextPanel,
+    ToggleTimings,
+    ShowHelp,
+    Quit,
+    /// Ctrl-C: quit from anywhere.
+    Interrupt,
+    /// A character typed into a prompt.
+    Type(char),
+    /// Delete the last character of a prompt.
+    DeleteChar,
+    /// Accept a prompt, a list entry or a question.
+    Confirm,
+    /// Leave a prompt, an overlay or a question without doing anything.
+    Cancel,
+    /// A key that means nothing in normal mode (its name goes into the message).
+    Unbound(Key),
+    /// The terminal changed size.
+    Resize(u16, u16),
+}
+
+/// One line of the help: keys and what each does, the words, and the key hint if any.
+pub struct Binding {
+    /// The keys the help lists, each with its action, in the order listed.
+    pub keys: &'static [(Key, Action)],
+    /// Keys that do the same without being listed.
+    pub aliases: &'static [(Key, Action)],
+    /// What the keys do, in words.
+    pub help: &'static str,
+    pub hint: Option<Hint>,
+}
+
+/// A binding's entry in the hint line.
+pub struct Hint {
+    /// The keys the hint names (a subset of the binding's keys).
+    pub keys: &'static [Key],
+    pub word: &'static str,
+    /// Position in the hint line (the most useful first).
+    pub order: u8,
+}
+
+/// A binding of one key whose hint names the same key.
+macro_rules! bind {
+    ($key:expr, $action:expr, $help:expr, $word:expr, $order:expr $(,)?) => {
+        Binding {
+            keys: &[($key, $action)],
+            aliases: &[],
+            help: $help,
+            hint: Some(Hint {
+                keys: &[$key],
+                word: $word,
+                order: $order,
+            }),
+        }
+    };
+}
+
+const FINE: bool = false;
+const COARSE: bool = true;
+
+/// The keys of normal mode. Ctrl-C ([`Action::Interrupt`]) works in every mode.
+pub const NORMAL: &[Binding] = &[
+    Binding {
+        keys: &[
+            (Key::Up, Action::SelectPrevious),
+            (Key::Down, Action::SelectNext),
+            (Key::Char('k'), Action::SelectPrevious),
+            (Key::Char('j'), Action::SelectNext),
+        ],
+        aliases: &[],
+        help: "select a parameter",
+        hint: Some(Hint {
+            keys: &[Key::Up, Key::Down],
+            word: "select",
+            order: 2,
+        }),
+    },
+    Binding {
+        keys: &[
+            (Key::Left, Action::Decrease { coarse: FINE }),
+            (Key::Right, Action::Increase { coarse: FINE }),
+            (Key::Char('h'), Action::Decrease { coarse: FINE }),
+            (Key::Char('l'), Action::Increase { coarse: FINE }),
+        ],
+        aliases: &[],
+        help: "change it by a fine step",
+        hint: Some(Hint {
+            keys: &[Key::Left, Key::Right],
+            word: "change",
+            order: 3,
+        }),
+    },
+    Binding {
+        keys: &[
+            (Key::ShiftLeft, Action::Decrease { coarse: COARSE }),
+            (Key::ShiftRight, Action::Increase { coarse: COARSE }),
+            (Key::Char('['), Action::Decrease { coarse: COARSE }),
+            (Key::Char(']'), Action::Increase { coarse: COARSE }),
+        ],
+        aliases: &[],
+        help: "change it by a coarse step",
+        hint: Some(Hint {
+            keys: &[Key::Char('['), Key::Char(']')],
+            word: "coarse",
+            order: 4,
+        }),
+    },
+    bind!(
+        Key::Enter,
+        Action::EditValue,
+        "type an exact value (Enter sets, Esc cancels)",
+        "type",
+        5,
+    ),
+    bind!(
+        Key::Char('a'),
+        Action::AddObstacle,
+        "add an obstacle in the widest gap",
+        "add",
+        6,
+    ),
+    bind!(
+        Key::Char('d'),
+        Action::DeleteObstacle,
+        "delete the selected obstacle",
+        "delete",
+        7,
+    ),
+    bind!(
+        Key::Char('m'),
+        Action::NextMethod,
+        "cycle the method",
+        "method",
+        8
+    ),
+    bind!(
+        Key::Char('p'),
+        Action::PickPreset,
+        "pick a preset",
+        "preset",
+        9
+    ),
+    bind!(
+        Key::Char('s'),
+        Action::Save,
+        "save the scene to a TOML file",
+        "save",
+        10,
+    ),
+    bind!(
+        Key::Char('r'),
+        Action::Reset,
+        "reset to the scene as loaded",
+        "reset",
+        11,
+    ),
+    bind!(
+        Key::Char('b'),
+        Action::NextDiagram,
+        "deflection, bending moment, shear",
+        "diagram",
+        12,
+    ),
+    Binding {
+        keys: &[(Key::Tab, Action::NextPanel)],
+        aliases: &[(Key::BackTab, Action::NextPanel)],
+        help: "next panel (when one is shown at a time)",
+        hint: Some(Hint {
+            keys: &[Key::Tab],
+            word: "panel",
+            order: 13,
+        }),
+    },
+    bind!(
+        Key::Char('t'),
+        Action::ToggleTimings,
+        "show or hide run times",
+        "time",
+        14,
+    ),
+    bind!(Key::Char('?'), Action::ShowHelp, "this help", "help", 0),
+    Binding {
+        keys: &[
+            (Key::Char('q'), Action::Quit),
+            (Key::Esc, Action::Quit),
+            (Key::Ctrl('c'), Action::Interrupt),
+        ],
+        aliases: &[],
+        help: "quit",
+        hint: Some(Hint {
+            keys: &[Key::Char('q')],
+            word: "quit",
+            order: 1,
+        }),
+    },
+];
+
+impl Key {
+    /// The key of a terminal event; `None` for releases and keys the explorer does not use.
+    pub fn from_event(event: KeyEvent) -> Option<Key> {
+        if event.kind == KeyEventKind::Release {
+            return None;
+        }
+        let shift = event.modifiers.contains(KeyModifiers::SHIFT);
+        let ctrl = event.modifiers.contains(KeyModifiers::CONTROL);
+        Some(match event.code {
+            KeyCode::Char(c) if ctrl => Key::Ctrl(c.to_ascii_lowercase()),
+            KeyCode::Up => Key::Up,
+            KeyCode::Down => Key::Down,
+            KeyCode::Left if shift => Key::ShiftLeft,
+            KeyCode::Right if shift => Key::ShiftRight,
+            KeyCode::Left => Key::Left,
+            KeyCode::Right => Key::Right,
+            KeyCode::Enter => Key::Enter,
+            KeyCode::Esc => Key::Esc,
+            KeyCode::Backspace => Key::Backspace,
+            KeyCode::Tab => Key::Tab,
+            KeyCode::BackTab => Key::BackTab,
+            KeyCode::Char(c) => Key::Char(c),
+            _ => return None,
+        })
+    }
+
+    /// The name of a key in `render --keys` and in the help, or `None` for a plain character.
+    fn name(self) -> Option<&'static str> {
+        Some(match self {
+            Key::Up => "Up",
+            Key::Down => "Down",
+            Key::Left => "Left",
+            Key::Right => "Right",
+            Key::ShiftLeft => "S-Left",
+            Key::ShiftRight => "S-Right",
+            Key::Enter => "Enter",
+            Key::Esc => "Esc",
+            Key::Tab => "Tab",
+            Key::BackTab => "BackTab",
+            Key::Backspace => "Backspace",
+            Key::Char(' ') => "Space",
+            Key::Char(_) | Key::Ctrl(_) => return None,
+        })
+    }
+
+    /// How the help and the hints show the key: arrows as arrows, or as words in ASCII.
+    pub fn label(self, ascii: bool) -> String {
+        match (self, ascii) {
+            (Key::Up, false) => "↑".into(),
+            (Key::Down, false) => "↓".into(),
+            (Key::Left, false) => "←".into(),
+            (Key::Right, false) => "→".into(),
+            (Key::ShiftLeft, false) => "Shift+←".into(),
+            (Key::ShiftRight, false) => "Shift+→".into(),
+            (Key::ShiftLeft, true) => "Shift+Left".into(),
+            (Key::ShiftRight, true) => "Shift+Right".into(),
+            (Key::Ctrl(c), _) => format!("Ctrl-{}", c.to_ascii_uppercase()),
+            (Key::Char(c), _) => c.to_string(),
+            (key, _) => key.name().unwrap_or_default().to_string(),
+        }
+    }
+
+    fn is_arrow(self) -> bool {
+        matches!(self, Key::Up | Key::Down | Key::Left | Key::Right)
+    }
+
+    fn is_shifted_arrow(self) -> bool {
+        matches!(self, Key::ShiftLeft | Key::ShiftRight)
+    }
+}
+
+/// Parses the key names of `--keys`: space-separated `Up`, `Down`, `Left`, `Right`, `S-Left`,
+/// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Space`, `C-x` (Ctrl and a
+/// letter), single characters, and any other word as the characters typed (e.g. a value after
+/// `Enter`).
+pub fn parse_keys(text: &str) -> Vec<Key> {
+    const NAMED: [Key; 12] = [
+        Key::Up,
+        Key::Down,
+        Key::Left,
+        Key::Right,
+        Key::ShiftLeft,
+        Key::ShiftRight,
+        Key::Enter,
+        Key::Esc,
+        Key::Tab,
+        Key::BackTab,
+        Key::Backspace,
+        Key::Char(' '),
+    ];
+    let mut keys = Vec::new();
+    for word in text.split_whitespace() {
+        if let Some(key) = NAMED.iter().find(|k| k.name() == Some(word)) {
+            keys.push(*key);
+        } else if let Some(letter) = word.strip_prefix("C-").filter(|l| l.chars().count() == 1) {
+            keys.push(Key::Ctrl(letter.chars().next().unwrap_or('c')));
+        } else {
+            keys.extend(word.chars().map(Key::Char));
+        }
+    }
+    keys
+}
+
+/// The action `key` stands for in `mode`, if any.
+pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
+    if key == Key::Ctrl('c') {
+        return Some(Action::Interrupt);
+    }
+    match mode {
+        Mode::Normal => Some(normal_action(key).unwrap_or(Action::Unbound(key))),
+        Mode::Help => Some(Action::Cancel),
+        Mode::Editing { .. } | Mode::Save { .. } => match key {
+            Key::Char(c) => Some(Action::Type(c)),
+            Key::Backspace => Some(Action::DeleteChar),
+            Key::Enter => Some(Action::Confirm),
+            Key::Esc => Some(Action::Cancel),
+            _ => None,
+        },
+        Mode::Presets { .. } => match key {
+            Key::Up | Key::Char('k') => Some(Action::SelectPrevious),
+            Key::Down | Key::Char('j') => Some(Action::SelectNext),
+            Key::Enter => Some(Action::Confirm),
+            Key::Esc | Key::Char('q') => Some(Action::Cancel),
+            _ => None,
+        },
+        Mode::ConfirmOverwrite { .. } => match key {
+            Key::Char('y' | 'Y') => Some(Action::Confirm),
+            _ => Some(Action::Cancel),
+        },
+    }
+}
+
+/// The action of a key in normal mode, from [`NORMAL`].
+fn normal_action(key: Key) -> Option<Action> {
+    NORMAL
+        .iter()
+        .flat_map(|b| b.keys.iter().chain(b.aliases))
+        .find(|(k, _)| *k == key)
+        .map(|(_, action)| *action)
+}
+
+/// Joins key labels the way the help writes them: keys of one family (arrows, shifted arrows,
+/// characters) separated by a space, families by two; shifted arrows share one `Shift+`.
+fn help_label(keys: &[Key], ascii: bool) -> String {
+    let family = |k: Key| {
+        if k.is_arrow() {
+            0
+        } else if k.is_shifted_arrow() {
+            1
+        } else if matches!(k, Key::Char(_)) {
+            2
+        } else {
+            3
+        }
+    };
+    let mut out = String::new();
+    for (i, key) in keys.iter().enumerate() {
+        let label = key.label(ascii);
+        match i.checked_sub(1).map(|p| keys[p]) {
+            None => out.push_str(&label),
+            Some(previous) if family(previous) == family(*key) && family(*key) != 3 => {
+                out.push(' ');
+                let shared = if key.is_shifted_arrow() {
+                    label.trim_start_matches("Shift+").to_string()
+                } else {
+                    label
+                };
+                out.push_str(&shared);
+            }
+            Some(_) => {
+                out.push_str("  ");
+                out.push_str(&label);
+            }
+        }
+    }
+    out
+}
+
+/// The help's lines: (keys, what they do), from [`NORMAL`].
+pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
+    NORMAL
+        .iter()
+        .map(|b| {
+            let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();
+            (help_label(&keys, ascii), b.help)
+        })
+        .collect()
+}
+
+/// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
+/// are written together (`↑↓`, or `Up/Down` in ASCII).
+pub fn hint_line(ascii: bool) -> String {
+    let mut hints: Vec<&Hint> = NORMAL.iter().filter_map(|b| b.hint.as_ref()).collect();
+    hints.sort_by_key(|h| h.order);
+    hints
+        .iter()
+        .map(|h| {
+            let all_arrows = h.keys.iter().all(|k| k.is_arrow());
+            let separator = match (all_arrows, ascii) {
+                (true, false) => "",
+                (true, true) => "/",
+                (false, _) => " ",
+            };
+            let keys: Vec<String> = h.keys.iter().map(|k| k.label(ascii)).collect();
+            format!("{}:{}", keys.join(separator), h.word)
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn key_names_parse() {
+        assert_eq!(
+            parse_keys("Down S-Right Enter 5e4 Enter q C-d"),
+            vec![
+                Key::Down,
+                Key::ShiftRight,
+                Key::Enter,
+                Key::Char('5'),
+                Key::Char('e'),
+                Key::Char('4'),
+                Key::Enter,
+                Key::Char('q'),
+                Key::Ctrl('d'),
+            ]
+        );
+        let shifted = KeyEvent::new(KeyCode::Right, KeyModifiers::SHIFT);
+        assert_eq!(Key::from_event(shifted), Some(Key::ShiftRight));
+        let ctrl_d = KeyEvent::new(KeyCode::Char('d'), KeyModifiers::CONTROL);
+        assert_eq!(Key::from_event(ctrl_d), Some(Key::Ctrl('d')));
+        // Ctrl and a letter is never the letter.
+        assert_eq!(
+            action_for(&Mode::Normal, Key::Ctrl('d')),
+            Some(Action::Unbound(Key::Ctrl('d')))
+        );
+        assert_eq!(
+            action_for(&Mode::Normal, Key::Ctrl('c')),
+            Some(Action::Interrupt)
+        );
+    }
+
+    #[test]
+    fn every_key_the_hints_name_is_bound_to_its_bindings_action() {
+        for ascii in [false, true] {
+            for binding in NORMAL {
+                let Some(hint) = &binding.hint else { continue };
+                for key in hint.keys {
+                    let bound = binding.keys.iter().find(|(k, _)| k == key);
+                    assert!(bound.is_some(), "hint key {key:?} not in its binding");
+                    assert_eq!(normal_action(*key), bound.map(|(_, a)| *a));
+                }
+            }
+            // The hint line names no key the table lacks: in ASCII no arrow glyphs at all.
+            if ascii {
+                assert!(hint_line(true).is_ascii(), "{}", hint_line(true));
+            }
+        }
+    }
+
+    #[test]
+    fn no_key_is_bound_twice_in_normal_mode() {
+        let keys: Vec<Key> = NORMAL
+            .iter()
+            .flat_map(|b| b.keys.iter().chain(b.aliases))
+            .map(|(k, _)| *k)
+            .collect();
+        for (i, key) in keys.iter().enumerate() {
+            assert!(!keys[i + 1..].contains(key), "{key:?} bound twice");
+        }
+    }
+
+    #[test]
+    fn the_help_lists_every_binding_as_before() {
+        let lines = help_lines(false);
+        assert_eq!(lines[0].0, "↑ ↓  k j");
+        assert_eq!(lines[2].0, "Shift+← →  [ ]");
+        assert_eq!(lines.last().unwrap().0, "q  Esc  Ctrl-C");
+        assert_eq!(help_lines(true)[0].0, "Up Down  k j");
+        assert_eq!(
+            hint_line(false),
+            "?:help q:quit ↑↓:select ←→:change [ ]:coarse Enter:type a:add d:delete \
+             m:method p:preset s:save r:reset b:diagram Tab:panel t:time"
+        );
+    }
+}

@@ -1,0 +1,53 @@
+//! The ε sweep behind the error-vs-ε and cond-vs-ε panels (paper Figure 5): the regularised
+//! method at the scene's n for ε = 1e-16 … 1.
+
+use std::sync::Arc;
+
+use super::{PanelStudy, StudyContext, StudyData, StudyInputs};
+use crate::scene::Panel;
+use crate::solve::Method;
+use crate::study::{self, Cancel, Cancelled};
+
+/// Points of the ε sweep drawn in the panels: ε = 1e-16 … 1, two per decade.
+pub const EPS_POINTS: usize = 33;
+
+/// The ε sweep; its data is a `Vec<EpsPoint>`.
+pub struct EpsilonSweep;
+
+impl PanelStudy for EpsilonSweep {
+    fn panels(&self) -> &'static [Panel] {
+        &[Panel::EpsError, Panel::EpsCond]
+    }
+
+    fn computing(&self) -> &'static str {
+        "computing the ε sweep…"
+    }
+
+    fn inputs(&self, context: StudyContext) -> StudyInputs {
+        StudyInputs {
+            problem: context.problem.clone(),
+            elements: context.elements,
+            epsilon: None,
+            repeat: None,
+        }
+    }
+
+    fn run(
+        &self,
+        inputs: &StudyInputs,
+        cancel: Cancel,
+    ) -> Result<Result<StudyData, String>, Cancelled> {
+        let epsilons = study::log_space(1e-16, 1.0, EPS_POINTS);
+        let result = study::epsilon_sweep(
+            &inputs.problem,
+            inputs.elements,
+            Method::Regularized,
+            &epsilons,
+            cancel,
+            &study::silent,
+        )?;
+        Ok(result
+            .map(|points| Arc::new(points) as StudyData)
+            .map_err(|e| format!("the ε sweep needs the regularised method: {e}")))
+    }
+}

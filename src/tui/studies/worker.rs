@@ -1,0 +1,121 @@
+//! The background thread that computes studies for the interactive explorer. Each request
+//! cancels the outdated work of its study; a panic in a study becomes a message in its panel.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::thread::JoinHandle;
+
+use super::{STUDIES, StudyRequest, StudyResult, run};
+use crate::study::Cancelled;
+
+/// A background worker for the studies.
+pub struct Worker {
+    jobs: Option<Sender<(u64, StudyRequest)>>,
+    results: Receiver<StudyResult>,
+    /// The newest request per study; older ones are cancelled.
+    newest: Arc<Vec<AtomicU64>>,
+    counter: u64,
+    thread: Option<JoinHandle<()>>,
+    /// Requests already sent, so the same one is not sent twice.
+    sent: Vec<StudyRequest>,
+}
+
+/// The result of a study that panicked: its panel shows the message.
+fn failed(request: &StudyRequest, payload: &Box<dyn std::any::Any + Send>) -> StudyResult {
+    let message = payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown".into());
+    StudyResult {
+        study: request.study,
+        inputs: request.inputs.clone(),
+        data: Err(format!(
+            "internal error in this study ({message}); the explorer goes on"
+        )),
+    }
+}
+
+impl Worker {
+    /// Starts the worker thread. With `inject_panic`, its first study panics (a test of how a
+    /// failing study is reported).
+    pub fn start(inject_panic: bool) -> Worker {
+        let (jobs, inbox) = channel::<(u64, StudyRequest)>();
+        let (outbox, results) = channel();
+        let newest: Arc<Vec<AtomicU64>> =
+            Arc::new(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
+        let shared = Arc::clone(&newest);
+        let body = move || {
+            let mut inject = inject_panic;
+            for (id, request) in inbox {
+                let study = request.study;
+                let cancel = || shared[study].load(Ordering::Relaxed) != id;
+                if cancel() {
+                    continue;
+                }
+                // A panic in a study must not take the explorer down: report it instead.
+                let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    if std::mem::take(&mut inject) {
+                        panic!("injected panic in a study");
+                    }
+                    run(&request, &cancel)
+                }));
+                let result = match outcome {
+                    Ok(Ok(result)) => result,
+                    Ok(Err(Cancelled)) => continue,
+                    Err(payload) => failed(&request, &payload),
+                };
+                if outbox.send(result).is_err() {
+                    return;
+                }
+            }
+        };
+        let thread = std::thread::Builder::new()
+            .name("studies".into())
+            .spawn(body)
+            .expect("a thread can be started");
+        Worker {
+            jobs: Some(jobs),
+            results,
+            newest,
+            counter: 0,
+            thread: Some(thread),
+            sent: Vec::new(),
+        }
+    }
+
+    /// Sends the requests not sent yet; each cancels the outdated work of its study.
+    pub fn request(&mut self, requests: Vec<StudyRequest>) {
+        for request in requests {
+            if self.sent.contains(&request) {
+                continue;
+            }
+            self.counter += 1;
+            self.newest[request.study].store(self.counter, Ordering::Relaxed);
+            self.sent.retain(|r| r.study != request.study);
+            self.sent.push(request.clone());
+            if let Some(jobs) = &self.jobs {
+                let _ = jobs.send((self.counter, request));
+            }
+        }
+    }
+
+    /// The results that have arrived.
+    pub fn poll(&mut self) -> Vec<StudyResult> {
+        self.results.try_iter().collect()
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        // Cancel whatever runs, close the queue, and wait for the thread to see it.
+        for slot in self.newest.iter() {
+            slot.store(u64::MAX, Ordering::Relaxed);
+        }
+        self.jobs = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+    }
+}
