@@ -4,7 +4,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use super::{PRESETS, Preset, Scene, SceneError, Settings, preset};
+use super::{PRESETS, Preset, Scene, SceneError, Settings, preset, read_scene_text};
 use crate::model::Problem;
 
 /// Where a scene came from.
@@ -81,11 +81,7 @@ pub fn load(name_or_path: &str) -> Result<LoadedScene, SceneError> {
     let path = Path::new(name_or_path);
     if path.exists() {
         let source = name_or_path.to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-            source: source.clone(),
-            field: String::new(),
-            rule: format!("cannot read the file: {e}"),
-        })?;
+        let text = read_scene_text(path, &source)?;
         let scene = Scene::from_toml(&text, &source)?;
         return LoadedScene::new(scene, SceneSource::File(path.to_path_buf()));
     }

@@ -7,7 +7,9 @@
 
 mod loaded;
 mod presets;
+mod read;
 mod save;
+mod serialize;
 
 use std::fmt;
 
@@ -18,7 +20,9 @@ use crate::solve::Method;
 
 pub use loaded::{LoadedScene, SceneSource, load};
 pub use presets::{PRESETS, Preset, preset};
-pub use save::{SaveError, save_atomic};
+pub use read::{MAX_SCENE_BYTES, read_scene_text};
+pub use save::{SaveError, SaveOutcome, save_atomic, save_scene, write_atomic};
+pub use serialize::{SAVED_HEADER, float_text};
 
 /// Most elements a scene may ask for (memory stays under a few hundred MB).
 pub const MAX_ELEMENTS: usize = 10_000_000;
@@ -258,27 +262,11 @@ impl Scene {
         toml::from_str(text).map_err(|e| parse_error(text, source, &e))
     }
 
-    /// The scene as TOML text; large and tiny numbers in exponent form (2.15e11, not
-    /// 215000000000.0), still exact.
+    /// The scene as TOML text, serialized by serde and `toml`: every string and every f64
+    /// reads back exactly; numbers outside [1e-3, 1e5) in exponent form (2.15e11), fields in
+    /// the order of README's example. No comments.
     pub fn to_toml(&self) -> String {
-        let text = toml::to_string(self).expect("a scene always serializes");
-        text.lines()
-            .map(|line| {
-                let Some((key, value)) = line.split_once(" = ") else {
-                    return line.to_string();
-                };
-                // Floats only (TOML writes them with a point or an exponent); integers stay.
-                let is_float = value.contains(['.', 'e', 'E']) && !value.starts_with('"');
-                match value.parse::<f64>() {
-                    Ok(v) if is_float && v != 0.0 && (v.abs() >= 1e5 || v.abs() < 1e-3) => {
-                        format!("{key} = {v:e}")
-                    }
-                    _ => line.to_string(),
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
-            + "\n"
+        serialize::scene_to_toml(self)
     }
 
     /// Checks every rule and builds the problem the numerics solve.
@@ -356,13 +344,37 @@ pub fn check_elements(elements: usize) -> Result<(), String> {
     }
 }
 
-/// The rule for ε: finite and greater than zero.
+/// The rule for ε: finite, greater than zero and not subnormal (see [`check_positive`]).
 pub fn check_epsilon(epsilon: f64) -> Result<(), String> {
     if epsilon.is_finite() && epsilon > 0.0 {
-        Ok(())
+        check_positive(epsilon, "").map_err(|rule| rule.replacen(": must", ": ε must", 1))
     } else {
         Err(format!(
             "= {epsilon}: ε must be a finite number greater than zero"
+        ))
+    }
+}
+
+/// The rule for every positive parameter (ε, length, modulus, section sizes, J, E·J): a
+/// normal f64 greater than zero. Subnormal values (below 2.2251e-308) carry fewer
+/// significant digits and overflow when inverted, so the methods cannot honour them.
+pub fn check_positive(value: f64, unit: &str) -> Result<(), String> {
+    let unit = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    if value.is_normal() && value > 0.0 {
+        Ok(())
+    } else if value > 0.0 && value.is_finite() {
+        Err(format!(
+            "= {value:e}{unit}: must be a normal positive number ≥ 2.2251e-308 \
+             (f64::MIN_POSITIVE); subnormal values are not supported"
+        ))
+    } else {
+        Err(format!(
+            "= {}{unit}: must be greater than zero",
+            show(value)
         ))
     }
 }
@@ -400,19 +412,8 @@ impl Validator<'_> {
 
     fn positive(&self, field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
         self.finite(field, value)?;
-        if value > 0.0 {
-            Ok(value)
-        } else {
-            let unit = if unit.is_empty() {
-                String::new()
-            } else {
-                format!(" {unit}")
-            };
-            Err(self.error(
-                field,
-                format!("= {}{unit}: must be greater than zero", show(value)),
-            ))
-        }
+        check_positive(value, unit).map_err(|rule| self.error(field, rule))?;
+        Ok(value)
     }
 
     fn section(&self, field: &str, section: &Section) -> Result<f64, SceneError> {
@@ -421,24 +422,24 @@ impl Validator<'_> {
             self.positive(&format!("{field}.{name}"), value, unit)?;
         }
         let inertia = section.inertia();
-        if inertia > 0.0 && inertia.is_finite() {
+        if inertia.is_normal() && inertia > 0.0 {
             Ok(inertia)
         } else {
             Err(self.error(
                 field,
-                format!("second moment J = {inertia:e} m^4 is out of floating-point range"),
+                format!("second moment J = {inertia:e} m^4 is out of floating-point range (must be a normal number, 2.2251e-308 to 1.8e308)"),
             ))
         }
     }
 
     fn bending_stiffness(&self, field: &str, young: f64, inertia: f64) -> Result<f64, SceneError> {
         let ej = young * inertia;
-        if ej > 0.0 && ej.is_finite() {
+        if ej.is_normal() && ej > 0.0 {
             Ok(ej)
         } else {
             Err(self.error(
                 field,
-                format!("E·J = {ej:e} N m^2 is out of floating-point range"),
+                format!("E·J = {ej:e} N m^2 is out of floating-point range (must be a normal number, 2.2251e-308 to 1.8e308)"),
             ))
         }
     }

@@ -2,7 +2,7 @@
 //! key means in the current mode, from [`super::keymap`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
 //! leaves the state as it was and says why.
 
-use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_atomic};
+use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
 
 use super::app::{App, Diagram, Mode};
 use super::keymap::{Action, Key};
@@ -300,16 +300,15 @@ fn confirm_overwrite(app: &mut App, action: Action, path: String) {
 }
 
 fn save(app: &mut App, path: &str, overwrite: bool) {
-    let mut text = String::new();
-    if !app.scene.description.is_empty() {
-        text.push_str(&format!("# {}\n", app.scene.description));
-    }
-    text.push_str("# Saved by the beamfric explorer.\n");
-    text.push_str(&app.scene.to_toml());
-    match save_atomic(std::path::Path::new(path), &text, overwrite) {
-        Ok(()) => {
+    match save_scene(&app.scene, std::path::Path::new(path), overwrite) {
+        Ok(outcome) => {
             app.save_path = path.to_string();
-            app.message = Some(format!("saved to {path}"));
+            let notes = outcome.summary();
+            app.message = Some(if notes.is_empty() {
+                format!("saved to {path}")
+            } else {
+                format!("saved to {path} ({notes})")
+            });
         }
         Err(e) => app.message = Some(format!("not saved: {e}")),
     }
