@@ -162,7 +162,8 @@ pub struct RenderArgs {
     #[arg(long, default_value = "120x40", value_parser = parse_size)]
     pub size: (u16, u16),
     /// Keys to apply first, space-separated: Up Down Left Right S-Left S-Right Enter Esc Tab
-    /// Backspace Space, single characters, or text typed after Enter.
+    /// BackTab Backspace Space, C-x (Ctrl and a letter), single characters, or text typed
+    /// after Enter.
     #[arg(long, default_value = "", allow_hyphen_values = true)]
     pub keys: String,
     /// Draw without Unicode.
@@ -174,6 +175,10 @@ pub struct RenderArgs {
     /// Show run times (the frame then depends on the clock).
     #[arg(long)]
     pub timings: bool,
+    /// Let a save in the keys write, but only into DIR (without it, a save is simulated and
+    /// nothing on disk changes).
+    #[arg(long, value_name = "DIR")]
+    pub allow_save: Option<std::path::PathBuf>,
 }
 
 fn parse_size(text: &str) -> Result<(u16, u16), String> {
@@ -348,6 +353,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
             color: args.color,
         },
         timings: args.timings,
+        allow_save: args.allow_save.clone(),
     };
     let buffer = crate::tui::render(loaded, &keys, options)?;
     let text = crate::plot::buffer_to_text(&buffer, args.color);

@@ -24,6 +24,7 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         height,
         look: LOOK,
         timings: false,
+        allow_save: None,
     };
     let buffer = render(scene(name), &parse_keys(keys), options).unwrap();
     buffer_to_text(&buffer, false)
@@ -134,8 +135,8 @@ fn keys_change_the_state_and_the_solution() {
     press(&mut app, "Down Down Down Down Down Down Enter -5 Enter");
     assert_eq!(app.scene.obstacles[0].sliding, 1e2);
     assert!(app.message.as_deref().unwrap().contains("zero or positive"));
-    // Reset.
-    press(&mut app, "r");
+    // Reset (it asks first: the scene has unsaved changes).
+    press(&mut app, "r y");
     assert_eq!(app.scene, scene("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
@@ -168,7 +169,7 @@ fn obstacles_stay_ordered_inside_and_apart() {
     press(&mut app, "d");
     assert_eq!(app.scene.obstacles.len(), 9);
     // d on a row that is not an obstacle explains itself.
-    press(&mut app, "r Up Up Up Up Up Up Up Up d");
+    press(&mut app, "r y Up Up Up Up Up Up Up Up d");
     assert_eq!(app.scene.obstacles.len(), 4);
     assert!(
         app.message
@@ -296,15 +297,119 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
 
 #[test]
 fn quitting_and_interrupting() {
-    for keys in ["q", "Esc", "C-c"] {
+    for keys in ["q", "C-c"] {
         let mut app = app("benchmark-1");
         press(&mut app, keys);
         assert!(app.quit, "{keys}");
     }
-    // Esc first closes an overlay.
+    // Esc never quits by itself; it first closes an overlay.
     let mut app = app("benchmark-1");
+    press(&mut app, "Esc");
+    assert!(!app.quit);
     press(&mut app, "? Esc");
     assert!(!app.quit && app.mode == Mode::Normal);
+}
+
+#[test]
+fn unsaved_changes_are_never_thrown_away_without_asking() {
+    use beamfric::tui::app::Discard;
+    let mut app = app("benchmark-1");
+    assert!(!app.modified());
+    press(&mut app, "Right");
+    assert!(app.modified());
+    let edited = app.scene.clone();
+    let title = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    assert!(
+        title.lines().next().unwrap().contains("[modified]"),
+        "{title}"
+    );
+    // q asks; n (or Esc) keeps everything.
+    press(&mut app, "q");
+    assert_eq!(
+        app.mode,
+        Mode::ConfirmDiscard {
+            then: Discard::Quit
+        }
+    );
+    let frame = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    assert!(
+        frame.contains("unsaved changes: quit and lose them?"),
+        "{frame}"
+    );
+    press(&mut app, "n");
+    assert!(!app.quit && app.scene == edited && app.mode == Mode::Normal);
+    press(&mut app, "q Esc");
+    assert!(!app.quit && app.scene == edited);
+    // Esc in the save prompt goes back to the explorer, never out of it.
+    press(&mut app, "s Esc Esc");
+    assert!(!app.quit && app.mode == Mode::Normal && app.scene == edited);
+    // Loading a preset and resetting ask too.
+    press(&mut app, "p Down Enter");
+    assert!(matches!(
+        app.mode,
+        Mode::ConfirmDiscard {
+            then: Discard::Preset(_)
+        }
+    ));
+    press(&mut app, "n r");
+    assert_eq!(
+        app.mode,
+        Mode::ConfirmDiscard {
+            then: Discard::Reset
+        }
+    );
+    press(&mut app, "n");
+    assert_eq!(app.scene, edited);
+    // Ctrl-C asks once; a second Ctrl-C forces the quit.
+    press(&mut app, "C-c");
+    assert!(!app.quit);
+    press(&mut app, "C-c");
+    assert!(app.quit);
+    // y does what was asked.
+    let mut app = self::app("benchmark-1");
+    press(&mut app, "Right r y");
+    assert_eq!(app.scene, scene("benchmark-1").scene);
+    assert!(!app.modified());
+}
+
+#[test]
+fn undo_and_redo_step_through_the_changes() {
+    let mut app = app("benchmark-1");
+    let original = app.scene.clone();
+    press(&mut app, "Right Right");
+    let twice = app.scene.clone();
+    press(&mut app, "u");
+    assert_ne!(app.scene, twice);
+    press(&mut app, "u");
+    assert_eq!(app.scene, original);
+    assert!(!app.modified());
+    // The solution follows the scene.
+    assert_eq!(app.problem, scene("benchmark-1").problem);
+    press(&mut app, "u");
+    assert_eq!(app.message.as_deref(), Some("nothing to undo"));
+    press(&mut app, "C-r C-r");
+    assert_eq!(app.scene, twice);
+    // A new change forgets what was undone.
+    press(&mut app, "u Left C-r");
+    assert_eq!(app.message.as_deref(), Some("nothing to redo"));
+    // A reset can be undone too.
+    press(&mut app, "Right Right r y");
+    assert_eq!(app.scene, original);
+    press(&mut app, "u");
+    assert_ne!(app.scene, original);
+}
+
+#[test]
+fn a_save_clears_the_modified_mark() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut app = app("benchmark-1");
+    app.set_save_directory(dir.path().to_path_buf());
+    press(&mut app, "Right s Enter");
+    assert!(!app.modified(), "{:?}", app.message);
+    assert!(dir.path().join("benchmark-1.toml").exists());
+    // Quitting now needs no question.
+    press(&mut app, "q");
+    assert!(app.quit);
 }
 
 #[test]

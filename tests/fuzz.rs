@@ -278,6 +278,7 @@ fn ready_app() -> &'static App {
                 height: 40,
                 look,
                 timings: false,
+                allow_save: None,
             },
         )
         .unwrap()

@@ -19,6 +19,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
             color: false,
         },
         timings: false,
+        allow_save: None,
     }
 }
 
@@ -163,4 +164,48 @@ fn bad_render_arguments_are_one_line() {
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(err.contains(expected), "{err}");
     }
+}
+
+/// Issue 12, item 7: a headless render never touches the file system unless `--allow-save DIR`
+/// says where it may write, and then only inside DIR.
+#[test]
+fn render_simulates_saves_unless_a_directory_is_allowed() {
+    let cwd = tempfile::tempdir().unwrap();
+    let victim = cwd.path().join("victim.txt");
+    std::fs::write(&victim, "precious").unwrap();
+    let render = |keys: &str, extra: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_beamfric"))
+            .current_dir(cwd.path())
+            .args(["render", "--size", "100x30", "--keys", keys])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{output:?}");
+        String::from_utf8(output.stdout).unwrap()
+    };
+    // The default name, and an existing file confirmed with y: nothing written.
+    let frame = render("Right s Enter", &[]);
+    assert!(
+        frame.contains("not saved: a headless render writes no files"),
+        "{frame}"
+    );
+    let erase = "Backspace ".repeat(20);
+    render(&format!("Right s {erase} victim.txt Enter y"), &[]);
+    assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
+    let names: Vec<_> = std::fs::read_dir(cwd.path()).unwrap().collect();
+    assert_eq!(names.len(), 1, "render wrote into the directory");
+
+    // With --allow-save DIR: the save lands in DIR, and nowhere else.
+    let allowed = cwd.path().join("allowed");
+    std::fs::create_dir(&allowed).unwrap();
+    let dir = allowed.to_str().unwrap();
+    let frame = render("Right s Enter", &["--allow-save", dir]);
+    assert!(frame.contains("saved to"), "{frame}");
+    assert!(allowed.join("benchmark-1.toml").exists());
+    let frame = render(
+        &format!("Right s {} ../escape.toml Enter", "Backspace ".repeat(300)),
+        &["--allow-save", dir],
+    );
+    assert!(frame.contains("is outside"), "{frame}");
+    assert!(!cwd.path().join("escape.toml").exists());
 }

@@ -220,3 +220,28 @@ fn a_panic_in_a_study_is_shown_and_the_explorer_goes_on() {
     assert_eq!(status.code(), Some(0));
     assert!(!after.contains("panicked"), "{after:?}");
 }
+
+#[test]
+fn unsaved_changes_make_q_ask_and_esc_in_the_save_prompt_goes_back() {
+    let mut explorer = Explorer::start(&[]);
+    explorer.wait_for("Parameters");
+    // An edit: the load one step up.
+    explorer.type_bytes(b"l");
+    explorer.wait_for("[modified]");
+    explorer.type_bytes(b"q");
+    explorer.wait_for("quit and lose them?");
+    // No: back to the explorer with the edit.
+    explorer.type_bytes(b"n");
+    explorer.wait_for("kept the unsaved changes");
+    // Esc in the save prompt, then Esc again in normal mode: still running.
+    explorer.type_bytes(b"s");
+    explorer.wait_for("save the scene to");
+    explorer.type_bytes(b"\x1b");
+    explorer.wait_for("not saved");
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(explorer.child.try_wait().unwrap().is_none(), "Esc quit");
+    // Then quit for real: q, y.
+    explorer.type_bytes(b"qy");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}

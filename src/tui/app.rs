@@ -28,7 +28,31 @@ pub enum Mode {
     Save { buffer: String },
     /// The file exists: overwrite it?
     ConfirmOverwrite { path: String },
+    /// The scene has unsaved changes: lose them to do `then`?
+    ConfirmDiscard { then: Discard },
 }
+
+/// What would throw away unsaved changes, waiting for a yes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Discard {
+    Quit,
+    /// Load the preset with this index.
+    Preset(usize),
+    /// Back to the scene as loaded.
+    Reset,
+}
+
+/// What a save does with the file system: write (the explorer), or only say what it would do
+/// (`render`, unless `--allow-save DIR` lets it write under DIR).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SavePolicy {
+    Write,
+    Simulate,
+    Within(std::path::PathBuf),
+}
+
+/// Most undo steps kept.
+pub const UNDO_LIMIT: usize = 1000;
 
 /// Which diagram the deflection panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,6 +69,12 @@ pub struct App {
     pub scene: Scene,
     /// The scene as loaded, for reset.
     pub loaded: Scene,
+    /// The scene as last loaded or saved: the state differs from it when it is modified.
+    pub saved: Scene,
+    /// Earlier scenes, the newest last (undo), and undone ones (redo).
+    pub undo: Vec<Scene>,
+    pub redo: Vec<Scene>,
+    pub save_policy: SavePolicy,
     /// The problem and settings the loaded scene validated to.
     pub loaded_problem: (Problem, Settings),
     /// Where the scene came from.
@@ -99,6 +129,10 @@ impl App {
         );
         let mut app = App {
             loaded: loaded.scene.clone(),
+            saved: loaded.scene.clone(),
+            undo: Vec::new(),
+            redo: Vec::new(),
+            save_policy: SavePolicy::Write,
             loaded_problem: (loaded.problem.clone(), loaded.settings),
             scene: loaded.scene,
             source: loaded.source,
@@ -154,10 +188,18 @@ impl App {
         panels
     }
 
-    /// Replaces the scene by a newly loaded one (a preset), and re-solves.
+    /// Does the scene differ from the one last loaded or saved?
+    pub fn modified(&self) -> bool {
+        self.scene != self.saved
+    }
+
+    /// Replaces the scene by a newly loaded one (a preset), and re-solves. Undo starts afresh.
     pub(super) fn load(&mut self, loaded: LoadedScene) {
         let Ok(loaded) = sorted(loaded) else { return };
         self.loaded = loaded.scene.clone();
+        self.saved = loaded.scene.clone();
+        self.undo.clear();
+        self.redo.clear();
         self.loaded_problem = (loaded.problem.clone(), loaded.settings);
         self.scene = loaded.scene;
         self.source = loaded.source;

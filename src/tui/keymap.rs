@@ -59,6 +59,10 @@ pub enum Action {
     NextPanel,
     ToggleTimings,
     ShowHelp,
+    /// Take back the last change of the scene.
+    Undo,
+    /// Do again what was undone.
+    Redo,
     Quit,
     /// Ctrl-C: quit from anywhere.
     Interrupt,
@@ -235,15 +239,27 @@ pub const NORMAL: &[Binding] = &[
         "time",
         14,
     ),
+    Binding {
+        keys: &[
+            (Key::Char('u'), Action::Undo),
+            (Key::Ctrl('r'), Action::Redo),
+        ],
+        aliases: &[],
+        help: "undo the last change / redo it",
+        hint: Some(Hint {
+            keys: &[Key::Char('u')],
+            word: "undo",
+            order: 15,
+        }),
+    },
     bind!(Key::Char('?'), Action::ShowHelp, "this help", "help", 0),
     Binding {
         keys: &[
             (Key::Char('q'), Action::Quit),
-            (Key::Esc, Action::Quit),
             (Key::Ctrl('c'), Action::Interrupt),
         ],
         aliases: &[],
-        help: "quit",
+        help: "quit (asks first when there are unsaved changes; Ctrl-C twice forces)",
         hint: Some(Hint {
             keys: &[Key::Char('q')],
             word: "quit",
@@ -379,6 +395,11 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
         },
         Mode::ConfirmOverwrite { .. } => match key {
             Key::Char('y' | 'Y') => Some(Action::Confirm),
+            _ => Some(Action::Cancel),
+        },
+        Mode::ConfirmDiscard { .. } => match key {
+            Key::Char('y' | 'Y') => Some(Action::Confirm),
+            Key::Char('s') => Some(Action::Save),
             _ => Some(Action::Cancel),
         },
     }
@@ -532,12 +553,12 @@ mod tests {
         let lines = help_lines(false);
         assert_eq!(lines[0].0, "↑ ↓  k j");
         assert_eq!(lines[2].0, "Shift+← →  [ ]");
-        assert_eq!(lines.last().unwrap().0, "q  Esc  Ctrl-C");
+        assert_eq!(lines.last().unwrap().0, "q  Ctrl-C");
         assert_eq!(help_lines(true)[0].0, "Up Down  k j");
         assert_eq!(
             hint_line(false),
             "?:help q:quit ↑↓:select ←→:change [ ]:coarse Enter:type a:add d:delete \
-             m:method p:preset s:save r:reset b:diagram Tab:panel t:time"
+             m:method p:preset s:save r:reset b:diagram Tab:panel t:time u:undo"
         );
     }
 }

@@ -95,13 +95,15 @@ fn event_loop(session: &mut terminal::Session, mut app: App) -> io::Result<Endin
 }
 
 /// What a headless render needs besides the scene.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RenderOptions {
     pub width: u16,
     pub height: u16,
     pub look: Look,
     /// Show run times (frames then depend on the clock).
     pub timings: bool,
+    /// The only directory a save in the keys may write to; `None`: saves are only simulated.
+    pub allow_save: Option<std::path::PathBuf>,
 }
 
 /// Applies what `key` means in the app's current mode.
@@ -114,14 +116,23 @@ pub fn press(app: &mut App, key: Key) {
 /// The explorer's frame after `keys`, with every study run to completion: exactly what the
 /// terminal would show, drawn by the same code into an in-memory buffer.
 pub fn render(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Result<Buffer, String> {
+    let (width, height) = (options.width, options.height);
     let app = prepare(loaded, keys, options)?;
-    draw_to_buffer(&app, options.width, options.height)
+    draw_to_buffer(&app, width, height)
 }
 
 /// The explorer's state after `keys` (stopping at a quit), with every study the visible
 /// panels need run to completion.
 pub fn prepare(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Result<App, String> {
     let mut app = App::new(loaded, options.look, options.timings)?;
+    // A render is for snapshots: it touches the file system only where it was allowed to.
+    app.save_policy = match options.allow_save {
+        None => app::SavePolicy::Simulate,
+        Some(dir) => {
+            app.set_save_directory(dir.clone());
+            app::SavePolicy::Within(dir)
+        }
+    };
     update::update(&mut app, Action::Resize(options.width, options.height));
     for key in keys {
         if app.quit {

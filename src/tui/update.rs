@@ -4,18 +4,32 @@
 
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
 
-use super::app::{App, Diagram, Mode};
+use super::app::{App, Diagram, Discard, Mode, SavePolicy, UNDO_LIMIT};
 use super::keymap::{Action, Key};
 use super::params::{Row, set_from_text, step};
 
-/// Longest text a prompt accepts.
+/// Longest value a prompt accepts.
 const PROMPT_LIMIT: usize = 200;
+/// Longest file name the save prompt accepts (PATH_MAX on Linux).
+const PATH_LIMIT: usize = 4096;
 
 /// Applies `action` to the state.
 pub fn update(app: &mut App, action: Action) {
     match action {
         Action::Interrupt => {
-            app.quit = true;
+            // Ctrl-C quits at once unless that loses changes; then it asks, and a second
+            // Ctrl-C forces.
+            let asked = app.mode
+                == Mode::ConfirmDiscard {
+                    then: Discard::Quit,
+                };
+            if asked || !app.modified() {
+                app.quit = true;
+            } else {
+                app.mode = Mode::ConfirmDiscard {
+                    then: Discard::Quit,
+                };
+            }
             return;
         }
         Action::Resize(width, height) => {
@@ -35,6 +49,82 @@ pub fn update(app: &mut App, action: Action) {
         Mode::Presets { index } => presets(app, action, index),
         Mode::Save { buffer } => save_prompt(app, action, buffer),
         Mode::ConfirmOverwrite { path } => confirm_overwrite(app, action, path),
+        Mode::ConfirmDiscard { then } => confirm_discard(app, action, then),
+    }
+}
+
+/// Does `then` at once, or asks first when it would lose unsaved changes.
+fn unless_unsaved(app: &mut App, then: Discard) {
+    if app.modified() {
+        app.mode = Mode::ConfirmDiscard { then };
+    } else {
+        discard_and(app, then);
+    }
+}
+
+fn discard_and(app: &mut App, then: Discard) {
+    match then {
+        Discard::Quit => app.quit = true,
+        Discard::Reset => {
+            remember(app);
+            let (problem, settings) = app.loaded_problem.clone();
+            app.scene = app.loaded.clone();
+            app.saved = app.loaded.clone();
+            app.selected = app.selected.min(app.rows().len() - 1);
+            app.resolve(problem, settings);
+            app.message = Some("reset to the scene as loaded (u undoes)".into());
+        }
+        Discard::Preset(index) => load_preset(app, index),
+    }
+}
+
+fn confirm_discard(app: &mut App, action: Action, then: Discard) {
+    app.mode = Mode::Normal;
+    match action {
+        Action::Confirm => discard_and(app, then),
+        Action::Save => {
+            app.mode = Mode::Save {
+                buffer: app.save_path.clone(),
+            }
+        }
+        _ => app.message = Some("kept the unsaved changes".into()),
+    }
+}
+
+/// Keeps the current scene for undo, before it changes.
+fn remember(app: &mut App) {
+    app.undo.push(app.scene.clone());
+    if app.undo.len() > UNDO_LIMIT {
+        app.undo.remove(0);
+    }
+    app.redo.clear();
+}
+
+/// Steps back (`undo`) or forward through the scenes.
+fn undo_redo(app: &mut App, undo: bool) {
+    let (from, word) = if undo {
+        (&mut app.undo, "undone")
+    } else {
+        (&mut app.redo, "redone")
+    };
+    let Some(scene) = from.pop() else {
+        app.message = Some(format!("nothing to {}", if undo { "undo" } else { "redo" }));
+        return;
+    };
+    match scene.validate(&app.source.to_string()) {
+        Ok((problem, settings)) => {
+            let current = std::mem::replace(&mut app.scene, scene);
+            if undo {
+                app.redo.push(current);
+            } else {
+                app.undo.push(current);
+            }
+            app.selected = app.selected.min(app.rows().len() - 1);
+            app.resolve(problem, settings);
+            let left = if undo { app.undo.len() } else { app.redo.len() };
+            app.message = Some(format!("{word} ({left} more)"));
+        }
+        Err(e) => app.message = Some(format!("cannot restore: {e}")),
     }
 }
 
@@ -43,6 +133,7 @@ fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
     candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
     match candidate.validate(&app.source.to_string()) {
         Ok((problem, settings)) => {
+            remember(app);
             app.scene = candidate;
             app.message = None;
             app.resolve(problem, settings);
@@ -86,15 +177,11 @@ fn normal(app: &mut App, action: Action) {
                 buffer: app.save_path.clone(),
             }
         }
-        Action::Reset => {
-            let (problem, settings) = app.loaded_problem.clone();
-            app.scene = app.loaded.clone();
-            app.selected = app.selected.min(app.rows().len() - 1);
-            app.resolve(problem, settings);
-            app.message = Some("reset to the scene as loaded".into());
-        }
+        Action::Reset => unless_unsaved(app, Discard::Reset),
         Action::ShowHelp => app.mode = Mode::Help,
-        Action::Quit => app.quit = true,
+        Action::Quit => unless_unsaved(app, Discard::Quit),
+        Action::Undo => undo_redo(app, true),
+        Action::Redo => undo_redo(app, false),
         Action::NextDiagram => {
             app.diagram = match app.diagram {
                 Diagram::Deflection => Diagram::Moment,
@@ -238,32 +325,38 @@ fn presets(app: &mut App, action: Action, index: usize) {
         }
         Action::Confirm => {
             app.mode = Mode::Normal;
-            let preset = &PRESETS[index.min(count - 1)];
-            match LoadedScene::preset(preset) {
-                Ok(loaded) => {
-                    app.save_path = app
-                        .save_directory
-                        .join(format!("{}.toml", preset.name))
-                        .display()
-                        .to_string();
-                    app.selected = 0;
-                    app.focus = 0;
-                    app.load(loaded);
-                    app.message = Some(format!("loaded {}", preset.name));
-                }
-                Err(e) => app.message = Some(e.to_string()),
-            }
+            unless_unsaved(app, Discard::Preset(index.min(count - 1)));
         }
         Action::Cancel => app.mode = Mode::Normal,
         _ => {}
     }
 }
 
+fn load_preset(app: &mut App, index: usize) {
+    let preset = &PRESETS[index.min(PRESETS.len() - 1)];
+    match LoadedScene::preset(preset) {
+        Ok(loaded) => {
+            app.save_path = app
+                .save_directory
+                .join(format!("{}.toml", preset.name))
+                .display()
+                .to_string();
+            app.selected = 0;
+            app.focus = 0;
+            app.load(loaded);
+            app.message = Some(format!("loaded {}", preset.name));
+        }
+        Err(e) => app.message = Some(e.to_string()),
+    }
+}
+
 fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
     match action {
         Action::Type(c) => {
-            if buffer.chars().count() < PROMPT_LIMIT {
+            if buffer.chars().count() < PATH_LIMIT {
                 buffer.push(c);
+            } else {
+                app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
             }
             app.mode = Mode::Save { buffer };
         }
@@ -300,9 +393,30 @@ fn confirm_overwrite(app: &mut App, action: Action, path: String) {
 }
 
 fn save(app: &mut App, path: &str, overwrite: bool) {
-    match save_scene(&app.scene, std::path::Path::new(path), overwrite) {
+    let target = match &app.save_policy {
+        SavePolicy::Write => std::path::PathBuf::from(path),
+        SavePolicy::Simulate => {
+            app.message = Some(format!(
+                "not saved: a headless render writes no files (it would save to {path}; \
+                 --allow-save DIR lets it)"
+            ));
+            return;
+        }
+        SavePolicy::Within(dir) => match within(dir, path) {
+            Some(target) => target,
+            None => {
+                app.message = Some(format!(
+                    "not saved: {path} is outside {}, the directory --allow-save names",
+                    dir.display()
+                ));
+                return;
+            }
+        },
+    };
+    match save_scene(&app.scene, &target, overwrite) {
         Ok(outcome) => {
             app.save_path = path.to_string();
+            app.saved = app.scene.clone();
             let notes = outcome.summary();
             app.message = Some(if notes.is_empty() {
                 format!("saved to {path}")
@@ -312,4 +426,15 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
         }
         Err(e) => app.message = Some(format!("not saved: {e}")),
     }
+}
+
+/// `path` inside `dir` (a relative path is taken from `dir`), or `None` when it leads out.
+fn within(dir: &std::path::Path, path: &str) -> Option<std::path::PathBuf> {
+    use std::path::Component;
+    let path = std::path::Path::new(path);
+    let relative = path.strip_prefix(dir).unwrap_or(path);
+    let plain = relative
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    (plain && !relative.as_os_str().is_empty()).then(|| dir.join(relative))
 }

@@ -14,7 +14,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
-use super::app::{App, Mode};
+use super::app::{App, Discard, Mode};
 use super::keymap::hint_line;
 use crate::format::{duration, sci};
 use crate::plot::{Theme, transliterate};
@@ -94,7 +94,8 @@ fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         format!(", {} segment(s)", app.scene.beam.segments.len())
     };
     let text = format!(
-        " {} ({}) · l = {} m · J = {} m^4 · {} obstacle{}{segments}",
+        " {}{} ({}) · l = {} m · J = {} m^4 · {} obstacle{}{segments}",
+        if app.modified() { "[modified] " } else { "" },
         app.scene.title,
         app.source,
         crate::format::eng(p.length),
@@ -300,6 +301,17 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         ),
         Mode::Save { buffer } => format!("save the scene to: {buffer}_   Enter saves, Esc cancels"),
         Mode::ConfirmOverwrite { path } => format!("{path} exists: overwrite it? y / n"),
+        Mode::ConfirmDiscard { then } => {
+            let what = match then {
+                Discard::Quit => "quit",
+                Discard::Reset => "reset to the scene as loaded",
+                Discard::Preset(_) => "load the preset",
+            };
+            format!(
+                "the scene has unsaved changes: {what} and lose them? \
+                 y: yes · s: save first · n or Esc: no"
+            )
+        }
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
         Mode::Help => "any key closes the help".into(),
         Mode::Normal => hint_line(app.look.ascii),
