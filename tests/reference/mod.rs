@@ -11,6 +11,8 @@
 //! `src/linalg`: from the program it takes the validated [`beamfric::model::Problem`] and, from
 //! [`beamfric::fem::Mesh`], only the node positions and E·J per element.
 #![allow(dead_code, unused_imports)]
+// The kernels index several arrays in lockstep, as in the formulas (as the library does).
+#![allow(clippy::needless_range_loop)]
 
 pub mod compare;
 pub mod mp;

@@ -239,8 +239,8 @@ fn assemble(problem: &Problem, mesh: &Mesh, mp: &Mp) -> System {
         let global: [Option<usize>; 4] = [
             (e >= 1).then(|| dof(e, 0)),
             (e >= 1).then(|| dof(e, 1)),
-            (e + 1 <= nodes - 2).then(|| dof(e + 1, 0)),
-            (e + 1 <= nodes - 2).then(|| dof(e + 1, 1)),
+            (e < nodes - 2).then(|| dof(e + 1, 0)),
+            (e < nodes - 2).then(|| dof(e + 1, 1)),
         ];
         for a in 0..4 {
             let Some(i) = global[a] else { continue };
