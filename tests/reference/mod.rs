@@ -1,0 +1,24 @@
+//! An independent high-precision reference for the discrete problem (38) on the program's own
+//! mesh (issue 10), and the hard-scene generator and comparison harness built on it.
+//!
+//! - [`mp`]: the multi-precision number (dashu-float, 384 bits by default).
+//! - [`solver`]: assembly and the exact friction solve with its certificate.
+//! - [`compare`]: a program solution against the reference (relative errors, flags).
+//! - [`scenes`]: the seeded hard-scene generator, its proptest strategy, the regression scenes
+//!   of `tests/scenes/hard/`.
+//!
+//! Use from an integration test with `mod reference;`. Nothing here reads `src/solve` or
+//! `src/linalg`: from the program it takes the validated [`beamfric::model::Problem`] and, from
+//! [`beamfric::fem::Mesh`], only the node positions and E·J per element.
+#![allow(dead_code, unused_imports)]
+// The kernels index several arrays in lockstep, as in the formulas (as the library does).
+#![allow(clippy::needless_range_loop)]
+
+pub mod compare;
+pub mod mp;
+pub mod scenes;
+pub mod solver;
+
+pub use compare::{Comparison, FIELD_TOLERANCE, FORCE_TOLERANCE, compare};
+pub use scenes::{hard_scene, hard_scenes, problem_of, regression_scenes};
+pub use solver::{Certificate, FrictionState, RefSolution, solve_reference, solve_reference_with};
