@@ -339,6 +339,8 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
         crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
         // The conventional status of a process ended by a signal.
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
+        // As if by SIGHUP: the terminal went away.
+        crate::tui::Ending::Hangup => Ok(ExitCode::from(128 + 1)),
     }
 }
 

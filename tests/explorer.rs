@@ -31,7 +31,9 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
 }
 
 fn app(name: &str) -> App {
-    App::new(scene(name), LOOK, false).unwrap()
+    let mut app = App::new(scene(name), LOOK, false).unwrap();
+    app.settle();
+    app
 }
 
 fn press(app: &mut App, keys: &str) {
@@ -103,7 +105,7 @@ fn frames_are_deterministic() {
 #[test]
 fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
     let mut app = app("benchmark-1");
-    let before = app.solution.as_ref().unwrap().obstacles[0];
+    let before = app.solution().unwrap().as_ref().unwrap().obstacles[0];
     assert!(before.sliding && (before.force - 100.0).abs() < 1e-9);
     // Row 6 is the sliding threshold; three coarse steps: 100 N → 1e5 N, above the shear.
     press(
@@ -111,7 +113,7 @@ fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
         "Down Down Down Down Down Down S-Right S-Right S-Right",
     );
     assert_eq!(app.scene.obstacles[0].sliding, 1e5);
-    let after = app.solution.as_ref().unwrap().obstacles[0];
+    let after = app.solution().unwrap().as_ref().unwrap().obstacles[0];
     assert!(!after.sliding && !after.swivel);
     assert!(after.force.abs() < 1e5 && after.force > 100.0);
     assert_eq!(after.u, 0.0);
@@ -120,11 +122,11 @@ fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
 #[test]
 fn keys_change_the_state_and_the_solution() {
     let mut app = app("benchmark-1");
-    let u0 = app.solution.as_ref().unwrap().max_deflection();
+    let u0 = app.solution().unwrap().as_ref().unwrap().max_deflection();
     // Load: one fine step multiplies f (and, with the point still sliding, changes u).
     press(&mut app, "Right");
     assert!((app.scene.load.f0 / 5e4 - 10f64.powf(0.1)).abs() < 1e-12);
-    assert!(app.solution.as_ref().unwrap().max_deflection() > u0);
+    assert!(app.solution().unwrap().as_ref().unwrap().max_deflection() > u0);
     // A typed exact value; a bad one changes nothing and says why.
     press(&mut app, "Enter 3e4 Enter");
     assert_eq!(app.scene.load.f0, 3e4);
@@ -140,7 +142,10 @@ fn keys_change_the_state_and_the_solution() {
     assert_eq!(app.scene, scene("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
-    assert_eq!(app.solution.as_ref().unwrap().method, Method::Flexibility);
+    assert_eq!(
+        app.solution().unwrap().as_ref().unwrap().method,
+        Method::Flexibility
+    );
     press(&mut app, "Up Up Up Up Up Up Up Up Up Up Up Up");
     press(&mut app, "Down Down Down Down Down Down Down Down S-Left");
     assert_eq!(app.selected_row(), beamfric::tui::params::Row::Epsilon);
@@ -185,7 +190,7 @@ fn a_method_that_does_not_apply_says_why() {
     while app.scene.solver.method != Method::ClosedForm {
         press(&mut app, "m");
     }
-    let error = app.solution.as_ref().unwrap_err();
+    let error = app.solution().unwrap().as_ref().unwrap_err();
     assert_eq!(error.kind, SolveErrorKind::NotApplicable);
     let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
     assert!(text.contains("closed-form not applicable"), "{text}");
@@ -212,7 +217,7 @@ fn presets_load_from_the_picker_and_panels_follow_the_scene() {
     ));
     assert!(matches!(
         app.study_state(Panel::EpsError),
-        StudyState::Pending
+        StudyState::Pending(_)
     ));
     let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
     assert!(!text.contains("Deflection") && !text.contains("Error vs n"));
@@ -239,7 +244,7 @@ fn outdated_study_results_are_never_taken() {
     }
     assert!(matches!(
         app.study_state(Panel::EpsError),
-        StudyState::Pending
+        StudyState::Pending(_)
     ));
     // The current ones are taken.
     for request in app.pending_studies() {

@@ -112,6 +112,7 @@ fn fresh(name: &str, dir: &Path) -> App {
     };
     let loaded = LoadedScene::new(scene, SceneSource::Preset(preset.name)).unwrap();
     let mut app = App::new(loaded, look, false).unwrap();
+    app.settle();
     app.set_save_directory(dir.to_path_buf());
     app
 }
@@ -136,7 +137,7 @@ fn check(app: &App) -> Result<(), TestCaseError> {
     prop_assert!(scene.beam.young.is_finite() && scene.beam.young > 0.0);
     prop_assert!(scene.solver.epsilon.is_finite() && scene.solver.epsilon > 0.0);
     prop_assert!(app.selected < app.rows().len());
-    if let Ok(solution) = &app.solution {
+    if let Some(Ok(solution)) = app.solution() {
         // A non-finite number is only ever there with its warning.
         prop_assert!(
             solution.is_finite()

@@ -27,6 +27,8 @@ const SHOW_CURSOR: &str = "\x1b[?25h";
 
 /// A guard against a hung child, not a measurement: a healthy run takes well under a second.
 const PATIENCE: Duration = Duration::from_secs(60);
+/// The pty's size: (rows, columns).
+const SIZE: (u16, u16) = (30, 100);
 
 struct Explorer {
     child: Child,
@@ -39,8 +41,8 @@ impl Explorer {
     /// Starts `beamfric` (the explorer on the default scene) on a 100×30 pty.
     fn start(env: &[(&str, &str)]) -> Explorer {
         let size = Winsize {
-            ws_row: 30,
-            ws_col: 100,
+            ws_row: SIZE.0,
+            ws_col: SIZE.1,
             ws_xpixel: 0,
             ws_ypixel: 0,
         };
@@ -115,6 +117,26 @@ impl Explorer {
             assert!(
                 start.elapsed() < PATIENCE,
                 "{needle:?} never appeared; output so far:\n{text:?}"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// The screen as a terminal shows it now (a vt100 emulator fed everything written).
+    fn screen(&self) -> String {
+        let mut parser = vt100::Parser::new(SIZE.0, SIZE.1, 0);
+        parser.process(&self.output.lock().unwrap());
+        parser.screen().contents()
+    }
+
+    /// Waits until the screen shows `needle`.
+    fn wait_for_screen(&self, needle: &str) {
+        let start = Instant::now();
+        while !self.screen().contains(needle) {
+            assert!(
+                start.elapsed() < PATIENCE,
+                "{needle:?} never shown; the screen:\n{}",
+                self.screen()
             );
             std::thread::sleep(Duration::from_millis(20));
         }
@@ -224,20 +246,20 @@ fn a_panic_in_a_study_is_shown_and_the_explorer_goes_on() {
 #[test]
 fn unsaved_changes_make_q_ask_and_esc_in_the_save_prompt_goes_back() {
     let mut explorer = Explorer::start(&[]);
-    explorer.wait_for("Parameters");
+    explorer.wait_for_screen("Parameters");
     // An edit: the load one step up.
     explorer.type_bytes(b"l");
-    explorer.wait_for("[modified]");
+    explorer.wait_for_screen("[modified]");
     explorer.type_bytes(b"q");
-    explorer.wait_for("quit and lose them?");
+    explorer.wait_for_screen("quit and lose them?");
     // No: back to the explorer with the edit.
     explorer.type_bytes(b"n");
-    explorer.wait_for("kept the unsaved changes");
+    explorer.wait_for_screen("kept the unsaved changes");
     // Esc in the save prompt, then Esc again in normal mode: still running.
     explorer.type_bytes(b"s");
-    explorer.wait_for("save the scene to");
+    explorer.wait_for_screen("save the scene to");
     explorer.type_bytes(b"\x1b");
-    explorer.wait_for("not saved");
+    explorer.wait_for_screen("not saved");
     std::thread::sleep(Duration::from_millis(300));
     assert!(explorer.child.try_wait().unwrap().is_none(), "Esc quit");
     // Then quit for real: q, y.

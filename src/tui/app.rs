@@ -4,7 +4,7 @@
 use crate::fem::Mesh;
 use crate::model::Problem;
 use crate::scene::{LoadedScene, Panel, Scene, SceneSource, Settings};
-use crate::solve::{ConditionLevel, Solution, SolveError, SolveOptions, solve};
+use crate::solve::{ConditionLevel, Method, Solution, SolveError, SolveOptions};
 
 use super::params::{Row, rows};
 use super::studies::{
@@ -51,6 +51,24 @@ pub enum SavePolicy {
     Within(std::path::PathBuf),
 }
 
+/// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the
+/// UI thread, and its result kept only while it is still the one wanted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveRequest {
+    pub problem: Problem,
+    pub elements: usize,
+    pub method: Method,
+    pub options: SolveOptions,
+}
+
+/// A finished solve: what it was computed for, its mesh and its solution.
+#[derive(Debug, Clone)]
+pub struct Shown {
+    pub request: SolveRequest,
+    pub mesh: Mesh,
+    pub solution: Result<Solution, SolveError>,
+}
+
 /// Most undo steps kept.
 pub const UNDO_LIMIT: usize = 1000;
 
@@ -84,9 +102,14 @@ pub struct App {
     /// The file to save to by default.
     pub save_path: String,
     pub problem: Problem,
-    pub mesh: Mesh,
-    /// The current solution, or why the method gave none.
-    pub solution: Result<Solution, SolveError>,
+    /// The solve the current state needs.
+    pub wanted: SolveRequest,
+    /// The last solve received: for the current state, or an earlier one while the new one
+    /// runs (then drawn as out of date). `None` before the first one arrives.
+    pub shown: Option<Shown>,
+    /// Since when the wanted solve runs (interactive only: frames of a headless render never
+    /// depend on the clock).
+    pub busy_since: Option<std::time::Instant>,
     /// Index into [`App::rows`].
     pub selected: usize,
     pub mode: Mode,
@@ -101,6 +124,8 @@ pub struct App {
     /// Terminal size in cells, as last reported.
     pub size: (u16, u16),
     pub quit: bool,
+    /// Ctrl-Z: the event loop gives the terminal back and stops the process.
+    pub suspend_requested: bool,
     /// One slot per study of [`super::studies::STUDIES`], by the same index.
     pub studies: Vec<StudySlot>,
 }
@@ -120,13 +145,7 @@ impl App {
     pub fn new(loaded: LoadedScene, look: Look, show_timings: bool) -> Result<App, String> {
         let loaded = sorted(loaded).map_err(|e| e.to_string())?;
         let save_path = loaded.source.default_file_name().display().to_string();
-        let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
-        let solution = solve(
-            &loaded.problem,
-            &mesh,
-            loaded.settings.method,
-            &solve_options(&loaded.scene),
-        );
+        let wanted = solve_request(&loaded.scene, &loaded.problem, loaded.settings);
         let mut app = App {
             loaded: loaded.scene.clone(),
             saved: loaded.scene.clone(),
@@ -139,8 +158,9 @@ impl App {
             save_directory: std::path::PathBuf::from("."),
             save_path,
             problem: loaded.problem,
-            mesh,
-            solution,
+            wanted,
+            shown: None,
+            busy_since: None,
             selected: 0,
             mode: Mode::Normal,
             message: None,
@@ -150,6 +170,7 @@ impl App {
             look,
             size: (120, 40),
             quit: false,
+            suspend_requested: false,
             studies: vec![StudySlot::default(); STUDIES.len()],
         };
         app.refresh_studies();
@@ -206,24 +227,70 @@ impl App {
         self.resolve(loaded.problem, loaded.settings);
     }
 
-    /// Re-solves after a change of the scene, with the problem and settings its validation
-    /// built.
+    /// Asks for a re-solve after a change of the scene, with the problem and settings its
+    /// validation built. Nothing is solved here: see [`App::settle`] and the event loop.
     pub(super) fn resolve(&mut self, problem: Problem, settings: Settings) {
-        self.mesh = Mesh::new(&problem, settings.elements);
+        self.wanted = solve_request(&self.scene, &problem, settings);
         self.problem = problem;
-        self.solution = solve(
-            &self.problem,
-            &self.mesh,
-            settings.method,
-            &solve_options(&self.scene),
-        );
         self.refresh_studies();
     }
 
-    /// Marks the studies whose inputs changed as pending (or idle when no visible panel needs
-    /// them). Their data for older inputs is dropped: it is never drawn as current.
-    pub(super) fn refresh_studies(&mut self) {
+    /// The solve still to be done for the current state, if any.
+    pub fn pending_solve(&self) -> Option<&SolveRequest> {
+        match &self.shown {
+            Some(shown) if shown.request == self.wanted => None,
+            _ => Some(&self.wanted),
+        }
+    }
+
+    /// Is what is shown the solution of the current state?
+    pub fn is_current(&self) -> bool {
+        self.pending_solve().is_none()
+    }
+
+    /// Takes a finished solve if it is the one wanted now; returns whether it was taken.
+    pub fn accept_solution(&mut self, shown: Shown) -> bool {
+        if shown.request != self.wanted {
+            return false;
+        }
+        self.shown = Some(shown);
+        self.busy_since = None;
+        true
+    }
+
+    /// Solves the current state on the spot if needed (headless rendering and tests; the
+    /// interactive explorer solves on a worker instead).
+    pub fn settle(&mut self) {
+        if let Some(request) = self.pending_solve().cloned() {
+            self.accept_solution(super::solver::run_solve(&request));
+        }
+    }
+
+    /// The solution shown, if one has arrived.
+    pub fn solution(&self) -> Option<&Result<Solution, SolveError>> {
+        self.shown.as_ref().map(|s| &s.solution)
+    }
+
+    /// The panels on screen: all of them from [`super::view::FULL_SIZE`] on, the focused one
+    /// below it, none when the terminal is too small.
+    pub fn visible_panels(&self) -> Vec<Panel> {
+        use super::view::{FULL_SIZE, MIN_SIZE};
         let panels = self.panels();
+        let (w, h) = self.size;
+        if w >= FULL_SIZE.0 && h >= FULL_SIZE.1 {
+            panels
+        } else if w >= MIN_SIZE.0 && h >= MIN_SIZE.1 && !panels.is_empty() {
+            vec![panels[self.focus % panels.len()]]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Marks the studies whose inputs changed as pending (or idle when no visible panel needs
+    /// them). Their data for older inputs is never drawn as current: it is kept only to be
+    /// drawn marked as out of date until the new data arrives.
+    pub(super) fn refresh_studies(&mut self) {
+        let panels = self.visible_panels();
         let context = StudyContext {
             problem: &self.problem,
             elements: self.scene.mesh.elements,
@@ -242,7 +309,7 @@ impl App {
             .iter()
             .enumerate()
             .filter_map(|(study, slot)| match (&slot.state, &slot.inputs) {
-                (StudyState::Pending, Some(inputs)) => Some(StudyRequest {
+                (StudyState::Pending(_), Some(inputs)) => Some(StudyRequest {
                     study,
                     inputs: inputs.clone(),
                 }),
@@ -269,17 +336,29 @@ impl App {
     /// What `panel` draws of its study: its data as `T`, or a notice.
     pub fn study_view<T: 'static>(&self, panel: Panel) -> StudyView<'_, T> {
         let computing = study_of(panel).map_or("", |i| STUDIES[i].computing());
+        let wrong_type =
+            || StudyView::Notice("internal error: the study's data has another type".into());
         match self.study_state(panel) {
-            StudyState::Ready(data) => match data.downcast_ref::<T>() {
-                Some(data) => StudyView::Ready(data),
-                None => {
-                    StudyView::Notice("internal error: the study's data has another type".into())
-                }
-            },
-            StudyState::Pending => StudyView::Notice(computing.into()),
+            StudyState::Ready(data) => data
+                .downcast_ref::<T>()
+                .map_or_else(wrong_type, StudyView::Ready),
+            StudyState::Pending(Some(data)) => data
+                .downcast_ref::<T>()
+                .map_or_else(wrong_type, StudyView::Outdated),
+            StudyState::Pending(None) => StudyView::Notice(computing.into()),
             StudyState::Failed(e) => StudyView::Notice(e.clone()),
             StudyState::Idle => StudyView::Notice("not computed".into()),
         }
+    }
+}
+
+/// The solve a scene needs.
+fn solve_request(scene: &Scene, problem: &Problem, settings: Settings) -> SolveRequest {
+    SolveRequest {
+        problem: problem.clone(),
+        elements: settings.elements,
+        method: settings.method,
+        options: solve_options(scene),
     }
 }
 

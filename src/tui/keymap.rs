@@ -66,6 +66,8 @@ pub enum Action {
     Quit,
     /// Ctrl-C: quit from anywhere.
     Interrupt,
+    /// Ctrl-Z: suspend (the shell's `fg` resumes).
+    Suspend,
     /// A character typed into a prompt.
     Type(char),
     /// Delete the last character of a prompt.
@@ -373,8 +375,10 @@ pub fn parse_keys(text: &str) -> Vec<Key> {
 
 /// The action `key` stands for in `mode`, if any.
 pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
-    if key == Key::Ctrl('c') {
-        return Some(Action::Interrupt);
+    match key {
+        Key::Ctrl('c') => return Some(Action::Interrupt),
+        Key::Ctrl('z') => return Some(Action::Suspend),
+        _ => {}
     }
     match mode {
         Mode::Normal => Some(normal_action(key).unwrap_or(Action::Unbound(key))),

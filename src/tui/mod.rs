@@ -6,17 +6,16 @@
 //! and headless rendering ([`render`]).
 
 pub mod app;
+mod event_loop;
+pub mod input;
 pub mod keymap;
 pub mod params;
+pub mod solver;
 pub mod studies;
 mod terminal;
 pub mod update;
 pub mod view;
 
-use std::io;
-use std::time::Duration;
-
-use crossterm::event::{self, Event};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
@@ -24,9 +23,6 @@ use ratatui::buffer::Buffer;
 use crate::scene::LoadedScene;
 use app::{App, Look};
 use keymap::{Action, Key, action_for};
-
-/// How long the loop waits for a key before looking for study results.
-const POLL: Duration = Duration::from_millis(50);
 
 /// Set to `main` or `worker` to make the explorer panic after its first frame (on the main
 /// thread or in a study), to test that the terminal is restored.
@@ -39,59 +35,16 @@ pub enum Ending {
     Quit,
     /// A signal (its number) ended it; the terminal was restored.
     Signal(i32),
+    /// The terminal went away (end of input or a read error).
+    Hangup,
 }
 
-/// Runs the explorer in the terminal until the user quits or a signal arrives. The terminal is
-/// restored on return, on a panic and on SIGINT, SIGTERM and SIGHUP.
+/// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal
+/// hangs up. The terminal is restored on return, on a panic, on SIGINT, SIGTERM and SIGHUP,
+/// and around a suspension.
 pub fn run(loaded: LoadedScene, look: Look) -> Result<Ending, String> {
     let app = App::new(loaded, look, true)?;
-    let mut session =
-        terminal::Session::start().map_err(|e| format!("cannot open the terminal: {e}"))?;
-    let result = event_loop(&mut session, app);
-    drop(session);
-    result.map_err(|e| format!("terminal error: {e}"))
-}
-
-fn event_loop(session: &mut terminal::Session, mut app: App) -> io::Result<Ending> {
-    let injected = std::env::var(INJECT_PANIC).unwrap_or_default();
-    let size = session.terminal.size()?;
-    update::update(&mut app, Action::Resize(size.width, size.height));
-    let mut worker = studies::Worker::start(injected == "worker");
-    loop {
-        worker.request(app.pending_studies());
-        session.terminal.draw(|frame| view::draw(frame, &app))?;
-        if injected == "main" {
-            panic!("injected panic ({INJECT_PANIC}=main)");
-        }
-        if app.quit {
-            return Ok(Ending::Quit);
-        }
-        if let Some(signal) = session.signal() {
-            return Ok(Ending::Signal(signal));
-        }
-        if event::poll(POLL)? {
-            // Apply every event that is waiting, then draw once.
-            loop {
-                match event::read()? {
-                    Event::Key(event) => {
-                        if let Some(key) = Key::from_event(event) {
-                            press(&mut app, key);
-                        }
-                    }
-                    Event::Resize(width, height) => {
-                        update::update(&mut app, Action::Resize(width, height))
-                    }
-                    _ => {}
-                }
-                if app.quit || !event::poll(Duration::ZERO)? {
-                    break;
-                }
-            }
-        }
-        for result in worker.poll() {
-            app.accept(result);
-        }
-    }
+    event_loop::run(app)
 }
 
 /// What a headless render needs besides the scene.
@@ -106,11 +59,13 @@ pub struct RenderOptions {
     pub allow_save: Option<std::path::PathBuf>,
 }
 
-/// Applies what `key` means in the app's current mode.
+/// Applies what `key` means in the app's current mode, and solves the new state on the spot
+/// (the headless path; the interactive loop solves on a worker instead).
 pub fn press(app: &mut App, key: Key) {
     if let Some(action) = action_for(&app.mode, key) {
         update::update(app, action);
     }
+    app.settle();
 }
 
 /// The explorer's frame after `keys`, with every study run to completion: exactly what the
@@ -125,6 +80,7 @@ pub fn render(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Resu
 /// panels need run to completion.
 pub fn prepare(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Result<App, String> {
     let mut app = App::new(loaded, options.look, options.timings)?;
+    app.settle();
     // A render is for snapshots: it touches the file system only where it was allowed to.
     app.save_policy = match options.allow_save {
         None => app::SavePolicy::Simulate,

@@ -1,12 +1,11 @@
 //! The terminal while the explorer runs: raw mode and the alternate screen on entry, and the
 //! way back in every case — on return (a guard's `Drop`), on a panic of the main thread (a
-//! panic hook that restores first, then lets the default hook report), and on SIGINT,
-//! SIGTERM and SIGHUP (flags the event loop checks between events). A panic on another thread
-//! (a study worker) does not touch the terminal: the worker catches it and its panel says so.
+//! panic hook that restores first, then lets the default hook report), on a signal (the event
+//! loop hears SIGINT, SIGTERM and SIGHUP through [`Signals`] and returns), on a hangup (end of
+//! input), and around a suspension (Ctrl-Z or SIGTSTP: leave, stop, come back and redraw).
+//! A panic on another thread (a worker) does not touch the terminal: the worker catches it.
 
 use std::io::{self, Stdout, stdout};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crossterm::cursor::Show;
 use crossterm::execute;
@@ -16,38 +15,44 @@ use crossterm::terminal::{
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-/// Leaves raw mode and the alternate screen; safe to call more than once.
+/// The signals the explorer handles: the three that end it, the window size, and job control.
+pub const SIGNALS: [i32; 6] = [
+    signal_hook::consts::SIGINT,
+    signal_hook::consts::SIGTERM,
+    signal_hook::consts::SIGHUP,
+    signal_hook::consts::SIGWINCH,
+    signal_hook::consts::SIGTSTP,
+    signal_hook::consts::SIGCONT,
+];
+
+/// Leaves raw mode and the alternate screen; safe to call more than once, and when the
+/// terminal is gone.
 pub fn restore() {
     let _ = disable_raw_mode();
     let _ = execute!(stdout(), LeaveAlternateScreen, Show);
 }
 
-/// Restores the terminal on drop.
+fn enter() -> io::Result<()> {
+    enable_raw_mode()?;
+    if let Err(e) = execute!(stdout(), EnterAlternateScreen) {
+        restore();
+        return Err(e);
+    }
+    Ok(())
+}
+
+/// The terminal in raw mode on the alternate screen; restored on drop.
 pub struct Session {
     pub terminal: Terminal<CrosstermBackend<Stdout>>,
-    signal: Arc<AtomicUsize>,
 }
 
 impl Session {
-    /// Enters raw mode and the alternate screen, and arms the panic hook and the signal
-    /// handlers.
+    /// Enters raw mode and the alternate screen, and arms the panic hook.
     pub fn start() -> io::Result<Session> {
         install_panic_hook();
-        let signal = Arc::new(AtomicUsize::new(0));
-        for sig in [
-            signal_hook::consts::SIGINT,
-            signal_hook::consts::SIGTERM,
-            signal_hook::consts::SIGHUP,
-        ] {
-            signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize)?;
-        }
-        enable_raw_mode()?;
-        if let Err(e) = execute!(stdout(), EnterAlternateScreen) {
-            restore();
-            return Err(e);
-        }
+        enter()?;
         match Terminal::new(CrosstermBackend::new(stdout())) {
-            Ok(terminal) => Ok(Session { terminal, signal }),
+            Ok(terminal) => Ok(Session { terminal }),
             Err(e) => {
                 restore();
                 Err(e)
@@ -55,12 +60,14 @@ impl Session {
         }
     }
 
-    /// The signal received, if any (its number).
-    pub fn signal(&self) -> Option<i32> {
-        match self.signal.load(Ordering::Relaxed) {
-            0 => None,
-            sig => Some(sig as i32),
-        }
+    /// Ctrl-Z or SIGTSTP: gives the terminal back, stops the process until SIGCONT, then takes
+    /// the terminal again; the caller redraws everything.
+    pub fn suspend(&mut self) -> io::Result<()> {
+        restore();
+        // SIGSTOP cannot be caught, so the stop happens even though SIGTSTP is handled.
+        signal_hook::low_level::raise(signal_hook::consts::SIGSTOP)?;
+        enter()?;
+        self.terminal.clear()
     }
 }
 
@@ -79,8 +86,8 @@ fn install_panic_hook() {
                 restore();
                 default(info);
             }
-            // Other threads: the study worker catches its panic and reports it in its panel;
-            // printing here would scribble over the screen.
+            // Other threads: workers catch their panic and report it in the frame; printing
+            // here would scribble over the screen.
         }));
     });
 }

@@ -34,6 +34,12 @@ pub fn update(app: &mut App, action: Action) {
         }
         Action::Resize(width, height) => {
             app.size = (width, height);
+            // What is visible may have changed: studies follow.
+            app.refresh_studies();
+            return;
+        }
+        Action::Suspend => {
+            app.suspend_requested = true;
             return;
         }
         _ => {}
@@ -196,6 +202,7 @@ fn normal(app: &mut App, action: Action) {
         Action::NextPanel => {
             let count = app.panels().len().max(1);
             app.focus = (app.focus + 1) % count;
+            app.refresh_studies();
         }
         Action::Unbound(Key::Char(c)) => {
             app.message = Some(format!("no command on '{c}': press ? for the keys"));
@@ -212,7 +219,9 @@ fn normal(app: &mut App, action: Action) {
         | Action::DeleteChar
         | Action::Confirm
         | Action::Cancel => {}
-        Action::Interrupt | Action::Resize(..) => unreachable!("handled before the mode"),
+        Action::Interrupt | Action::Resize(..) | Action::Suspend => {
+            unreachable!("handled before the mode")
+        }
     }
 }
 

@@ -76,8 +76,9 @@ pub fn study_of(panel: Panel) -> Option<usize> {
 pub enum StudyState {
     /// Not needed: no visible panel shows it.
     Idle,
-    /// Being computed for the current state.
-    Pending,
+    /// Being computed for the current state; the data of the state before, if any, is kept to
+    /// be drawn (marked as out of date) until the new data arrives.
+    Pending(Option<StudyData>),
     /// Done, for the current state.
     Ready(StudyData),
     /// The study cannot run for this state (e.g. the enumeration refuses).
@@ -107,16 +108,20 @@ impl StudySlot {
         if !needed {
             *self = StudySlot::default();
         } else if self.inputs.as_ref() != Some(&inputs) {
+            let previous = match std::mem::replace(&mut self.state, StudyState::Idle) {
+                StudyState::Ready(data) | StudyState::Pending(Some(data)) => Some(data),
+                _ => None,
+            };
             *self = StudySlot {
                 inputs: Some(inputs),
-                state: StudyState::Pending,
+                state: StudyState::Pending(previous),
             };
         }
     }
 
     /// Takes a finished result if it belongs to the slot's current inputs.
     pub fn accept(&mut self, inputs: &StudyInputs, data: Result<StudyData, String>) -> bool {
-        if self.inputs.as_ref() != Some(inputs) || !matches!(self.state, StudyState::Pending) {
+        if self.inputs.as_ref() != Some(inputs) || !matches!(self.state, StudyState::Pending(_)) {
             return false;
         }
         self.state = match data {
@@ -143,9 +148,11 @@ pub struct StudyResult {
     pub data: Result<StudyData, String>,
 }
 
-/// What a panel draws of its study: the data, or a notice in its place.
+/// What a panel draws of its study: the data, the data of the state before while the new one
+/// is computed, or a notice in its place.
 pub enum StudyView<'a, T> {
     Ready(&'a T),
+    Outdated(&'a T),
     Notice(String),
 }
 

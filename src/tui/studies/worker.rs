@@ -3,8 +3,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, Sender, channel};
-use std::thread::JoinHandle;
+use std::sync::mpsc::{Sender, channel};
 
 use super::{STUDIES, StudyRequest, StudyResult, run};
 use crate::study::Cancelled;
@@ -12,11 +11,9 @@ use crate::study::Cancelled;
 /// A background worker for the studies.
 pub struct Worker {
     jobs: Option<Sender<(u64, StudyRequest)>>,
-    results: Receiver<StudyResult>,
     /// The newest request per study; older ones are cancelled.
     newest: Arc<Vec<AtomicU64>>,
     counter: u64,
-    thread: Option<JoinHandle<()>>,
     /// Requests already sent, so the same one is not sent twice.
     sent: Vec<StudyRequest>,
 }
@@ -38,11 +35,11 @@ fn failed(request: &StudyRequest, payload: &Box<dyn std::any::Any + Send>) -> St
 }
 
 impl Worker {
-    /// Starts the worker thread. With `inject_panic`, its first study panics (a test of how a
-    /// failing study is reported).
-    pub fn start(inject_panic: bool) -> Worker {
+    /// Starts the worker thread; `deliver` gets every finished study (on the worker thread).
+    /// With `inject_panic`, its first study panics (a test of how a failing study is
+    /// reported).
+    pub fn start(inject_panic: bool, deliver: impl Fn(StudyResult) + Send + 'static) -> Worker {
         let (jobs, inbox) = channel::<(u64, StudyRequest)>();
-        let (outbox, results) = channel();
         let newest: Arc<Vec<AtomicU64>> =
             Arc::new(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
         let shared = Arc::clone(&newest);
@@ -66,27 +63,30 @@ impl Worker {
                     Ok(Err(Cancelled)) => continue,
                     Err(payload) => failed(&request, &payload),
                 };
-                if outbox.send(result).is_err() {
-                    return;
-                }
+                deliver(result);
             }
         };
-        let thread = std::thread::Builder::new()
+        std::thread::Builder::new()
             .name("studies".into())
             .spawn(body)
             .expect("a thread can be started");
         Worker {
             jobs: Some(jobs),
-            results,
             newest,
             counter: 0,
-            thread: Some(thread),
             sent: Vec::new(),
         }
     }
 
-    /// Sends the requests not sent yet; each cancels the outdated work of its study.
+    /// Sends the requests not sent yet; each cancels the outdated work of its study, and a
+    /// study with no request (its panel hidden, or its data in) has its work cancelled.
     pub fn request(&mut self, requests: Vec<StudyRequest>) {
+        for study in 0..STUDIES.len() {
+            let wanted = requests.iter().any(|r| r.study == study);
+            if !wanted && self.sent.iter().any(|r| r.study == study) {
+                self.cancel(study);
+            }
+        }
         for request in requests {
             if self.sent.contains(&request) {
                 continue;
@@ -101,21 +101,20 @@ impl Worker {
         }
     }
 
-    /// The results that have arrived.
-    pub fn poll(&mut self) -> Vec<StudyResult> {
-        self.results.try_iter().collect()
+    /// Cancels the work on `study` (its panel was hidden).
+    pub fn cancel(&mut self, study: usize) {
+        self.counter += 1;
+        self.newest[study].store(self.counter, Ordering::Relaxed);
+        self.sent.retain(|r| r.study != study);
     }
 }
 
 impl Drop for Worker {
     fn drop(&mut self) {
-        // Cancel whatever runs, close the queue, and wait for the thread to see it.
+        // Cancel whatever runs and close the queue; never wait: quitting is immediate.
         for slot in self.newest.iter() {
             slot.store(u64::MAX, Ordering::Relaxed);
         }
         self.jobs = None;
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
-        }
     }
 }

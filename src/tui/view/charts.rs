@@ -15,6 +15,14 @@ use crate::study::{EpsPoint, MeshPoint};
 use crate::tui::app::{App, Diagram};
 use crate::tui::studies::StudyView;
 
+/// The title's mark of a chart whose data belongs to the state before.
+fn updating<T>(view: &StudyView<T>) -> &'static str {
+    match view {
+        StudyView::Outdated(_) => " · updating…",
+        _ => "",
+    }
+}
+
 /// Draws `panel` into `area`.
 pub(super) fn draw_panel(
     frame: &mut Frame,
@@ -33,9 +41,13 @@ pub(super) fn draw_panel(
     match panel {
         Panel::Deflection => deflection(frame, app, theme, area, title_suffix, focused),
         Panel::EpsError => {
-            let panel = frame_of(format!(" Error vs ε (regularised){title_suffix} "));
-            match app.study_view::<Vec<EpsPoint>>(Panel::EpsError) {
-                StudyView::Ready(points) => {
+            let view = app.study_view::<Vec<EpsPoint>>(Panel::EpsError);
+            let panel = frame_of(format!(
+                " Error vs ε (regularised){title_suffix}{} ",
+                updating(&view)
+            ));
+            match view {
+                StudyView::Ready(points) | StudyView::Outdated(points) => {
                     let epsilon = Some(app.scene.solver.epsilon);
                     eps_error_chart(frame, theme, panel, points, epsilon)
                 }
@@ -43,9 +55,13 @@ pub(super) fn draw_panel(
             }
         }
         Panel::EpsCond => {
-            let panel = frame_of(format!(" cond2 of the cases vs ε{title_suffix} "));
-            match app.study_view::<Vec<EpsPoint>>(Panel::EpsCond) {
-                StudyView::Ready(points) => {
+            let view = app.study_view::<Vec<EpsPoint>>(Panel::EpsCond);
+            let panel = frame_of(format!(
+                " cond2 of the cases vs ε{title_suffix}{} ",
+                updating(&view)
+            ));
+            match view {
+                StudyView::Ready(points) | StudyView::Outdated(points) => {
                     let epsilon = Some(app.scene.solver.epsilon);
                     eps_condition_chart(frame, theme, panel, points, epsilon)
                 }
@@ -53,13 +69,14 @@ pub(super) fn draw_panel(
             }
         }
         Panel::ErrorTime => {
+            let view = app.study_view::<Vec<MeshPoint>>(Panel::ErrorTime);
             let panel = frame_of(if app.show_timings {
-                format!(" Error vs run time{title_suffix} ")
+                format!(" Error vs run time{title_suffix}{} ", updating(&view))
             } else {
-                format!(" Error vs n (t: time){title_suffix} ")
+                format!(" Error vs n (t: time){title_suffix}{} ", updating(&view))
             });
-            match app.study_view::<Vec<MeshPoint>>(Panel::ErrorTime) {
-                StudyView::Ready(points) => {
+            match view {
+                StudyView::Ready(points) | StudyView::Outdated(points) => {
                     error_time_chart(frame, theme, panel, points, app.show_timings)
                 }
                 StudyView::Notice(text) => notice(frame, theme, panel, text),
@@ -81,8 +98,23 @@ fn deflection(
         Diagram::Moment => ("Bending moment M = -EJu''", "N m"),
         Diagram::Shear => ("Shear force T = M'", "N"),
     };
-    let title = format!(" {name} [{unit}] (b: next){suffix} ");
-    let solution = match &app.solution {
+    let outdated = if app.is_current() {
+        ""
+    } else {
+        " · out of date"
+    };
+    let title = format!(" {name} [{unit}] (b: next){suffix}{outdated} ");
+    let Some(shown) = &app.shown else {
+        let panel = PanelFrame {
+            area,
+            title,
+            focused,
+        };
+        let text = format!("solving n = {} …", app.wanted.elements);
+        notice(frame, theme, panel, text);
+        return;
+    };
+    let solution = match &shown.solution {
         Ok(s) => s,
         Err(e) => {
             let panel = PanelFrame {
@@ -94,10 +126,10 @@ fn deflection(
             return;
         }
     };
-    let l = app.problem.length;
+    let l = shown.request.problem.length;
     let samples = (area.width as usize * 2).clamp(20, 400);
     let value = |x: f64| {
-        let p = solution.field.at(&app.mesh, x);
+        let p = solution.field.at(&shown.mesh, x);
         match app.diagram {
             Diagram::Deflection => p.deflection,
             Diagram::Moment => p.moment,

@@ -143,8 +143,13 @@ fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let block = theme.block(" Results ", false);
     let inner = block.inner(area);
     frame.render_widget(block, area);
-    let Ok(solution) = &app.solution else {
-        frame.render_widget(Paragraph::new("no solution").style(theme.error()), inner);
+    let Some(Ok(solution)) = app.solution() else {
+        let text = if app.shown.is_none() {
+            "solving…"
+        } else {
+            "no solution"
+        };
+        frame.render_widget(Paragraph::new(text).style(theme.error()), inner);
         return;
     };
     let eng = crate::format::eng;
@@ -230,12 +235,34 @@ fn reference_name(reference: Reference) -> &'static str {
     }
 }
 
+/// "solving …" while the current state's solve runs (with its run time when the clock may
+/// show), else empty.
+fn busy_text(app: &App) -> Option<String> {
+    if app.is_current() {
+        return None;
+    }
+    let elapsed = match app.busy_since {
+        Some(since) if app.show_timings => format!(" {:.1} s", since.elapsed().as_secs_f64()),
+        _ => String::new(),
+    };
+    Some(format!(
+        "solving n = {} with {}…{elapsed}",
+        app.wanted.elements, app.wanted.method
+    ))
+}
+
 fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let (summary, detail) = match &app.solution {
+    let Some(shown) = &app.shown else {
+        let text = busy_text(app).unwrap_or_default();
+        frame.render_widget(Paragraph::new(Line::styled(text, theme.warning())), area);
+        return;
+    };
+    let (mut summary, detail) = match &shown.solution {
         Ok(s) => {
+            let mesh = &shown.mesh;
             let mut parts = vec![
                 format!("{}", s.method),
-                format!("n = {} (N = {})", app.mesh.elements(), app.mesh.unknowns()),
+                format!("n = {} (N = {})", mesh.elements(), mesh.unknowns()),
             ];
             if let Some(e) = s.epsilon {
                 parts.push(format!("ε = {}", sci(e, 2)));
@@ -267,10 +294,19 @@ fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
             (Line::from(parts.join(" · ")), detail)
         }
         Err(e) => (
-            Line::from(format!("{} · n = {}", e.method, app.mesh.elements())),
+            Line::from(format!("{} · n = {}", e.method, shown.mesh.elements())),
             Line::styled(format!("{e}"), theme.error()),
         ),
     };
+    if let Some(busy) = busy_text(app) {
+        // The previous result stays, marked as such.
+        let mut spans = vec![
+            Span::styled(busy, theme.warning()),
+            Span::raw(" · shown: previous result · "),
+        ];
+        spans.extend(summary.spans);
+        summary = Line::from(spans);
+    }
     let [first, rest] = Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(area);
     frame.render_widget(Paragraph::new(summary), first);
     match &app.message {

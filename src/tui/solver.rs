@@ -1,0 +1,104 @@
+//! The keystroke's own solve, off the UI thread: one worker thread that always takes the
+//! newest request (older ones are dropped unseen, so ten quick key presses make one solve of
+//! the final value), and hands back the mesh and solution tagged with what they were computed
+//! for. The app keeps a result only if it is still the one wanted.
+
+use std::sync::{Arc, Condvar, Mutex};
+use std::thread::JoinHandle;
+
+use crate::fem::Mesh;
+use crate::solve::solve;
+
+use super::app::{Shown, SolveRequest};
+
+/// Computes a request on the spot (headless rendering, tests, and the worker itself).
+pub fn run_solve(request: &SolveRequest) -> Shown {
+    let mesh = Mesh::new(&request.problem, request.elements);
+    let solution = solve(&request.problem, &mesh, request.method, &request.options);
+    Shown {
+        request: request.clone(),
+        mesh,
+        solution,
+    }
+}
+
+/// The newest request, and whether the worker should stop.
+#[derive(Default)]
+struct Slot {
+    request: Option<SolveRequest>,
+    closed: bool,
+}
+
+/// A background solver: `want` a request, receive its result through the callback.
+pub struct SolveWorker {
+    slot: Arc<(Mutex<Slot>, Condvar)>,
+    /// The last request handed over, so the same one is not solved twice.
+    last: Option<SolveRequest>,
+    _thread: JoinHandle<()>,
+}
+
+impl SolveWorker {
+    /// Starts the worker; `deliver` gets every finished result (on the worker thread).
+    pub fn start(deliver: impl Fn(Result<Shown, String>) + Send + 'static) -> SolveWorker {
+        let slot: Arc<(Mutex<Slot>, Condvar)> = Arc::default();
+        let shared = Arc::clone(&slot);
+        let thread = std::thread::Builder::new()
+            .name("solver".into())
+            .spawn(move || {
+                loop {
+                    let request = {
+                        let (lock, ready) = &*shared;
+                        let mut slot = lock.lock().unwrap_or_else(|e| e.into_inner());
+                        while slot.request.is_none() && !slot.closed {
+                            slot = ready.wait(slot).unwrap_or_else(|e| e.into_inner());
+                        }
+                        if slot.closed {
+                            return;
+                        }
+                        slot.request.take()
+                    };
+                    let Some(request) = request else { continue };
+                    // A panic in a method must not take the explorer down.
+                    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        run_solve(&request)
+                    }))
+                    .map_err(|payload| {
+                        let message = payload
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| payload.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "unknown".into());
+                        format!("internal error in the solver ({message})")
+                    });
+                    deliver(outcome);
+                }
+            })
+            .expect("a thread can be started");
+        SolveWorker {
+            slot,
+            last: None,
+            _thread: thread,
+        }
+    }
+
+    /// Asks for `request` unless it was the last one asked for; replaces a request the worker
+    /// has not started yet.
+    pub fn want(&mut self, request: &SolveRequest) {
+        if self.last.as_ref() == Some(request) {
+            return;
+        }
+        self.last = Some(request.clone());
+        let (lock, ready) = &*self.slot;
+        lock.lock().unwrap_or_else(|e| e.into_inner()).request = Some(request.clone());
+        ready.notify_one();
+    }
+}
+
+impl Drop for SolveWorker {
+    fn drop(&mut self) {
+        // Never waits for a solve in progress: quitting is immediate.
+        let (lock, ready) = &*self.slot;
+        lock.lock().unwrap_or_else(|e| e.into_inner()).closed = true;
+        ready.notify_one();
+    }
+}
