@@ -36,7 +36,7 @@ enum Event {
     /// The terminal's input is gone.
     Hangup,
     Signal(i32),
-    Solved(Result<Shown, String>),
+    Solved(Box<Result<Shown, String>>),
     Study(StudyResult),
 }
 
@@ -62,7 +62,7 @@ fn event_loop(
     update::update(app, Action::Resize(size.width, size.height));
     let solved = sender.clone();
     let mut solver = SolveWorker::start(move |result| {
-        let _ = solved.send(Event::Solved(result));
+        let _ = solved.send(Event::Solved(Box::new(result)));
     });
     let studied = sender.clone();
     let mut studies = Worker::start(injected == "worker", move |result| {
@@ -129,10 +129,12 @@ fn event_loop(
                     signal_hook::consts::SIGCONT => session.terminal.clear()?,
                     other => return Ok(Ending::Signal(other)),
                 },
-                Event::Solved(Ok(shown)) => {
-                    app.accept_solution(shown);
-                }
-                Event::Solved(Err(message)) => app.message = Some(message),
+                Event::Solved(result) => match *result {
+                    Ok(shown) => {
+                        app.accept_solution(shown);
+                    }
+                    Err(message) => app.message = Some(message),
+                },
                 Event::Study(result) => {
                     app.accept(result);
                 }
