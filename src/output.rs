@@ -92,7 +92,7 @@ pub fn refusal_json(context: &SolveContext, error: &SolveError) -> Value {
         "method": error.method.name(),
         "elements": context.mesh.elements(),
         "refused": {
-            "kind": to_value(&error.kind),
+            "kind": error.kind.name(),
             "reason": error.reason,
             "suggestion": error.suggestion.name(),
         },
@@ -168,10 +168,7 @@ pub fn solution_table(
         Some(e) => match (e.max_abs, e.max_rel, e.mean_abs) {
             (Some(max), Some(rel), Some(mean)) => line(format!(
                 "error vs {:<11} max {} m ({} relative), mean {} m",
-                serde_json::to_value(e.reference)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default(),
+                e.reference.name(),
                 sci(max, 2),
                 sci(rel, 2),
                 sci(mean, 2)
@@ -187,12 +184,7 @@ pub fn solution_table(
     let mut conds = Vec::new();
     let mut push = |name: &str, v: &Option<crate::linalg::condition::ConditionNumber>| {
         if let Some(v) = v {
-            let relation = match v.kind {
-                crate::linalg::condition::ConditionKind::Exact => "=",
-                crate::linalg::condition::ConditionKind::Estimate => "≈",
-                crate::linalg::condition::ConditionKind::LowerBound => "≥",
-            };
-            conds.push(format!("{name} {relation} {}", sci(v.value, 2)));
+            conds.push(format!("{name} {} {}", v.kind.symbol(), sci(v.value, 2)));
         }
     };
     push("cond(A)", &c.stiffness);
@@ -244,15 +236,7 @@ fn csv_number(v: Option<f64>) -> String {
 }
 
 fn warning_names(codes: impl Iterator<Item = crate::solve::WarningCode>) -> String {
-    codes
-        .map(|c| {
-            serde_json::to_value(c)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default()
-        })
-        .collect::<Vec<_>>()
-        .join(";")
+    codes.map(|c| c.name()).collect::<Vec<_>>().join(";")
 }
 
 /// The mesh sweep as CSV: one row per method and mesh size. Numbers are empty where they
@@ -274,12 +258,7 @@ pub fn mesh_sweep_csv(points: &[crate::study::MeshPoint]) -> String {
         "warnings",
     ]);
     for p in points {
-        let reference = p.error.map(|e| {
-            serde_json::to_value(e.reference)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default()
-        });
+        let reference = p.error.map(|e| e.reference.name());
         let status = match &p.refused {
             Some(reason) => reason.clone(),
             None if p.is_reference() => "reference".into(),
@@ -293,7 +272,7 @@ pub fn mesh_sweep_csv(points: &[crate::study::MeshPoint]) -> String {
             p.elements.to_string(),
             csv_number(p.epsilon),
             status,
-            reference.unwrap_or_default(),
+            reference.unwrap_or_default().to_string(),
             csv_number(e.and_then(|e| e.max_abs)),
             csv_number(e.and_then(|e| e.max_rel)),
             csv_number(e.and_then(|e| e.mean_abs)),
@@ -325,14 +304,11 @@ pub fn epsilon_sweep_csv(points: &[crate::study::EpsPoint]) -> String {
         "warnings",
     ]);
     let kind = |c: Option<crate::linalg::condition::ConditionNumber>| {
-        c.map(|c| to_value(&c.kind).as_str().unwrap_or("").to_string())
-            .unwrap_or_default()
+        c.map_or("", |c| c.kind.name()).to_string()
     };
     for p in points {
         let e = p.error;
-        let reference = e
-            .map(|e| to_value(&e.reference).as_str().unwrap_or("").to_string())
-            .unwrap_or_default();
+        let reference = e.map_or("", |e| e.reference.name()).to_string();
         let _ = writer.write_record([
             format!("{:e}", p.epsilon),
             reference,

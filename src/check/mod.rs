@@ -234,11 +234,7 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
                 }
             }
             Err(error) => {
-                let outcome = match error.kind {
-                    SolveErrorKind::Refused => "refused",
-                    SolveErrorKind::NotApplicable => "not-applicable",
-                    SolveErrorKind::Breakdown => "breakdown",
-                };
+                let outcome = error.kind.name();
                 // The method offered instead must work.
                 if let Err(e) = solve(&problem, &mesh, error.suggestion, &options(epsilon)) {
                     report.failures.push(format!(
@@ -364,20 +360,7 @@ pub fn check_presets() -> Vec<CaseReport> {
 }
 
 fn warning_summary(run: &MethodRun) -> Option<String> {
-    let short: Vec<&str> = run
-        .warnings
-        .iter()
-        .map(|w| match w {
-            WarningCode::MeshRaised => "mesh",
-            WarningCode::StiffnessConditioning => "cond",
-            WarningCode::AccuracyLoss => "accuracy",
-            WarningCode::QpNotConverged => "qp",
-            WarningCode::RegularizationInconsistent => "inconsistent",
-            WarningCode::NewtonNotConverged => "newton",
-            WarningCode::IndefiniteFactorization => "indefinite",
-            WarningCode::NonFinite => "non-finite",
-        })
-        .collect();
+    let short: Vec<&str> = run.warnings.iter().map(|w| w.label()).collect();
     (!short.is_empty()).then(|| format!("{}: {}", run.method, short.join("+")))
 }
 
@@ -400,7 +383,7 @@ pub fn markdown(reports: &[CaseReport]) -> String {
             .filter(|run| run.outcome != "solved")
             .map(|run| format!("{} {}", run.method, run.outcome))
             .collect();
-        let mut methods = format!("{} of 6", solved.len());
+        let mut methods = format!("{} of {}", solved.len(), Method::ALL.len());
         if !declined.is_empty() {
             methods.push_str(&format!(" ({})", declined.join(", ")));
         }

@@ -15,7 +15,7 @@
 //! on with the indefinite pivot — like the paper's sparse LU would — and reports where it
 //! first happened, so the caller can say that the result means nothing.
 
-use crate::fem::BlockMatrix;
+use super::BlockMatrix;
 
 /// The factorization broke down: a pivot is singular or not finite.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -561,7 +561,7 @@ fn eliminate_rhs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::BlockTridiagonal;
+    use crate::linalg::BlockTridiagonal;
 
     fn random_spd(blocks: usize, seed: u64) -> BlockTridiagonal {
         let mut state = seed;

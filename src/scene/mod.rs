@@ -13,8 +13,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::{LinearLoad, Obstacle, Problem, StiffnessPiece};
-use crate::solve::Method;
+use crate::model::{LinearLoad, Method, Obstacle, Problem, StiffnessPiece};
 
 pub use presets::{PRESETS, Preset, preset};
 pub use save::{SaveError, save_atomic};

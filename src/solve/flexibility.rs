@@ -13,7 +13,9 @@
 //! Because the finite-element solution is exact at the nodes (DESIGN.md fact 1), these nodal
 //! values are the discrete solution of (38) itself, for any mesh.
 
-use super::{MethodOutput, SolveError, SolveOptions, Stopwatch, Timing, dual_output};
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::solution::{SolveError, Timing};
 use crate::fem::{Mesh, NodalField};
 use crate::linalg::boxqp::solve_box_qp;
 use crate::model::Problem;
