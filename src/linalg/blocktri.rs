@@ -292,11 +292,6 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
         2 * self.boundary.len()
     }
 
-    /// The factored matrix.
-    pub fn matrix(&self) -> &M {
-        &self.matrix
-    }
-
     /// Forward elimination of another right-hand side given per block as u-part `u` and
     /// u'-part `t`, in place, with the stored pivots. Returns the condensed right-hand side
     /// b_F − A_FI A_II⁻¹ b_I on the friction DOFs (length 2k).

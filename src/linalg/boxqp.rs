@@ -26,14 +26,6 @@ pub enum BoundState {
     Upper,
 }
 
-/// Which algorithm produced the result.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum QpAlgorithm {
-    ActiveSet,
-    ProjectedNewtonThenActiveSet,
-    MprgpThenActiveSet,
-}
-
 /// The solution of the box QP.
 #[derive(Debug, Clone, PartialEq)]
 pub struct QpResult {
@@ -45,7 +37,6 @@ pub struct QpResult {
     pub iterations: usize,
     /// Whether the KKT conditions hold to working precision.
     pub converged: bool,
-    pub algorithm: QpAlgorithm,
 }
 
 /// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i. `h` is row-major n×n SPD, `g` ≥ 0.
@@ -57,7 +48,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
             state: vec![],
             iterations: 0,
             converged: true,
-            algorithm: QpAlgorithm::ActiveSet,
         };
     }
     // Scale to unit diagonal: x = D y, D = diag(1/√h_ii).
@@ -71,7 +61,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
             state: vec![BoundState::Free; n],
             iterations: 0,
             converged: false,
-            algorithm: QpAlgorithm::ActiveSet,
         };
     }
     let mut finished = if n <= ACTIVE_SET_LIMIT {
@@ -82,7 +71,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
     {
         QpResult {
             iterations: certified.iterations + steps,
-            algorithm: QpAlgorithm::ProjectedNewtonThenActiveSet,
             ..certified
         }
     } else {
@@ -90,7 +78,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
         let (start, steps) = mprgp(&hs, &zs, &gs);
         let mut polished = active_set(&hs, &zs, &gs, start);
         polished.iterations += steps;
-        polished.algorithm = QpAlgorithm::MprgpThenActiveSet;
         polished
     };
     for (x, d) in finished.x.iter_mut().zip(&d) {
@@ -167,7 +154,6 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
                     state,
                     iterations: iteration,
                     converged: false,
-                    algorithm: QpAlgorithm::ActiveSet,
                 };
             };
             factor.solve_in_place(&mut rhs);
@@ -229,7 +215,6 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
                     state,
                     iterations: iteration,
                     converged: true,
-                    algorithm: QpAlgorithm::ActiveSet,
                 };
             }
         }
@@ -239,7 +224,6 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
         state,
         iterations: max_iterations,
         converged: false,
-        algorithm: QpAlgorithm::ActiveSet,
     }
 }
 

@@ -74,3 +74,16 @@ impl Default for SolveOptions {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_level_name_is_its_serialized_form() {
+        for level in ConditionLevel::ALL {
+            let json = serde_json::to_value(level).unwrap();
+            assert_eq!(json.as_str(), Some(level.name()));
+        }
+    }
+}
