@@ -112,43 +112,18 @@ fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
     64.0 * n as f64 * f64::EPSILON * magnitude
 }
 
+/// The primal active-set method from `start`: minimise on the face of the current free
+/// variables, stop at the first bound in the way, and release the bound with the worst
+/// multiplier once at the face's minimiser.
 fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
     let n = z.len();
     let mut x = start;
-    let mut state: Vec<BoundState> = (0..n)
-        .map(|i| {
-            if g[i] == 0.0 {
-                x[i] = 0.0;
-                BoundState::Lower
-            } else if x[i] >= g[i] {
-                x[i] = g[i];
-                BoundState::Upper
-            } else if x[i] <= -g[i] {
-                x[i] = -g[i];
-                BoundState::Lower
-            } else {
-                BoundState::Free
-            }
-        })
-        .collect();
+    let mut state = clamp_to_box(g, &mut x);
     let max_iterations = 20 * n + 50;
     for iteration in 1..=max_iterations {
         let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
         if !free.is_empty() {
-            let m = free.len();
-            let mut sub = vec![0.0; m * m];
-            let mut rhs = vec![0.0; m];
-            for (a, &i) in free.iter().enumerate() {
-                for (b, &j) in free.iter().enumerate() {
-                    sub[a * m + b] = h[i * n + j];
-                }
-                rhs[a] = z[i]
-                    - (0..n)
-                        .filter(|&j| state[j] != BoundState::Free)
-                        .map(|j| h[i * n + j] * x[j])
-                        .sum::<f64>();
-            }
-            let Some(factor) = Cholesky::new(&sub, m) else {
+            let Some(minimiser) = face_minimiser(h, z, &x, &state, &free) else {
                 return QpResult {
                     x,
                     state,
@@ -156,31 +131,7 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
                     converged: false,
                 };
             };
-            factor.solve_in_place(&mut rhs);
-            // Longest feasible step towards the subproblem's minimiser.
-            let mut step = 1.0;
-            let mut blocking = None;
-            for (a, &i) in free.iter().enumerate() {
-                let p = rhs[a] - x[i];
-                let limit = if p > 0.0 && rhs[a] > g[i] {
-                    Some(((g[i] - x[i]) / p, BoundState::Upper))
-                } else if p < 0.0 && rhs[a] < -g[i] {
-                    Some(((-g[i] - x[i]) / p, BoundState::Lower))
-                } else {
-                    None
-                };
-                if let Some((t, bound)) = limit
-                    && t < step
-                {
-                    step = t.max(0.0);
-                    blocking = Some((i, bound));
-                }
-            }
-            for (a, &i) in free.iter().enumerate() {
-                x[i] += step * (rhs[a] - x[i]);
-                x[i] = x[i].clamp(-g[i], g[i]);
-            }
-            if let Some((i, bound)) = blocking {
+            if let Some((i, bound)) = step_towards(g, &mut x, &free, &minimiser) {
                 state[i] = bound;
                 x[i] = if bound == BoundState::Upper {
                     g[i]
@@ -191,24 +142,8 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
             }
         }
         // At the subproblem's minimiser: release the bound with the worst multiplier.
-        let grad = gradient(h, z, &x);
-        let mut worst: Option<(usize, f64)> = None;
-        for i in 0..n {
-            if g[i] == 0.0 {
-                continue;
-            }
-            let tolerance = gradient_tolerance(h, z, &x, i);
-            let violation = match state[i] {
-                BoundState::Free => 0.0,
-                BoundState::Upper => grad[i] - tolerance,
-                BoundState::Lower => -grad[i] - tolerance,
-            };
-            if violation > 0.0 && worst.is_none_or(|(_, w)| violation > w) {
-                worst = Some((i, violation));
-            }
-        }
-        match worst {
-            Some((i, _)) => state[i] = BoundState::Free,
+        match worst_multiplier(h, z, g, &x, &state) {
+            Some(i) => state[i] = BoundState::Free,
             None => {
                 return QpResult {
                     x,
@@ -225,6 +160,114 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
         iterations: max_iterations,
         converged: false,
     }
+}
+
+/// Puts `x` into the box and says where each variable is; a zero threshold pins it at 0.
+fn clamp_to_box(g: &[f64], x: &mut [f64]) -> Vec<BoundState> {
+    (0..g.len())
+        .map(|i| {
+            if g[i] == 0.0 {
+                x[i] = 0.0;
+                BoundState::Lower
+            } else if x[i] >= g[i] {
+                x[i] = g[i];
+                BoundState::Upper
+            } else if x[i] <= -g[i] {
+                x[i] = -g[i];
+                BoundState::Lower
+            } else {
+                BoundState::Free
+            }
+        })
+        .collect()
+}
+
+/// The minimiser over the `free` variables with the others held at their bounds; `None` if
+/// the free block of H is not positive definite.
+fn face_minimiser(
+    h: &[f64],
+    z: &[f64],
+    x: &[f64],
+    state: &[BoundState],
+    free: &[usize],
+) -> Option<Vec<f64>> {
+    let n = x.len();
+    let m = free.len();
+    let mut sub = vec![0.0; m * m];
+    let mut rhs = vec![0.0; m];
+    for (a, &i) in free.iter().enumerate() {
+        for (b, &j) in free.iter().enumerate() {
+            sub[a * m + b] = h[i * n + j];
+        }
+        rhs[a] = z[i]
+            - (0..n)
+                .filter(|&j| state[j] != BoundState::Free)
+                .map(|j| h[i * n + j] * x[j])
+                .sum::<f64>();
+    }
+    let factor = Cholesky::new(&sub, m)?;
+    factor.solve_in_place(&mut rhs);
+    Some(rhs)
+}
+
+/// The longest feasible step of the free variables towards `minimiser`; returns the variable
+/// whose bound stopped it, if any.
+fn step_towards(
+    g: &[f64],
+    x: &mut [f64],
+    free: &[usize],
+    minimiser: &[f64],
+) -> Option<(usize, BoundState)> {
+    let mut step = 1.0;
+    let mut blocking = None;
+    for (a, &i) in free.iter().enumerate() {
+        let p = minimiser[a] - x[i];
+        let limit = if p > 0.0 && minimiser[a] > g[i] {
+            Some(((g[i] - x[i]) / p, BoundState::Upper))
+        } else if p < 0.0 && minimiser[a] < -g[i] {
+            Some(((-g[i] - x[i]) / p, BoundState::Lower))
+        } else {
+            None
+        };
+        if let Some((t, bound)) = limit
+            && t < step
+        {
+            step = t.max(0.0);
+            blocking = Some((i, bound));
+        }
+    }
+    for (a, &i) in free.iter().enumerate() {
+        x[i] += step * (minimiser[a] - x[i]);
+        x[i] = x[i].clamp(-g[i], g[i]);
+    }
+    blocking
+}
+
+/// The bound variable whose multiplier has the wrong sign by the most (beyond rounding).
+fn worst_multiplier(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    x: &[f64],
+    state: &[BoundState],
+) -> Option<usize> {
+    let grad = gradient(h, z, x);
+    let mut worst: Option<(usize, f64)> = None;
+    for i in 0..x.len() {
+        if g[i] == 0.0 {
+            continue;
+        }
+        let tolerance = gradient_tolerance(h, z, x, i);
+        let violation = match state[i] {
+            BoundState::Free => 0.0,
+            BoundState::Upper => grad[i] - tolerance,
+            BoundState::Lower => -grad[i] - tolerance,
+        };
+        if violation > 0.0 && worst.is_none_or(|(_, w)| violation > w) {
+            worst = Some((i, violation));
+        }
+    }
+    worst.map(|(i, _)| i)
 }
 
 /// Most projected Newton steps before falling back to MPRGP.
@@ -331,25 +374,85 @@ fn projected_newton(h: &[f64], z: &[f64], g: &[f64]) -> Option<(Vec<f64>, usize)
 /// MPRGP on the scaled problem; returns the iterate and the number of steps.
 fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
     let n = z.len();
-    let mul = |v: &[f64]| -> Vec<f64> {
+    let problem = Mprgp::new(h, g);
+    let x = vec![0.0; n];
+    let gr = gradient(h, z, &x);
+    let phi = problem.free_gradient(&x, &gr);
+    let mut it = MprgpIterate {
+        p: phi.clone(),
+        x,
+        gr,
+        phi,
+    };
+    let tolerance = 1e-13 * dot(z, z).sqrt().max(f64::MIN_POSITIVE);
+    let max_steps = 50 * n + 200;
+    for step in 1..=max_steps {
+        let beta = problem.chopped_gradient(&it.x, &it.gr);
+        let projected: f64 = it.phi.iter().zip(&beta).map(|(a, b)| (a + b).powi(2)).sum();
+        if projected.sqrt() <= tolerance {
+            return (it.x, step);
+        }
+        let moved = if dot(&beta, &beta) <= problem.reduced_free_gradient(&it) {
+            problem.conjugate_gradient_step(z, &mut it)
+        } else {
+            problem.proportioning_step(&mut it, &beta)
+        };
+        if !moved {
+            return (it.x, step);
+        }
+    }
+    (it.x, max_steps)
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>()
+}
+
+/// The scaled problem as MPRGP sees it: H, the bounds and the fixed step length ᾱ.
+struct Mprgp<'a> {
+    h: &'a [f64],
+    g: &'a [f64],
+    alpha_bar: f64,
+}
+
+/// An MPRGP iterate: x, the gradient, the free gradient φ and the conjugate direction p.
+struct MprgpIterate {
+    x: Vec<f64>,
+    gr: Vec<f64>,
+    phi: Vec<f64>,
+    p: Vec<f64>,
+}
+
+impl<'a> Mprgp<'a> {
+    fn new(h: &'a [f64], g: &'a [f64]) -> Mprgp<'a> {
+        let n = g.len();
+        // ‖H‖ bound (Gershgorin); step length ᾱ = 1/‖H‖ ∈ (0, 2/‖H‖].
+        let norm = (0..n)
+            .map(|i| h[i * n..(i + 1) * n].iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        Mprgp {
+            h,
+            g,
+            alpha_bar: 1.0 / norm,
+        }
+    }
+
+    fn mul(&self, v: &[f64]) -> Vec<f64> {
+        let n = self.g.len();
         (0..n)
             .map(|i| {
-                h[i * n..(i + 1) * n]
+                self.h[i * n..(i + 1) * n]
                     .iter()
                     .zip(v)
                     .map(|(a, b)| a * b)
                     .sum()
             })
             .collect()
-    };
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-    // ‖H‖ bound (Gershgorin); step length ᾱ = 1/‖H‖ ∈ (0, 2/‖H‖].
-    let norm = (0..n)
-        .map(|i| h[i * n..(i + 1) * n].iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max);
-    let alpha_bar = 1.0 / norm;
-    let free_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
-        (0..n)
+    }
+
+    fn free_gradient(&self, x: &[f64], gr: &[f64]) -> Vec<f64> {
+        let g = self.g;
+        (0..g.len())
             .map(|i| {
                 if x[i] > -g[i] && x[i] < g[i] {
                     gr[i]
@@ -358,9 +461,11 @@ fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
                 }
             })
             .collect()
-    };
-    let chopped_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
-        (0..n)
+    }
+
+    fn chopped_gradient(&self, x: &[f64], gr: &[f64]) -> Vec<f64> {
+        let g = self.g;
+        (0..g.len())
             .map(|i| {
                 if x[i] <= -g[i] {
                     gr[i].min(0.0)
@@ -371,92 +476,95 @@ fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
                 }
             })
             .collect()
-    };
-    let project = |x: &mut [f64]| {
-        for i in 0..n {
-            x[i] = x[i].clamp(-g[i], g[i]);
-        }
-    };
-    let mut x = vec![0.0; n];
-    let mut gr = gradient(h, z, &x);
-    let mut phi = free_gradient(&x, &gr);
-    let mut p = phi.clone();
-    let tolerance = 1e-13 * dot(z, z).sqrt().max(f64::MIN_POSITIVE);
-    let max_steps = 50 * n + 200;
-    for step in 1..=max_steps {
-        let beta = chopped_gradient(&x, &gr);
-        let projected: f64 = phi.iter().zip(&beta).map(|(a, b)| (a + b).powi(2)).sum();
-        if projected.sqrt() <= tolerance {
-            return (x, step);
-        }
-        // Reduced free gradient for the proportioning test.
-        let reduced: f64 = (0..n)
-            .map(|i| {
-                let r = if phi[i] > 0.0 {
-                    ((x[i] + g[i]) / alpha_bar).min(phi[i])
-                } else {
-                    ((x[i] - g[i]) / alpha_bar).max(phi[i])
-                };
-                r * phi[i]
-            })
-            .sum();
-        if dot(&beta, &beta) <= reduced {
-            let hp = mul(&p);
-            let php = dot(&p, &hp);
-            if php <= 0.0 {
-                return (x, step);
-            }
-            let a_cg = dot(&gr, &p) / php;
-            // Largest feasible step along −p.
-            let mut a_f = f64::INFINITY;
-            for i in 0..n {
-                if p[i] > 0.0 {
-                    a_f = a_f.min((x[i] + g[i]) / p[i]);
-                } else if p[i] < 0.0 {
-                    a_f = a_f.min((x[i] - g[i]) / p[i]);
-                }
-            }
-            if a_cg <= a_f {
-                for i in 0..n {
-                    x[i] -= a_cg * p[i];
-                    gr[i] -= a_cg * hp[i];
-                }
-                phi = free_gradient(&x, &gr);
-                let gamma = dot(&phi, &hp) / php;
-                for i in 0..n {
-                    p[i] = phi[i] - gamma * p[i];
-                }
-            } else {
-                for i in 0..n {
-                    x[i] -= a_f * p[i];
-                    gr[i] -= a_f * hp[i];
-                }
-                let phi_half = free_gradient(&x, &gr);
-                for i in 0..n {
-                    x[i] -= alpha_bar * phi_half[i];
-                }
-                project(&mut x);
-                gr = gradient(h, z, &x);
-                phi = free_gradient(&x, &gr);
-                p = phi.clone();
-            }
-        } else {
-            let hd = mul(&beta);
-            let dhd = dot(&beta, &hd);
-            if dhd <= 0.0 {
-                return (x, step);
-            }
-            let a_cg = dot(&gr, &beta) / dhd;
-            for i in 0..n {
-                x[i] -= a_cg * beta[i];
-                gr[i] -= a_cg * hd[i];
-            }
-            project(&mut x);
-            phi = free_gradient(&x, &gr);
-            p = phi.clone();
+    }
+
+    fn project(&self, x: &mut [f64]) {
+        for i in 0..self.g.len() {
+            x[i] = x[i].clamp(-self.g[i], self.g[i]);
         }
     }
-    (x, max_steps)
+
+    /// The reduced free gradient's square for the proportioning test.
+    fn reduced_free_gradient(&self, it: &MprgpIterate) -> f64 {
+        let (g, alpha_bar) = (self.g, self.alpha_bar);
+        (0..g.len())
+            .map(|i| {
+                let phi = it.phi[i];
+                let r = if phi > 0.0 {
+                    ((it.x[i] + g[i]) / alpha_bar).min(phi)
+                } else {
+                    ((it.x[i] - g[i]) / alpha_bar).max(phi)
+                };
+                r * phi
+            })
+            .sum()
+    }
+
+    /// A conjugate gradient step along −p, or, when the box stops it, the largest feasible
+    /// step followed by an expansion step. `false` when p has no curvature left.
+    fn conjugate_gradient_step(&self, z: &[f64], it: &mut MprgpIterate) -> bool {
+        let n = self.g.len();
+        let g = self.g;
+        let hp = self.mul(&it.p);
+        let php = dot(&it.p, &hp);
+        if php <= 0.0 {
+            return false;
+        }
+        let a_cg = dot(&it.gr, &it.p) / php;
+        // Largest feasible step along −p.
+        let mut a_f = f64::INFINITY;
+        for i in 0..n {
+            if it.p[i] > 0.0 {
+                a_f = a_f.min((it.x[i] + g[i]) / it.p[i]);
+            } else if it.p[i] < 0.0 {
+                a_f = a_f.min((it.x[i] - g[i]) / it.p[i]);
+            }
+        }
+        if a_cg <= a_f {
+            for i in 0..n {
+                it.x[i] -= a_cg * it.p[i];
+                it.gr[i] -= a_cg * hp[i];
+            }
+            it.phi = self.free_gradient(&it.x, &it.gr);
+            let gamma = dot(&it.phi, &hp) / php;
+            for i in 0..n {
+                it.p[i] = it.phi[i] - gamma * it.p[i];
+            }
+        } else {
+            for i in 0..n {
+                it.x[i] -= a_f * it.p[i];
+                it.gr[i] -= a_f * hp[i];
+            }
+            let phi_half = self.free_gradient(&it.x, &it.gr);
+            for i in 0..n {
+                it.x[i] -= self.alpha_bar * phi_half[i];
+            }
+            self.project(&mut it.x);
+            it.gr = gradient(self.h, z, &it.x);
+            it.phi = self.free_gradient(&it.x, &it.gr);
+            it.p = it.phi.clone();
+        }
+        true
+    }
+
+    /// A step along the chopped gradient β that releases variables from their bounds.
+    /// `false` when β has no curvature left.
+    fn proportioning_step(&self, it: &mut MprgpIterate, beta: &[f64]) -> bool {
+        let hd = self.mul(beta);
+        let dhd = dot(beta, &hd);
+        if dhd <= 0.0 {
+            return false;
+        }
+        let a_cg = dot(&it.gr, beta) / dhd;
+        for i in 0..self.g.len() {
+            it.x[i] -= a_cg * beta[i];
+            it.gr[i] -= a_cg * hd[i];
+        }
+        self.project(&mut it.x);
+        it.phi = self.free_gradient(&it.x, &it.gr);
+        it.p = it.phi.clone();
+        true
+    }
 }
 
 #[cfg(test)]
