@@ -9,5 +9,7 @@ pub mod blocktri;
 pub mod boxqp;
 pub mod condition;
 pub mod dense;
+mod parallel;
+mod two_by_two;
 
 pub use block::{BlockMatrix, BlockTridiagonal};
