@@ -28,69 +28,31 @@ pub(super) fn certify(
         moving,
         timing,
         mut warnings,
-        details,
+        mut details,
         dual_condition,
         regularized_cases,
     } = output;
-    let obstacles: Vec<ObstacleResult> = problem
-        .obstacles
-        .iter()
-        .zip(&mesh.obstacle_nodes)
-        .zip(lambda.iter().zip(&moving))
-        .map(|((o, &node), (l, m))| ObstacleResult {
-            x: o.x,
-            u: field.deflection[node],
-            slope: field.slope[node],
-            force: l[0],
-            moment: l[1],
-            sliding: m[0],
-            swivel: m[1],
-        })
-        .collect();
+    let obstacles = obstacle_results(problem, mesh, &field, &lambda, &moving);
     let kkt_residual = kkt_residual(problem, mesh, &field, &lambda, &obstacles);
-
-    if mesh.elements() > mesh.requested_elements {
-        warnings.insert(
-            0,
-            Warning::new(
-                WarningCode::MeshRaised,
-                format!(
-                    "{} elements asked for, {} used: every stretch between obstacles, \
-                     supports and segment ends needs one",
-                    mesh.requested_elements,
-                    mesh.elements()
-                ),
-            ),
-        );
+    if let Some(w) = mesh_raised_warning(mesh) {
+        warnings.insert(0, w);
     }
-
+    if method.is_regularized() && options.condition != ConditionLevel::Off {
+        details.conditioned_cases = Some(regularized_cases.len());
+    }
     let mut conditioning = Conditioning {
         dual: dual_condition,
         ..Conditioning::default()
     };
-    let mut details = details;
-    if method.is_regularized() && options.condition != ConditionLevel::Off {
-        details.conditioned_cases = Some(regularized_cases.len());
-    }
     if method.uses_stiffness_matrix() {
-        let (bound, scaled_bound) = stiffness_condition_bounds(mesh);
-        if options.condition != ConditionLevel::Off {
-            let computed = stiffness_conditioning(mesh, options, &regularized_cases);
-            conditioning.stiffness = computed.stiffness.or(Some(bound));
-            conditioning.stiffness_scaled = computed.stiffness_scaled.or(Some(scaled_bound));
-            conditioning.regularized_max = computed.regularized_max;
-            conditioning.regularized_scaled_max = computed.regularized_scaled_max;
-        }
-        // The better of the computed number and the bound (an estimate can fall below it).
-        let scaled = conditioning
-            .stiffness_scaled
-            .filter(|c| c.value >= scaled_bound.value)
-            .unwrap_or(scaled_bound);
-        if let Some(w) = conditioning_warning(scaled, mesh) {
-            warnings.push(w);
-        }
+        conditioning = stiffness_conditioning_checked(
+            mesh,
+            options,
+            &regularized_cases,
+            conditioning,
+            &mut warnings,
+        );
     }
-
     let mut solution = Solution {
         method,
         epsilon: method.is_regularized().then_some(options.epsilon),
@@ -103,6 +65,13 @@ pub(super) fn certify(
         warnings,
         details,
     };
+    judge_solution(problem, mesh, options, &mut solution);
+    solution
+}
+
+/// The checks on the assembled solution: the non-finite warning first, then the error
+/// against the reference and the accuracy warning.
+fn judge_solution(problem: &Problem, mesh: &Mesh, options: &SolveOptions, solution: &mut Solution) {
     if !solution.is_finite() || !solution.kkt_residual.is_finite() {
         // First: it is what matters most about this solution.
         solution.warnings.insert(
@@ -115,12 +84,80 @@ pub(super) fn certify(
         );
     }
     if options.reference {
-        solution.error = reference_error(problem, mesh, &solution);
-        if let Some(w) = accuracy_warning(&solution) {
+        solution.error = reference_error(problem, mesh, solution);
+        if let Some(w) = accuracy_warning(solution) {
             solution.warnings.push(w);
         }
     }
-    solution
+}
+
+/// The result at every obstacle: position, nodal values, friction forces and state.
+fn obstacle_results(
+    problem: &Problem,
+    mesh: &Mesh,
+    field: &NodalField,
+    lambda: &[[f64; 2]],
+    moving: &[[bool; 2]],
+) -> Vec<ObstacleResult> {
+    problem
+        .obstacles
+        .iter()
+        .zip(&mesh.obstacle_nodes)
+        .zip(lambda.iter().zip(moving))
+        .map(|((o, &node), (l, m))| ObstacleResult {
+            x: o.x,
+            u: field.deflection[node],
+            slope: field.slope[node],
+            force: l[0],
+            moment: l[1],
+            sliding: m[0],
+            swivel: m[1],
+        })
+        .collect()
+}
+
+/// The mesh has more elements than asked for.
+fn mesh_raised_warning(mesh: &Mesh) -> Option<Warning> {
+    (mesh.elements() > mesh.requested_elements).then(|| {
+        Warning::new(
+            WarningCode::MeshRaised,
+            format!(
+                "{} elements asked for, {} used: every stretch between obstacles, \
+                 supports and segment ends needs one",
+                mesh.requested_elements,
+                mesh.elements()
+            ),
+        )
+    })
+}
+
+/// For a method that works through A: its condition numbers (when asked for, else only the
+/// dual one already in `conditioning`), and the warning when A's conditioning — the better of
+/// the computed number and the cheap bound — predicts a visible loss of digits.
+fn stiffness_conditioning_checked(
+    mesh: &Mesh,
+    options: &SolveOptions,
+    regularized_cases: &[Vec<(usize, f64)>],
+    mut conditioning: Conditioning,
+    warnings: &mut Vec<Warning>,
+) -> Conditioning {
+    let (bound, scaled_bound) = stiffness_condition_bounds(mesh);
+    if options.condition != ConditionLevel::Off {
+        let computed = stiffness_conditioning(mesh, options, regularized_cases);
+        conditioning.stiffness = computed.stiffness.or(Some(bound));
+        conditioning.stiffness_scaled = computed.stiffness_scaled.or(Some(scaled_bound));
+        conditioning.regularized_max = computed.regularized_max;
+        conditioning.regularized_scaled_max = computed.regularized_scaled_max;
+    }
+    // The better of the computed number and the bound (an estimate can fall below it).
+    let scaled = conditioning
+        .stiffness_scaled
+        .filter(|c| c.value >= scaled_bound.value)
+        .unwrap_or(scaled_bound);
+    if let Some(w) = conditioning_warning(scaled, mesh) {
+        warnings.push(w);
+    }
+    conditioning
 }
 
 /// Relative KKT residual of (38): the largest of stationarity ‖Ac − b + Bᵀλ‖∞ (relative to
