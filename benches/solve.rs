@@ -16,7 +16,8 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use beamfric::fem::{BlockMatrix, Mesh, StiffnessMatrix, load_vector};
+use beamfric::fem::{Mesh, StiffnessMatrix, load_vector};
+use beamfric::linalg::BlockMatrix;
 use beamfric::linalg::blocktri::FrictionLastFactor;
 use beamfric::model::Problem;
 use beamfric::scene::{ObstacleSpec, Scene, preset};

@@ -50,15 +50,6 @@ pub fn eng(value: f64) -> String {
     }
 }
 
-/// `value` with a unit, e.g. `5.0e4 N/m`.
-pub fn quantity(value: f64, digits: usize, unit: &str) -> String {
-    if unit.is_empty() {
-        sci(value, digits)
-    } else {
-        format!("{} {unit}", sci(value, digits))
-    }
-}
-
 /// A duration in the most readable unit: `12.3 µs`, `4.56 ms`, `1.23 s`.
 pub fn duration(d: Duration) -> String {
     let s = d.as_secs_f64();
@@ -82,7 +73,6 @@ mod tests {
         assert_eq!(sci(f64::NAN, 3), "n/a");
         assert_eq!(sci(f64::INFINITY, 3), "n/a");
         assert_eq!(sci(0.0, 3), "0");
-        assert_eq!(quantity(5e4, 2, "N/m"), "5.0e4 N/m");
         assert_eq!(duration(Duration::from_micros(12)), "12.0 µs");
         assert_eq!(eng(5e4), "5.0e4");
         assert_eq!(eng(2.15e11), "2.15e11");

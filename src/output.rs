@@ -6,7 +6,8 @@ use serde_json::{Value, json};
 
 use crate::fem::{Mesh, PointValues};
 use crate::format::{duration, sci};
-use crate::solve::{Solution, SolveError};
+use crate::linalg::condition::ConditionNumber;
+use crate::solve::{Reference, Solution, SolveError};
 
 /// What the output needs to know besides the solution.
 pub struct SolveContext<'a> {
@@ -92,30 +93,39 @@ pub fn refusal_json(context: &SolveContext, error: &SolveError) -> Value {
         "method": error.method.name(),
         "elements": context.mesh.elements(),
         "refused": {
-            "kind": to_value(&error.kind),
+            "kind": error.kind.name(),
             "reason": error.reason,
             "suggestion": error.suggestion.name(),
         },
     })
 }
 
-/// The human-readable summary of a solution.
+/// The human-readable summary of a solution: the heading, the obstacles, the requested
+/// points, the certificate (max |u|, KKT, error, condition numbers), how the method ran and
+/// the warnings.
 pub fn solution_table(
     context: &SolveContext,
     solution: &Solution,
     at: &[(f64, PointValues)],
     show_time: bool,
 ) -> String {
-    let mut out = String::new();
-    let mut line = |s: String| {
-        out.push_str(&s);
-        out.push('\n');
-    };
+    let mut lines = Vec::new();
+    heading_lines(&mut lines, context, solution);
+    obstacle_lines(&mut lines, solution);
+    point_lines(&mut lines, at);
+    certificate_lines(&mut lines, solution);
+    condition_line(&mut lines, solution);
+    detail_lines(&mut lines, solution, show_time);
+    warning_lines(&mut lines, solution);
+    lines.iter().map(|l| format!("{l}\n")).collect()
+}
+
+fn heading_lines(lines: &mut Vec<String>, context: &SolveContext, solution: &Solution) {
     let eps = solution
         .epsilon
         .map(|e| format!(", ε = {}", sci(e, 2)))
         .unwrap_or_default();
-    line(format!(
+    lines.push(format!(
         "{} ({}) — method {}, {} elements, N = {} unknowns{eps}",
         context.title,
         context.source,
@@ -123,28 +133,35 @@ pub fn solution_table(
         context.mesh.elements(),
         context.mesh.unknowns()
     ));
-    line(String::new());
-    if !solution.obstacles.is_empty() {
-        line(format!(
-            "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  state",
-            "#", "x [m]", "u [m]", "u' [rad]", "force [N]", "moment [N m]"
-        ));
-        for (i, o) in solution.obstacles.iter().enumerate() {
-            line(format!(
-                "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  {}",
-                i + 1,
-                sci(o.x, 4),
-                sci(o.u, 6),
-                sci(o.slope, 6),
-                sci(o.force, 6),
-                sci(o.moment, 6),
-                o.state()
-            ));
-        }
-        line(String::new());
+    lines.push(String::new());
+}
+
+fn obstacle_lines(lines: &mut Vec<String>, solution: &Solution) {
+    if solution.obstacles.is_empty() {
+        return;
     }
+    lines.push(format!(
+        "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  state",
+        "#", "x [m]", "u [m]", "u' [rad]", "force [N]", "moment [N m]"
+    ));
+    for (i, o) in solution.obstacles.iter().enumerate() {
+        lines.push(format!(
+            "{:>3}  {:>10}  {:>12}  {:>12}  {:>12}  {:>12}  {}",
+            i + 1,
+            sci(o.x, 4),
+            sci(o.u, 6),
+            sci(o.slope, 6),
+            sci(o.force, 6),
+            sci(o.moment, 6),
+            o.state()
+        ));
+    }
+    lines.push(String::new());
+}
+
+fn point_lines(lines: &mut Vec<String>, at: &[(f64, PointValues)]) {
     for (x, p) in at {
-        line(format!(
+        lines.push(format!(
             "at x = {} m: u = {} m, u' = {} rad, M = {} N m, T = {} N",
             sci(*x, 6),
             sci(p.deflection, 8),
@@ -154,45 +171,43 @@ pub fn solution_table(
         ));
     }
     if !at.is_empty() {
-        line(String::new());
+        lines.push(String::new());
     }
-    line(format!(
+}
+
+fn certificate_lines(lines: &mut Vec<String>, solution: &Solution) {
+    lines.push(format!(
         "max |u|          {} m",
         sci(solution.max_deflection(), 8)
     ));
-    line(format!(
+    lines.push(format!(
         "KKT residual     {} (relative)",
         sci(solution.kkt_residual, 2)
     ));
-    match &solution.error {
+    lines.push(match &solution.error {
         Some(e) => match (e.max_abs, e.max_rel, e.mean_abs) {
-            (Some(max), Some(rel), Some(mean)) => line(format!(
+            (Some(max), Some(rel), Some(mean)) => format!(
                 "error vs {:<11} max {} m ({} relative), mean {} m",
-                serde_json::to_value(e.reference)
-                    .ok()
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default(),
+                e.reference.name(),
                 sci(max, 2),
                 sci(rel, 2),
                 sci(mean, 2)
-            )),
-            _ if e.reference == crate::solve::Reference::ThisSolution => {
-                line("error            this solution is the reference".to_string())
+            ),
+            _ if e.reference == Reference::ThisSolution => {
+                "error            this solution is the reference".to_string()
             }
-            _ => line("error            n/a (non-finite values)".to_string()),
+            _ => "error            n/a (non-finite values)".to_string(),
         },
-        None => line("error            not computed".to_string()),
-    }
+        None => "error            not computed".to_string(),
+    });
+}
+
+fn condition_line(lines: &mut Vec<String>, solution: &Solution) {
     let c = &solution.conditioning;
     let mut conds = Vec::new();
-    let mut push = |name: &str, v: &Option<crate::linalg::condition::ConditionNumber>| {
+    let mut push = |name: &str, v: &Option<ConditionNumber>| {
         if let Some(v) = v {
-            let relation = match v.kind {
-                crate::linalg::condition::ConditionKind::Exact => "=",
-                crate::linalg::condition::ConditionKind::Estimate => "≈",
-                crate::linalg::condition::ConditionKind::LowerBound => "≥",
-            };
-            conds.push(format!("{name} {relation} {}", sci(v.value, 2)));
+            conds.push(format!("{name} {} {}", v.kind.symbol(), sci(v.value, 2)));
         }
     };
     push("cond(A)", &c.stiffness);
@@ -208,18 +223,21 @@ pub fn solution_table(
     );
     push("cond(S)", &c.dual);
     if !conds.is_empty() {
-        line(format!("condition        {}", conds.join(", ")));
+        lines.push(format!("condition        {}", conds.join(", ")));
     }
+}
+
+fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
     let d = &solution.details;
     if let Some(cases) = d.cases {
-        line(format!("cases            {cases} enumerated"));
+        lines.push(format!("cases            {cases} enumerated"));
     }
     if let Some(it) = d.newton_iterations {
-        line(format!("Newton           {it} iterations"));
+        lines.push(format!("Newton           {it} iterations"));
     }
     if show_time {
         let t = &solution.timing;
-        line(format!(
+        lines.push(format!(
             "time             {} (assembly {}, factorization {}, dual solve {}, reconstruction {})",
             duration(t.total()),
             duration(t.assembly),
@@ -228,14 +246,16 @@ pub fn solution_table(
             duration(t.reconstruction)
         ));
     }
+}
+
+fn warning_lines(lines: &mut Vec<String>, solution: &Solution) {
     if solution.warnings.is_empty() {
-        line("warnings         none".to_string());
+        lines.push("warnings         none".to_string());
     } else {
         for w in &solution.warnings {
-            line(format!("warning          {}", w.message));
+            lines.push(format!("warning          {}", w.message));
         }
     }
-    out
 }
 
 fn csv_number(v: Option<f64>) -> String {
@@ -244,15 +264,7 @@ fn csv_number(v: Option<f64>) -> String {
 }
 
 fn warning_names(codes: impl Iterator<Item = crate::solve::WarningCode>) -> String {
-    codes
-        .map(|c| {
-            serde_json::to_value(c)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default()
-        })
-        .collect::<Vec<_>>()
-        .join(";")
+    codes.map(|c| c.name()).collect::<Vec<_>>().join(";")
 }
 
 /// The mesh sweep as CSV: one row per method and mesh size. Numbers are empty where they
@@ -274,12 +286,7 @@ pub fn mesh_sweep_csv(points: &[crate::study::MeshPoint]) -> String {
         "warnings",
     ]);
     for p in points {
-        let reference = p.error.map(|e| {
-            serde_json::to_value(e.reference)
-                .ok()
-                .and_then(|v| v.as_str().map(String::from))
-                .unwrap_or_default()
-        });
+        let reference = p.error.map(|e| e.reference.name());
         let status = match &p.refused {
             Some(reason) => reason.clone(),
             None if p.is_reference() => "reference".into(),
@@ -293,7 +300,7 @@ pub fn mesh_sweep_csv(points: &[crate::study::MeshPoint]) -> String {
             p.elements.to_string(),
             csv_number(p.epsilon),
             status,
-            reference.unwrap_or_default(),
+            reference.unwrap_or_default().to_string(),
             csv_number(e.and_then(|e| e.max_abs)),
             csv_number(e.and_then(|e| e.max_rel)),
             csv_number(e.and_then(|e| e.mean_abs)),
@@ -324,15 +331,10 @@ pub fn epsilon_sweep_csv(points: &[crate::study::EpsPoint]) -> String {
         "run_time_s",
         "warnings",
     ]);
-    let kind = |c: Option<crate::linalg::condition::ConditionNumber>| {
-        c.map(|c| to_value(&c.kind).as_str().unwrap_or("").to_string())
-            .unwrap_or_default()
-    };
+    let kind = |c: Option<ConditionNumber>| c.map_or("", |c| c.kind.name()).to_string();
     for p in points {
         let e = p.error;
-        let reference = e
-            .map(|e| to_value(&e.reference).as_str().unwrap_or("").to_string())
-            .unwrap_or_default();
+        let reference = e.map_or("", |e| e.reference.name()).to_string();
         let _ = writer.write_record([
             format!("{:e}", p.epsilon),
             reference,

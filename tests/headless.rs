@@ -111,7 +111,7 @@ fn the_epsilon_sweep_reproduces_figure_5() {
     // The largest condition number rises like 1/ε while g/ε dominates cond(A) = 2.1e5.
     let s = slope(&cond, 1e-12, 1e-6);
     assert!((s + 1.0).abs() < 0.01, "cond slope {s}");
-    // And the values of DESIGN.md fact 4.
+    // And the values of docs/design.md fact 4.
     assert!((cond[at(1e-12)] / 6.0e12 - 1.0).abs() < 0.02);
     assert!((cond[at(1e-5)] / 6.0e5 - 1.0).abs() < 0.02);
     assert!((error[at(1e-9)] / 1e-9 - 0.00879).abs() < 0.0003);

@@ -9,7 +9,7 @@ use beamfric::solve::{
 };
 use common::*;
 
-/// u(x̂) of DESIGN.md, 0.0057016100178890876565 m, rounded to double precision.
+/// u(x̂) of docs/design.md section 6, 0.0057016100178890876565 m, rounded to double precision.
 const BENCHMARK_1_U: f64 = 0.005_701_610_017_889_088;
 const BENCHMARK_1_MOMENT: f64 = -4_798.461_538_461_538;
 
@@ -90,7 +90,7 @@ fn dual_loses_digits_at_1000_elements_within_the_condition_bound_and_warns() {
     };
     let solution = solve(&problem, &mesh, Method::Dual, &options).unwrap();
     let cond = solution.conditioning.stiffness.unwrap();
-    // cond(A) ≈ 2.1e5 · (n/20)⁴ (DESIGN.md fact 2).
+    // cond(A) ≈ 2.1e5 · (n/20)⁴ (docs/design.md fact 2).
     assert!(
         cond.value > 5e11 && cond.value < 5e12,
         "cond(A) = {:e}",
@@ -258,7 +258,7 @@ fn regularization_error_falls_linearly_with_epsilon() {
         assert!((r / first - 1.0).abs() < 0.02, "error/ε = {ratios:?}");
     }
     // The paper's mean over all n + 1 nodes is 0.00879 ε; over the 19 interior nodes it is
-    // DESIGN.md fact 4's 0.0097 ε.
+    // docs/design.md fact 4's 0.0097 ε.
     assert!((first - 0.00879).abs() < 1e-4, "{first}");
     assert!((first * 21.0 / 19.0 - 0.0097).abs() < 1e-4);
     // Below ε ≈ 1e-14 the error reaches the rounding floor instead of growing.
@@ -363,7 +363,7 @@ fn condition_numbers_match_the_paper_and_design_notes() {
     };
     let solution = solve(&problem, &mesh, Method::Regularized, &options).unwrap();
     let c = solution.conditioning;
-    // DESIGN.md: cond(A) ≈ 2.1e5 at n = 20; the largest case condition 6.0e5 at ε = 1e-5.
+    // docs/design.md fact 4: cond(A) ≈ 2.1e5 at n = 20; the largest case condition 6.0e5 at ε = 1e-5.
     assert!((c.stiffness.unwrap().value / 2.1e5 - 1.0).abs() < 0.01);
     let worst = c.regularized_max.unwrap().value;
     assert!((worst / 6.0e5 - 1.0).abs() < 0.02, "{worst:e}");
@@ -371,7 +371,7 @@ fn condition_numbers_match_the_paper_and_design_notes() {
     assert!(c.regularized_scaled_max.unwrap().value < 1e5);
 
     // The cheap lower bounds are lower bounds, and not loose ones.
-    let (bound, scaled) = beamfric::linalg::condition::stiffness_condition_bounds(&mesh);
+    let (bound, scaled) = beamfric::fem::stiffness_condition_bounds(&mesh);
     let exact = c.stiffness.unwrap().value;
     assert!(
         bound.value <= exact && bound.value > 0.3 * exact,
@@ -386,7 +386,8 @@ fn condition_numbers_match_the_paper_and_design_notes() {
 
 #[test]
 fn lanczos_estimate_agrees_with_the_exact_condition_number() {
-    use beamfric::fem::{BlockMatrix, StiffnessMatrix};
+    use beamfric::fem::StiffnessMatrix;
+    use beamfric::linalg::BlockMatrix;
     use beamfric::linalg::condition::{ConditionKind, block_condition, dense_condition};
     let problem = problem(&preset_scene("benchmark-3"));
     let mesh = Mesh::new(&problem, 300); // N = 598 > the dense limit

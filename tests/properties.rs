@@ -5,8 +5,9 @@
 
 mod common;
 
-use beamfric::fem::{BlockMatrix, Mesh, StiffnessMatrix};
-use beamfric::linalg::condition::{dense_condition, jacobi_scaled, stiffness_condition_bounds};
+use beamfric::fem::{Mesh, StiffnessMatrix, stiffness_condition_bounds};
+use beamfric::linalg::BlockMatrix;
+use beamfric::linalg::condition::{dense_condition, jacobi_scaled};
 use beamfric::scene::{
     BeamSpec, LoadSpec, MeshSpec, ObstacleSpec, Scene, Section, SegmentSpec, SolverSpec, ViewSpec,
 };

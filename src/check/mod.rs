@@ -19,7 +19,7 @@ use crate::format::sci;
 use crate::model::Problem;
 use crate::scene::{PRESETS, Scene};
 use crate::solve::{
-    ConditionLevel, Method, Solution, SolveErrorKind, SolveOptions, WarningCode, solve,
+    ConditionLevel, Method, Solution, SolveError, SolveErrorKind, SolveOptions, WarningCode, solve,
 };
 
 pub use closed_forms::closed_forms;
@@ -160,7 +160,8 @@ pub fn scaled_scene(scene: &Scene, (alpha, beta, gamma): (f64, f64, f64)) -> Sce
     scaled
 }
 
-/// Runs the suite on one scene.
+/// Runs the suite on one scene: every method against the flexibility method, then the closed
+/// forms and the scaling law.
 pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
     let mut report = CaseReport {
         case: case.to_string(),
@@ -196,74 +197,107 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
             .push("flexibility: NaN or infinite values".into());
         return report;
     }
-    let largest = reference.max_deflection().max(f64::MIN_POSITIVE);
-
+    let bench = Bench {
+        problem: &problem,
+        mesh: &mesh,
+        epsilon,
+        largest: reference.max_deflection().max(f64::MIN_POSITIVE),
+        reference: &reference,
+    };
     for method in Method::ALL {
-        let run = match solve(&problem, &mesh, method, &options(epsilon)) {
-            Ok(solution) => {
-                let disagreement = relative_difference(&solution.field, &reference.field);
-                let flagged = is_flagged(&solution);
-                let tolerance = if method.is_regularized() {
-                    regularized_tolerance(&problem, epsilon, largest)
-                } else {
-                    EXACT_TOLERANCE
-                };
-                let finite = solution.is_finite() && disagreement.is_finite();
-                if let Some(failure) = judge(method, finite, disagreement, tolerance, flagged) {
-                    report.failures.push(failure);
-                }
-                if method.uses_stiffness_matrix()
-                    && mesh.elements() >= 1_000_000
-                    && !solution
-                        .warnings
-                        .iter()
-                        .any(|w| w.code == WarningCode::StiffnessConditioning)
-                {
-                    report.failures.push(format!(
-                        "{method}: no conditioning warning at {} elements",
-                        mesh.elements()
-                    ));
-                }
-                MethodRun {
-                    method,
-                    outcome: "solved".into(),
-                    disagreement: disagreement.is_finite().then_some(disagreement),
-                    kkt_residual: Some(solution.kkt_residual),
-                    flagged,
-                    warnings: solution.warnings.iter().map(|w| w.code).collect(),
-                }
-            }
-            Err(error) => {
-                let outcome = match error.kind {
-                    SolveErrorKind::Refused => "refused",
-                    SolveErrorKind::NotApplicable => "not-applicable",
-                    SolveErrorKind::Breakdown => "breakdown",
-                };
-                // The method offered instead must work.
-                if let Err(e) = solve(&problem, &mesh, error.suggestion, &options(epsilon)) {
-                    report.failures.push(format!(
-                        "{method} suggests {} which fails too: {e}",
-                        error.suggestion
-                    ));
-                }
-                if error.kind == SolveErrorKind::Breakdown && !method.uses_stiffness_matrix() {
-                    report
-                        .failures
-                        .push(format!("{method} broke down: {error}"));
-                }
-                MethodRun {
-                    method,
-                    outcome: outcome.into(),
-                    disagreement: None,
-                    kkt_residual: None,
-                    flagged: error.kind == SolveErrorKind::Breakdown,
-                    warnings: Vec::new(),
-                }
-            }
-        };
+        let run = bench.run(method, &mut report.failures);
         report.runs.push(run);
     }
+    summarize(&mut report);
+    check_closed_forms(&bench, &mut report);
+    report.scaling = Some(check_scaling(scene, &reference, &mut report.failures));
+    report
+}
 
+/// What every method of one case is judged against.
+struct Bench<'a> {
+    problem: &'a Problem,
+    mesh: &'a Mesh,
+    epsilon: f64,
+    /// The flexibility method's solution.
+    reference: &'a Solution,
+    /// Its largest |u| (never zero).
+    largest: f64,
+}
+
+impl Bench<'_> {
+    /// Runs one method and judges it; failures go to `failures`.
+    fn run(&self, method: Method, failures: &mut Vec<String>) -> MethodRun {
+        match solve(self.problem, self.mesh, method, &options(self.epsilon)) {
+            Ok(solution) => self.solved(method, &solution, failures),
+            Err(error) => self.declined(method, &error, failures),
+        }
+    }
+
+    /// A solution must agree with the reference to the method's accuracy unless flagged, and
+    /// the stiffness route must warn at 10⁶ elements.
+    fn solved(&self, method: Method, solution: &Solution, failures: &mut Vec<String>) -> MethodRun {
+        let disagreement = relative_difference(&solution.field, &self.reference.field);
+        let flagged = is_flagged(solution);
+        let tolerance = if method.is_regularized() {
+            regularized_tolerance(self.problem, self.epsilon, self.largest)
+        } else {
+            EXACT_TOLERANCE
+        };
+        let finite = solution.is_finite() && disagreement.is_finite();
+        if let Some(failure) = judge(method, finite, disagreement, tolerance, flagged) {
+            failures.push(failure);
+        }
+        if method.uses_stiffness_matrix()
+            && self.mesh.elements() >= 1_000_000
+            && !solution.has_warning(WarningCode::StiffnessConditioning)
+        {
+            failures.push(format!(
+                "{method}: no conditioning warning at {} elements",
+                self.mesh.elements()
+            ));
+        }
+        MethodRun {
+            method,
+            outcome: "solved".into(),
+            disagreement: disagreement.is_finite().then_some(disagreement),
+            kkt_residual: Some(solution.kkt_residual),
+            flagged,
+            warnings: solution.warnings.iter().map(|w| w.code).collect(),
+        }
+    }
+
+    /// A method that gives no solution must name one that works; only the stiffness route
+    /// may break down.
+    fn declined(
+        &self,
+        method: Method,
+        error: &SolveError,
+        failures: &mut Vec<String>,
+    ) -> MethodRun {
+        let options = options(self.epsilon);
+        if let Err(e) = solve(self.problem, self.mesh, error.suggestion, &options) {
+            failures.push(format!(
+                "{method} suggests {} which fails too: {e}",
+                error.suggestion
+            ));
+        }
+        if error.kind == SolveErrorKind::Breakdown && !method.uses_stiffness_matrix() {
+            failures.push(format!("{method} broke down: {error}"));
+        }
+        MethodRun {
+            method,
+            outcome: error.kind.name().into(),
+            disagreement: None,
+            kkt_residual: None,
+            flagged: error.kind == SolveErrorKind::Breakdown,
+            warnings: Vec::new(),
+        }
+    }
+}
+
+/// The largest disagreements and KKT residual over the methods that do not flag themselves.
+fn summarize(report: &mut CaseReport) {
     let unflagged = |regularized: bool| {
         report
             .runs
@@ -271,20 +305,30 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
             .filter(move |r| !r.flagged && r.method.is_regularized() == regularized)
     };
     // The flexibility method is the yardstick: its own "disagreement" says nothing.
-    report.max_disagreement = unflagged(false)
+    let max_disagreement = unflagged(false)
         .filter(|r| r.method != Method::Flexibility)
         .filter_map(|r| r.disagreement)
         .reduce(f64::max);
-    report.regularized_disagreement = unflagged(true)
+    let regularized_disagreement = unflagged(true)
         .filter_map(|r| r.disagreement)
         .reduce(f64::max);
-    report.kkt_residual = unflagged(false)
+    let kkt_residual = unflagged(false)
         .filter_map(|r| r.kkt_residual)
         .reduce(f64::max);
+    report.max_disagreement = max_disagreement;
+    report.regularized_disagreement = regularized_disagreement;
+    report.kkt_residual = kkt_residual;
+}
 
-    let all_stuck = reference.obstacles.iter().all(|o| !o.sliding && !o.swivel);
-    for (name, exact) in closed_forms(&problem, &mesh, all_stuck) {
-        let error = relative_difference(&reference.field, &exact);
+/// The flexibility method against every closed form that applies.
+fn check_closed_forms(bench: &Bench, report: &mut CaseReport) {
+    let all_stuck = bench
+        .reference
+        .obstacles
+        .iter()
+        .all(|o| !o.sliding && !o.swivel);
+    for (name, exact) in closed_forms(bench.problem, bench.mesh, all_stuck) {
+        let error = relative_difference(&bench.reference.field, &exact);
         if error.is_nan() || error > CLOSED_FORM_TOLERANCE {
             report.failures.push(format!(
                 "flexibility differs from the {name} closed form by {}",
@@ -293,9 +337,6 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
         }
         report.closed_forms.push((name.to_string(), error));
     }
-
-    report.scaling = Some(check_scaling(scene, &reference, &mut report.failures));
-    report
 }
 
 /// Solves the scaled scene and compares with the predicted factors γα⁴/β (u) and γα³/β (u').
@@ -364,20 +405,7 @@ pub fn check_presets() -> Vec<CaseReport> {
 }
 
 fn warning_summary(run: &MethodRun) -> Option<String> {
-    let short: Vec<&str> = run
-        .warnings
-        .iter()
-        .map(|w| match w {
-            WarningCode::MeshRaised => "mesh",
-            WarningCode::StiffnessConditioning => "cond",
-            WarningCode::AccuracyLoss => "accuracy",
-            WarningCode::QpNotConverged => "qp",
-            WarningCode::RegularizationInconsistent => "inconsistent",
-            WarningCode::NewtonNotConverged => "newton",
-            WarningCode::IndefiniteFactorization => "indefinite",
-            WarningCode::NonFinite => "non-finite",
-        })
-        .collect();
+    let short: Vec<&str> = run.warnings.iter().map(|w| w.label()).collect();
     (!short.is_empty()).then(|| format!("{}: {}", run.method, short.join("+")))
 }
 
@@ -400,7 +428,7 @@ pub fn markdown(reports: &[CaseReport]) -> String {
             .filter(|run| run.outcome != "solved")
             .map(|run| format!("{} {}", run.method, run.outcome))
             .collect();
-        let mut methods = format!("{} of 6", solved.len());
+        let mut methods = format!("{} of {}", solved.len(), Method::ALL.len());
         if !declined.is_empty() {
             methods.push_str(&format!(" ({})", declined.join(", ")));
         }

@@ -2,7 +2,7 @@
 //! of constant E·J are nodes at their exact positions (no snapping), and the n elements are
 //! shared among the pieces between those points in proportion to their length, uniform inside
 //! each piece. An obstacle therefore moves continuously, and E·J is constant on every element,
-//! which is what makes the nodal values exact (DESIGN.md fact 1).
+//! which is what makes the nodal values exact (docs/design.md fact 1).
 
 use crate::model::Problem;
 

@@ -6,10 +6,12 @@
 //! are the paper's c_{2i−1}, c_{2i}. The clamped ends carry none.
 
 mod assembly;
+mod conditioning;
 mod element;
 mod mesh;
 
-pub use assembly::{BlockMatrix, BlockTridiagonal, StiffnessMatrix, kkt_stationarity, load_vector};
+pub use assembly::{StiffnessMatrix, kkt_stationarity, load_vector};
+pub use conditioning::stiffness_condition_bounds;
 pub use element::{element_load, element_stiffness, hermite_basis};
 pub use mesh::{Mesh, MeshPiece};
 

@@ -15,73 +15,17 @@
 //! on with the indefinite pivot — like the paper's sparse LU would — and reports where it
 //! first happened, so the caller can say that the result means nothing.
 
-use crate::fem::BlockMatrix;
+use super::BlockMatrix;
+use super::parallel::run_jobs;
+use super::two_by_two::{
+    Mat, Sym, mul, mul_vec, neg, sym_inverse, sym_mul, sym_vec, tmul_sym, tmul_vec,
+};
 
 /// The factorization broke down: a pivot is singular or not finite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Breakdown {
     /// Block (interior node − 1) where it happened.
     pub block: usize,
-}
-
-type Sym = [f64; 3];
-type Mat = [f64; 4];
-
-/// Inverse of a symmetric 2×2 block, and whether it was positive definite.
-fn sym_inverse(p: Sym, block: usize) -> Result<(Sym, bool), Breakdown> {
-    let det = p[0] * p[2] - p[1] * p[1];
-    if det == 0.0 || !det.is_finite() {
-        return Err(Breakdown { block });
-    }
-    let r = 1.0 / det;
-    Ok(([p[2] * r, -p[1] * r, p[0] * r], p[0] > 0.0 && det > 0.0))
-}
-
-/// S·M for symmetric S.
-fn sym_mul(s: Sym, m: Mat) -> Mat {
-    [
-        s[0] * m[0] + s[1] * m[2],
-        s[0] * m[1] + s[1] * m[3],
-        s[1] * m[0] + s[2] * m[2],
-        s[1] * m[1] + s[2] * m[3],
-    ]
-}
-
-/// M·N.
-fn mul(m: Mat, n: Mat) -> Mat {
-    [
-        m[0] * n[0] + m[1] * n[2],
-        m[0] * n[1] + m[1] * n[3],
-        m[2] * n[0] + m[3] * n[2],
-        m[2] * n[1] + m[3] * n[3],
-    ]
-}
-
-/// Mᵀ·N where the product is known to be symmetric.
-fn tmul_sym(m: Mat, n: Mat) -> Sym {
-    [
-        m[0] * n[0] + m[2] * n[2],
-        m[0] * n[1] + m[2] * n[3],
-        m[1] * n[1] + m[3] * n[3],
-    ]
-}
-
-/// Mᵀ·v.
-fn tmul_vec(m: Mat, v: [f64; 2]) -> [f64; 2] {
-    [m[0] * v[0] + m[2] * v[1], m[1] * v[0] + m[3] * v[1]]
-}
-
-/// M·v.
-fn mul_vec(m: Mat, v: [f64; 2]) -> [f64; 2] {
-    [m[0] * v[0] + m[1] * v[1], m[2] * v[0] + m[3] * v[1]]
-}
-
-fn sym_vec(s: Sym, v: [f64; 2]) -> [f64; 2] {
-    [s[0] * v[0] + s[1] * v[1], s[1] * v[0] + s[2] * v[1]]
-}
-
-fn neg(m: Mat) -> Mat {
-    [-m[0], -m[1], -m[2], -m[3]]
 }
 
 /// A stretch of interior blocks `first..end` between two friction nodes (or supports).
@@ -105,9 +49,6 @@ struct StretchResult {
     load_right: [f64; 2],
     first_indefinite: Option<usize>,
 }
-
-/// Below this many blocks the sweeps run on one thread (spawning costs more than it saves).
-const PARALLEL_BLOCKS: usize = 100_000;
 
 /// The factorization of a [`BlockMatrix`] with chosen blocks (the friction nodes) last.
 #[derive(Debug, Clone)]
@@ -136,48 +77,6 @@ fn split_by_stretch<'a, T>(mut data: &'a mut [T], stretches: &[Stretch]) -> Vec<
         offset = s.end.max(s.first);
     }
     parts
-}
-
-/// Runs `work` on every job, on two threads when there is enough work (balanced by size).
-fn run_jobs<J: Send, R: Send>(
-    jobs: Vec<J>,
-    size: impl Fn(&J) -> usize,
-    work: impl Fn(J) -> R + Sync,
-) -> Vec<R> {
-    let total: usize = jobs.iter().map(&size).sum();
-    // Asking for the core count reads cgroup files: only for work worth a thread, and once.
-    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    if total < PARALLEL_BLOCKS
-        || jobs.len() < 2
-        || *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get())) < 2
-    {
-        return jobs.into_iter().map(work).collect();
-    }
-    // Greedy split into two groups of similar size, keeping each job's index.
-    let mut groups: [Vec<(usize, J)>; 2] = [Vec::new(), Vec::new()];
-    let mut loads = [0usize; 2];
-    let mut indexed: Vec<(usize, J)> = jobs.into_iter().enumerate().collect();
-    indexed.sort_by_key(|(_, j)| std::cmp::Reverse(size(j)));
-    for (i, job) in indexed {
-        let g = usize::from(loads[1] < loads[0]);
-        loads[g] += size(&job);
-        groups[g].push((i, job));
-    }
-    let [mine, theirs] = groups;
-    let work = &work;
-    let mut results: Vec<(usize, R)> = std::thread::scope(|scope| {
-        let other = scope.spawn(move || {
-            theirs
-                .into_iter()
-                .map(|(i, j)| (i, work(j)))
-                .collect::<Vec<_>>()
-        });
-        let mut here: Vec<(usize, R)> = mine.into_iter().map(|(i, j)| (i, work(j))).collect();
-        here.extend(other.join().expect("a worker thread does not panic"));
-        here
-    });
-    results.sort_by_key(|(i, _)| *i);
-    results.into_iter().map(|(_, r)| r).collect()
 }
 
 impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
@@ -290,11 +189,6 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
     /// Number of friction DOFs 2k.
     pub fn friction_dofs(&self) -> usize {
         2 * self.boundary.len()
-    }
-
-    /// The factored matrix.
-    pub fn matrix(&self) -> &M {
-        &self.matrix
     }
 
     /// Forward elimination of another right-hand side given per block as u-part `u` and
@@ -561,7 +455,7 @@ fn eliminate_rhs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fem::BlockTridiagonal;
+    use crate::linalg::BlockTridiagonal;
 
     fn random_spd(blocks: usize, seed: u64) -> BlockTridiagonal {
         let mut state = seed;

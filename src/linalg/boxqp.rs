@@ -10,7 +10,10 @@
 //! The problem is first scaled to unit diagonal, since S mixes deflection (m/N) and rotation
 //! (rad/(N m)) entries.
 
+mod mprgp;
+
 use super::dense::Cholesky;
+use mprgp::mprgp;
 
 /// Largest dimension solved by the active-set method alone.
 pub const ACTIVE_SET_LIMIT: usize = 32;
@@ -26,14 +29,6 @@ pub enum BoundState {
     Upper,
 }
 
-/// Which algorithm produced the result.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum QpAlgorithm {
-    ActiveSet,
-    ProjectedNewtonThenActiveSet,
-    MprgpThenActiveSet,
-}
-
 /// The solution of the box QP.
 #[derive(Debug, Clone, PartialEq)]
 pub struct QpResult {
@@ -45,7 +40,6 @@ pub struct QpResult {
     pub iterations: usize,
     /// Whether the KKT conditions hold to working precision.
     pub converged: bool,
-    pub algorithm: QpAlgorithm,
 }
 
 /// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i. `h` is row-major n×n SPD, `g` ≥ 0.
@@ -57,7 +51,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
             state: vec![],
             iterations: 0,
             converged: true,
-            algorithm: QpAlgorithm::ActiveSet,
         };
     }
     // Scale to unit diagonal: x = D y, D = diag(1/√h_ii).
@@ -71,7 +64,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
             state: vec![BoundState::Free; n],
             iterations: 0,
             converged: false,
-            algorithm: QpAlgorithm::ActiveSet,
         };
     }
     let mut finished = if n <= ACTIVE_SET_LIMIT {
@@ -82,7 +74,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
     {
         QpResult {
             iterations: certified.iterations + steps,
-            algorithm: QpAlgorithm::ProjectedNewtonThenActiveSet,
             ..certified
         }
     } else {
@@ -90,7 +81,6 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
         let (start, steps) = mprgp(&hs, &zs, &gs);
         let mut polished = active_set(&hs, &zs, &gs, start);
         polished.iterations += steps;
-        polished.algorithm = QpAlgorithm::MprgpThenActiveSet;
         polished
     };
     for (x, d) in finished.x.iter_mut().zip(&d) {
@@ -125,10 +115,59 @@ fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
     64.0 * n as f64 * f64::EPSILON * magnitude
 }
 
+/// The primal active-set method from `start`: minimise on the face of the current free
+/// variables, stop at the first bound in the way, and release the bound with the worst
+/// multiplier once at the face's minimiser.
 fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
     let n = z.len();
     let mut x = start;
-    let mut state: Vec<BoundState> = (0..n)
+    let mut state = clamp_to_box(g, &mut x);
+    let max_iterations = 20 * n + 50;
+    for iteration in 1..=max_iterations {
+        let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
+        if !free.is_empty() {
+            let Some(minimiser) = face_minimiser(h, z, &x, &state, &free) else {
+                return QpResult {
+                    x,
+                    state,
+                    iterations: iteration,
+                    converged: false,
+                };
+            };
+            if let Some((i, bound)) = step_towards(g, &mut x, &free, &minimiser) {
+                state[i] = bound;
+                x[i] = if bound == BoundState::Upper {
+                    g[i]
+                } else {
+                    -g[i]
+                };
+                continue;
+            }
+        }
+        // At the subproblem's minimiser: release the bound with the worst multiplier.
+        match worst_multiplier(h, z, g, &x, &state) {
+            Some(i) => state[i] = BoundState::Free,
+            None => {
+                return QpResult {
+                    x,
+                    state,
+                    iterations: iteration,
+                    converged: true,
+                };
+            }
+        }
+    }
+    QpResult {
+        x,
+        state,
+        iterations: max_iterations,
+        converged: false,
+    }
+}
+
+/// Puts `x` into the box and says where each variable is; a zero threshold pins it at 0.
+fn clamp_to_box(g: &[f64], x: &mut [f64]) -> Vec<BoundState> {
+    (0..g.len())
         .map(|i| {
             if g[i] == 0.0 {
                 x[i] = 0.0;
@@ -143,104 +182,95 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
                 BoundState::Free
             }
         })
-        .collect();
-    let max_iterations = 20 * n + 50;
-    for iteration in 1..=max_iterations {
-        let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
-        if !free.is_empty() {
-            let m = free.len();
-            let mut sub = vec![0.0; m * m];
-            let mut rhs = vec![0.0; m];
-            for (a, &i) in free.iter().enumerate() {
-                for (b, &j) in free.iter().enumerate() {
-                    sub[a * m + b] = h[i * n + j];
-                }
-                rhs[a] = z[i]
-                    - (0..n)
-                        .filter(|&j| state[j] != BoundState::Free)
-                        .map(|j| h[i * n + j] * x[j])
-                        .sum::<f64>();
-            }
-            let Some(factor) = Cholesky::new(&sub, m) else {
-                return QpResult {
-                    x,
-                    state,
-                    iterations: iteration,
-                    converged: false,
-                    algorithm: QpAlgorithm::ActiveSet,
-                };
-            };
-            factor.solve_in_place(&mut rhs);
-            // Longest feasible step towards the subproblem's minimiser.
-            let mut step = 1.0;
-            let mut blocking = None;
-            for (a, &i) in free.iter().enumerate() {
-                let p = rhs[a] - x[i];
-                let limit = if p > 0.0 && rhs[a] > g[i] {
-                    Some(((g[i] - x[i]) / p, BoundState::Upper))
-                } else if p < 0.0 && rhs[a] < -g[i] {
-                    Some(((-g[i] - x[i]) / p, BoundState::Lower))
-                } else {
-                    None
-                };
-                if let Some((t, bound)) = limit
-                    && t < step
-                {
-                    step = t.max(0.0);
-                    blocking = Some((i, bound));
-                }
-            }
-            for (a, &i) in free.iter().enumerate() {
-                x[i] += step * (rhs[a] - x[i]);
-                x[i] = x[i].clamp(-g[i], g[i]);
-            }
-            if let Some((i, bound)) = blocking {
-                state[i] = bound;
-                x[i] = if bound == BoundState::Upper {
-                    g[i]
-                } else {
-                    -g[i]
-                };
-                continue;
-            }
+        .collect()
+}
+
+/// The minimiser over the `free` variables with the others held at their bounds; `None` if
+/// the free block of H is not positive definite.
+fn face_minimiser(
+    h: &[f64],
+    z: &[f64],
+    x: &[f64],
+    state: &[BoundState],
+    free: &[usize],
+) -> Option<Vec<f64>> {
+    let n = x.len();
+    let m = free.len();
+    let mut sub = vec![0.0; m * m];
+    let mut rhs = vec![0.0; m];
+    for (a, &i) in free.iter().enumerate() {
+        for (b, &j) in free.iter().enumerate() {
+            sub[a * m + b] = h[i * n + j];
         }
-        // At the subproblem's minimiser: release the bound with the worst multiplier.
-        let grad = gradient(h, z, &x);
-        let mut worst: Option<(usize, f64)> = None;
-        for i in 0..n {
-            if g[i] == 0.0 {
-                continue;
-            }
-            let tolerance = gradient_tolerance(h, z, &x, i);
-            let violation = match state[i] {
-                BoundState::Free => 0.0,
-                BoundState::Upper => grad[i] - tolerance,
-                BoundState::Lower => -grad[i] - tolerance,
-            };
-            if violation > 0.0 && worst.is_none_or(|(_, w)| violation > w) {
-                worst = Some((i, violation));
-            }
-        }
-        match worst {
-            Some((i, _)) => state[i] = BoundState::Free,
-            None => {
-                return QpResult {
-                    x,
-                    state,
-                    iterations: iteration,
-                    converged: true,
-                    algorithm: QpAlgorithm::ActiveSet,
-                };
-            }
+        rhs[a] = z[i]
+            - (0..n)
+                .filter(|&j| state[j] != BoundState::Free)
+                .map(|j| h[i * n + j] * x[j])
+                .sum::<f64>();
+    }
+    let factor = Cholesky::new(&sub, m)?;
+    factor.solve_in_place(&mut rhs);
+    Some(rhs)
+}
+
+/// The longest feasible step of the free variables towards `minimiser`; returns the variable
+/// whose bound stopped it, if any.
+fn step_towards(
+    g: &[f64],
+    x: &mut [f64],
+    free: &[usize],
+    minimiser: &[f64],
+) -> Option<(usize, BoundState)> {
+    let mut step = 1.0;
+    let mut blocking = None;
+    for (a, &i) in free.iter().enumerate() {
+        let p = minimiser[a] - x[i];
+        let limit = if p > 0.0 && minimiser[a] > g[i] {
+            Some(((g[i] - x[i]) / p, BoundState::Upper))
+        } else if p < 0.0 && minimiser[a] < -g[i] {
+            Some(((-g[i] - x[i]) / p, BoundState::Lower))
+        } else {
+            None
+        };
+        if let Some((t, bound)) = limit
+            && t < step
+        {
+            step = t.max(0.0);
+            blocking = Some((i, bound));
         }
     }
-    QpResult {
-        x,
-        state,
-        iterations: max_iterations,
-        converged: false,
-        algorithm: QpAlgorithm::ActiveSet,
+    for (a, &i) in free.iter().enumerate() {
+        x[i] += step * (minimiser[a] - x[i]);
+        x[i] = x[i].clamp(-g[i], g[i]);
     }
+    blocking
+}
+
+/// The bound variable whose multiplier has the wrong sign by the most (beyond rounding).
+fn worst_multiplier(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    x: &[f64],
+    state: &[BoundState],
+) -> Option<usize> {
+    let grad = gradient(h, z, x);
+    let mut worst: Option<(usize, f64)> = None;
+    for i in 0..x.len() {
+        if g[i] == 0.0 {
+            continue;
+        }
+        let tolerance = gradient_tolerance(h, z, x, i);
+        let violation = match state[i] {
+            BoundState::Free => 0.0,
+            BoundState::Upper => grad[i] - tolerance,
+            BoundState::Lower => -grad[i] - tolerance,
+        };
+        if violation > 0.0 && worst.is_none_or(|(_, w)| violation > w) {
+            worst = Some((i, violation));
+        }
+    }
+    worst.map(|(i, _)| i)
 }
 
 /// Most projected Newton steps before falling back to MPRGP.
@@ -342,137 +372,6 @@ fn projected_newton(h: &[f64], z: &[f64], g: &[f64]) -> Option<(Vec<f64>, usize)
         }
     }
     None
-}
-
-/// MPRGP on the scaled problem; returns the iterate and the number of steps.
-fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
-    let n = z.len();
-    let mul = |v: &[f64]| -> Vec<f64> {
-        (0..n)
-            .map(|i| {
-                h[i * n..(i + 1) * n]
-                    .iter()
-                    .zip(v)
-                    .map(|(a, b)| a * b)
-                    .sum()
-            })
-            .collect()
-    };
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(a, b)| a * b).sum::<f64>();
-    // ‖H‖ bound (Gershgorin); step length ᾱ = 1/‖H‖ ∈ (0, 2/‖H‖].
-    let norm = (0..n)
-        .map(|i| h[i * n..(i + 1) * n].iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max);
-    let alpha_bar = 1.0 / norm;
-    let free_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
-        (0..n)
-            .map(|i| {
-                if x[i] > -g[i] && x[i] < g[i] {
-                    gr[i]
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    };
-    let chopped_gradient = |x: &[f64], gr: &[f64]| -> Vec<f64> {
-        (0..n)
-            .map(|i| {
-                if x[i] <= -g[i] {
-                    gr[i].min(0.0)
-                } else if x[i] >= g[i] {
-                    gr[i].max(0.0)
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    };
-    let project = |x: &mut [f64]| {
-        for i in 0..n {
-            x[i] = x[i].clamp(-g[i], g[i]);
-        }
-    };
-    let mut x = vec![0.0; n];
-    let mut gr = gradient(h, z, &x);
-    let mut phi = free_gradient(&x, &gr);
-    let mut p = phi.clone();
-    let tolerance = 1e-13 * dot(z, z).sqrt().max(f64::MIN_POSITIVE);
-    let max_steps = 50 * n + 200;
-    for step in 1..=max_steps {
-        let beta = chopped_gradient(&x, &gr);
-        let projected: f64 = phi.iter().zip(&beta).map(|(a, b)| (a + b).powi(2)).sum();
-        if projected.sqrt() <= tolerance {
-            return (x, step);
-        }
-        // Reduced free gradient for the proportioning test.
-        let reduced: f64 = (0..n)
-            .map(|i| {
-                let r = if phi[i] > 0.0 {
-                    ((x[i] + g[i]) / alpha_bar).min(phi[i])
-                } else {
-                    ((x[i] - g[i]) / alpha_bar).max(phi[i])
-                };
-                r * phi[i]
-            })
-            .sum();
-        if dot(&beta, &beta) <= reduced {
-            let hp = mul(&p);
-            let php = dot(&p, &hp);
-            if php <= 0.0 {
-                return (x, step);
-            }
-            let a_cg = dot(&gr, &p) / php;
-            // Largest feasible step along −p.
-            let mut a_f = f64::INFINITY;
-            for i in 0..n {
-                if p[i] > 0.0 {
-                    a_f = a_f.min((x[i] + g[i]) / p[i]);
-                } else if p[i] < 0.0 {
-                    a_f = a_f.min((x[i] - g[i]) / p[i]);
-                }
-            }
-            if a_cg <= a_f {
-                for i in 0..n {
-                    x[i] -= a_cg * p[i];
-                    gr[i] -= a_cg * hp[i];
-                }
-                phi = free_gradient(&x, &gr);
-                let gamma = dot(&phi, &hp) / php;
-                for i in 0..n {
-                    p[i] = phi[i] - gamma * p[i];
-                }
-            } else {
-                for i in 0..n {
-                    x[i] -= a_f * p[i];
-                    gr[i] -= a_f * hp[i];
-                }
-                let phi_half = free_gradient(&x, &gr);
-                for i in 0..n {
-                    x[i] -= alpha_bar * phi_half[i];
-                }
-                project(&mut x);
-                gr = gradient(h, z, &x);
-                phi = free_gradient(&x, &gr);
-                p = phi.clone();
-            }
-        } else {
-            let hd = mul(&beta);
-            let dhd = dot(&beta, &hd);
-            if dhd <= 0.0 {
-                return (x, step);
-            }
-            let a_cg = dot(&gr, &beta) / dhd;
-            for i in 0..n {
-                x[i] -= a_cg * beta[i];
-                gr[i] -= a_cg * hd[i];
-            }
-            project(&mut x);
-            phi = free_gradient(&x, &gr);
-            p = phi.clone();
-        }
-    }
-    (x, max_steps)
 }
 
 #[cfg(test)]

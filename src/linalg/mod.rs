@@ -1,9 +1,15 @@
-//! Linear algebra the methods share: the block-tridiagonal factorization with the friction
+//! Linear algebra the methods share, pure mathematics with no knowledge of meshes: 2×2-block
+//! tridiagonal matrices, the block-tridiagonal factorization with the friction
 //! DOFs last (the stiffness route's one factorization), small dense Cholesky for the 2k×2k
 //! systems on the friction DOFs, the box-constrained QP of the dual problem (49), and
 //! condition numbers (dense eigenvalues through faer, Lanczos estimates for large N).
 
+mod block;
 pub mod blocktri;
 pub mod boxqp;
 pub mod condition;
 pub mod dense;
+mod parallel;
+mod two_by_two;
+
+pub use block::{BlockMatrix, BlockTridiagonal};

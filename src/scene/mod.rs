@@ -10,13 +10,14 @@ mod presets;
 mod read;
 mod save;
 mod serialize;
+mod validate;
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use crate::model::{LinearLoad, Obstacle, Problem, StiffnessPiece};
-use crate::solve::Method;
+use crate::model::{Method, Problem};
+use validate::Validator;
 
 pub use loaded::{LoadedScene, SceneSource, load};
 pub use presets::{PRESETS, Preset, preset};
@@ -203,6 +204,16 @@ impl Panel {
         Panel::EpsCond,
         Panel::ErrorTime,
     ];
+
+    /// The name in scene files, e.g. `eps-error`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Panel::Deflection => "deflection",
+            Panel::EpsError => "eps-error",
+            Panel::EpsCond => "eps-cond",
+            Panel::ErrorTime => "error-time",
+        }
+    }
 }
 
 /// `[view]`: the panels the scene needs; panels not listed are neither drawn nor computed.
@@ -278,15 +289,6 @@ impl Scene {
     pub fn problem(&self) -> Result<Problem, SceneError> {
         self.validate("scene").map(|(problem, _)| problem)
     }
-
-    /// Settings from the scene.
-    pub fn settings(&self) -> Settings {
-        Settings {
-            elements: self.mesh.elements,
-            method: self.solver.method,
-            epsilon: self.solver.epsilon,
-        }
-    }
 }
 
 fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError {
@@ -359,6 +361,7 @@ pub fn check_epsilon(epsilon: f64) -> Result<(), String> {
 /// normal f64 greater than zero. Subnormal values (below 2.2251e-308) carry fewer
 /// significant digits and overflow when inverted, so the methods cannot honour them.
 pub fn check_positive(value: f64, unit: &str) -> Result<(), String> {
+    use validate::show;
     let unit = if unit.is_empty() {
         String::new()
     } else {
@@ -376,285 +379,5 @@ pub fn check_positive(value: f64, unit: &str) -> Result<(), String> {
             "= {}{unit}: must be greater than zero",
             show(value)
         ))
-    }
-}
-
-struct Validator<'a> {
-    source: &'a str,
-}
-
-/// A number as a person would write it: 0.8, 2.15e11, -1e-8.
-fn show(value: f64) -> String {
-    let magnitude = value.abs();
-    if value == 0.0 || !value.is_finite() || (1e-3..1e6).contains(&magnitude) {
-        format!("{value}")
-    } else {
-        format!("{value:e}")
-    }
-}
-
-impl Validator<'_> {
-    fn error(&self, field: impl Into<String>, rule: impl Into<String>) -> SceneError {
-        SceneError {
-            source: self.source.to_string(),
-            field: field.into(),
-            rule: rule.into(),
-        }
-    }
-
-    fn finite(&self, field: &str, value: f64) -> Result<f64, SceneError> {
-        if value.is_finite() {
-            Ok(value)
-        } else {
-            Err(self.error(field, format!("= {}: must be a finite number", show(value))))
-        }
-    }
-
-    fn positive(&self, field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
-        self.finite(field, value)?;
-        check_positive(value, unit).map_err(|rule| self.error(field, rule))?;
-        Ok(value)
-    }
-
-    fn section(&self, field: &str, section: &Section) -> Result<f64, SceneError> {
-        for (name, value) in section.dimensions() {
-            let unit = if name == "inertia" { "m^4" } else { "m" };
-            self.positive(&format!("{field}.{name}"), value, unit)?;
-        }
-        let inertia = section.inertia();
-        if inertia.is_normal() && inertia > 0.0 {
-            Ok(inertia)
-        } else {
-            Err(self.error(
-                field,
-                format!("second moment J = {inertia:e} m^4 is out of floating-point range (must be a normal number, 2.2251e-308 to 1.8e308)"),
-            ))
-        }
-    }
-
-    fn bending_stiffness(&self, field: &str, young: f64, inertia: f64) -> Result<f64, SceneError> {
-        let ej = young * inertia;
-        if ej.is_normal() && ej > 0.0 {
-            Ok(ej)
-        } else {
-            Err(self.error(
-                field,
-                format!("E·J = {ej:e} N m^2 is out of floating-point range (must be a normal number, 2.2251e-308 to 1.8e308)"),
-            ))
-        }
-    }
-
-    fn run(&self, scene: &Scene) -> Result<(Problem, Settings), SceneError> {
-        let beam = &scene.beam;
-        let length = self.positive("beam.length", beam.length, "m")?;
-        let young = self.positive("beam.young", beam.young, "Pa")?;
-        let inertia = self.section("beam.section", &beam.section)?;
-        let base = self.bending_stiffness("beam", young, inertia)?;
-
-        // Stretches of their own, then fill the gaps with the beam's E·J.
-        let mut segments = Vec::with_capacity(beam.segments.len());
-        for (i, segment) in beam.segments.iter().enumerate() {
-            let field = format!("beam.segment[{}]", i + 1);
-            let from = self.finite(&format!("{field}.from"), segment.from)?;
-            let to = self.finite(&format!("{field}.to"), segment.to)?;
-            if !(0.0..length).contains(&from) {
-                return Err(self.error(
-                    format!("{field}.from"),
-                    format!(
-                        "= {} m: must lie in [0, l) = [0, {}) m",
-                        show(from),
-                        show(length)
-                    ),
-                ));
-            }
-            if !(to > from && to <= length) {
-                return Err(self.error(
-                    format!("{field}.to"),
-                    format!(
-                        "= {} m: must lie in (from, l] = ({}, {}] m",
-                        show(to),
-                        show(from),
-                        show(length)
-                    ),
-                ));
-            }
-            let young = match segment.young {
-                Some(e) => self.positive(&format!("{field}.young"), e, "Pa")?,
-                None => young,
-            };
-            let inertia = match &segment.section {
-                Some(s) => self.section(&format!("{field}.section"), s)?,
-                None => inertia,
-            };
-            let ej = self.bending_stiffness(&field, young, inertia)?;
-            segments.push((i, from, to, ej));
-        }
-        segments.sort_by(|a, b| a.1.total_cmp(&b.1));
-        for pair in segments.windows(2) {
-            let (i, _, to, _) = pair[0];
-            let (j, from, _, _) = pair[1];
-            if from < to {
-                return Err(self.error(
-                    format!("beam.segment[{}]", j + 1),
-                    format!(
-                        "overlaps beam.segment[{}] (from = {from} m < its end {to} m); \
-                         segments must not overlap",
-                        i + 1
-                    ),
-                ));
-            }
-        }
-        let mut stiffness = Vec::new();
-        let mut cursor = 0.0;
-        for &(_, from, to, ej) in &segments {
-            if from > cursor {
-                stiffness.push(StiffnessPiece {
-                    from: cursor,
-                    to: from,
-                    bending_stiffness: base,
-                });
-            }
-            stiffness.push(StiffnessPiece {
-                from,
-                to,
-                bending_stiffness: ej,
-            });
-            cursor = to;
-        }
-        if cursor < length {
-            stiffness.push(StiffnessPiece {
-                from: cursor,
-                to: length,
-                bending_stiffness: base,
-            });
-        }
-
-        let f0 = self.finite("load.f0", scene.load.f0)?;
-        let f1 = self.finite("load.f1", scene.load.f1())?;
-
-        if scene.obstacles.len() > MAX_OBSTACLES {
-            return Err(self.error(
-                "obstacle",
-                format!(
-                    "{} obstacles: at most {MAX_OBSTACLES} are supported",
-                    scene.obstacles.len()
-                ),
-            ));
-        }
-        let mut obstacles = Vec::with_capacity(scene.obstacles.len());
-        for (i, o) in scene.obstacles.iter().enumerate() {
-            let field = format!("obstacle[{}]", i + 1);
-            let x = self.finite(&format!("{field}.x"), o.x)?;
-            if !(x > 0.0 && x < length) {
-                return Err(self.error(
-                    format!("{field}.x"),
-                    format!(
-                        "= {} m: must lie strictly inside (0, l) = (0, {}) m",
-                        show(x),
-                        show(length)
-                    ),
-                ));
-            }
-            for (name, value, unit) in [("sliding", o.sliding, "N"), ("swivel", o.swivel, "N m")] {
-                let value = self.finite(&format!("{field}.{name}"), value)?;
-                if value < 0.0 {
-                    return Err(self.error(
-                        format!("{field}.{name}"),
-                        format!(
-                            "= {} {unit}: a friction threshold must be zero or positive",
-                            show(value)
-                        ),
-                    ));
-                }
-            }
-            obstacles.push((
-                i,
-                Obstacle {
-                    x,
-                    sliding_threshold: o.sliding,
-                    swivel_threshold: o.swivel,
-                },
-            ));
-        }
-        obstacles.sort_by(|a, b| a.1.x.total_cmp(&b.1.x));
-        let gap = MIN_SEPARATION * length;
-        for pair in obstacles.windows(2) {
-            let ((i, a), (j, b)) = (pair[0], pair[1]);
-            if b.x - a.x < gap {
-                let (first, second) = if i < j { (i, j) } else { (j, i) };
-                let rule = if a.x == b.x {
-                    format!(
-                        "= {} m: same position as obstacle[{}]; obstacles must be at distinct points",
-                        b.x,
-                        first + 1
-                    )
-                } else {
-                    format!(
-                        "= {} m: closer than {gap:e} m (1e-9 l) to obstacle[{}]; obstacles must be apart",
-                        if second == j { b.x } else { a.x },
-                        first + 1
-                    )
-                };
-                return Err(self.error(format!("obstacle[{}].x", second + 1), rule));
-            }
-        }
-        for &(i, o) in &obstacles {
-            let nearest_support = o.x.min(length - o.x);
-            if nearest_support < gap {
-                return Err(self.error(
-                    format!("obstacle[{}].x", i + 1),
-                    format!("= {} m: closer than {gap:e} m (1e-9 l) to a support", o.x),
-                ));
-            }
-            for piece in &stiffness {
-                for end in [piece.from, piece.to] {
-                    if end != o.x && (end - o.x).abs() < gap {
-                        return Err(self.error(
-                            format!("obstacle[{}].x", i + 1),
-                            format!(
-                                "= {} m: closer than {gap:e} m (1e-9 l) to a segment end at {end} m; \
-                                 put it exactly on the end or apart from it",
-                                o.x
-                            ),
-                        ));
-                    }
-                }
-            }
-        }
-        for piece in &stiffness {
-            if piece.to - piece.from < gap {
-                return Err(self.error(
-                    "beam.segment",
-                    format!(
-                        "a stretch [{}, {}] m is shorter than {gap:e} m (1e-9 l)",
-                        piece.from, piece.to
-                    ),
-                ));
-            }
-        }
-
-        let elements = scene.mesh.elements;
-        check_elements(elements).map_err(|rule| self.error("mesh.elements", rule))?;
-        let epsilon = scene.solver.epsilon;
-        check_epsilon(epsilon).map_err(|rule| self.error("solver.epsilon", rule))?;
-        if scene.view.panels.is_empty() {
-            return Err(self.error(
-                "view.panels",
-                "is empty: list at least one of \"deflection\", \"eps-error\", \"eps-cond\", \"error-time\"",
-            ));
-        }
-
-        let problem = Problem {
-            length,
-            stiffness,
-            load: LinearLoad { f0, f1 },
-            obstacles: obstacles.into_iter().map(|(_, o)| o).collect(),
-        };
-        let settings = Settings {
-            elements,
-            method: scene.solver.method,
-            epsilon,
-        };
-        Ok((problem, settings))
     }
 }

@@ -12,9 +12,10 @@
 //! so the difference does not show there; this module follows the minimisation, and the tests
 //! check swivelling cases against the flexibility method.
 
-use super::{Method, MethodDetails, MethodOutput, SolveError, SolveErrorKind, Stopwatch, Timing};
+use super::shared::{MethodOutput, Stopwatch};
+use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing};
 use crate::fem::{Mesh, NodalField};
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 /// The closed-form solution of one problem.
 #[derive(Debug, Clone, Copy, PartialEq)]

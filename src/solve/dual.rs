@@ -4,12 +4,14 @@
 //! large 2k; the primal solution follows from c_F = z0 − Sλ and one back substitution (48).
 //! O(n) work and memory.
 
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::solution::{SolveError, Timing};
 use super::stiffness_route::{condense, indefinite_warning};
-use super::{Method, MethodOutput, SolveError, SolveOptions, Stopwatch, Timing, dual_output};
 use crate::fem::Mesh;
 use crate::linalg::boxqp::solve_box_qp;
 use crate::linalg::dense::mat_vec;
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 pub(super) fn solve(
     problem: &Problem,

@@ -7,13 +7,14 @@
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat, Side};
 
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::solution::{SolveError, SolveErrorKind, Timing};
 use super::stiffness_route::breakdown;
-use super::{
-    Method, MethodOutput, SolveError, SolveErrorKind, SolveOptions, Stopwatch, Timing, dual_output,
-};
-use crate::fem::{BlockMatrix, Mesh, NodalField, StiffnessMatrix, load_vector};
+use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
+use crate::linalg::BlockMatrix;
 use crate::linalg::boxqp::solve_box_qp;
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 pub(super) fn solve(
     problem: &Problem,

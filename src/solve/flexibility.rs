@@ -1,4 +1,5 @@
-//! `flexibility`: the force formulation of DESIGN.md fact 3, the stable route and the reference.
+//! `flexibility`: the force formulation of docs/design.md fact 3, the stable route and the
+//! reference.
 //!
 //! With m = EJ u'' the equilibrium reads m'' = f − Σ λ1_j δ(x − x̂_j) + Σ λ2_j δ'(x − x̂_j), so
 //! on every piece between special points (obstacles, segment ends) m is a cubic known up to the
@@ -10,10 +11,12 @@
 //! After the box QP, every node is evaluated from the state at the start of its piece by the
 //! exact Taylor polynomial: no sum runs over the elements, so rounding does not grow with n.
 //!
-//! Because the finite-element solution is exact at the nodes (DESIGN.md fact 1), these nodal
-//! values are the discrete solution of (38) itself, for any mesh.
+//! Because the finite-element solution is exact at the nodes (docs/design.md fact 1), these
+//! nodal values are the discrete solution of (38) itself, for any mesh.
 
-use super::{MethodOutput, SolveError, SolveOptions, Stopwatch, Timing, dual_output};
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::solution::{SolveError, Timing};
 use crate::fem::{Mesh, NodalField};
 use crate::linalg::boxqp::solve_box_qp;
 use crate::model::Problem;

@@ -8,14 +8,13 @@
 //! cases differ only there), so A is factored once and each case costs one 2k×2k Cholesky.
 //! The enumeration refuses when 9^k exceeds [`SolveOptions::max_cases`].
 
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch};
+use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
 use super::stiffness_route::{condense, indefinite_warning};
-use super::{
-    Method, MethodDetails, MethodOutput, SolveError, SolveErrorKind, SolveOptions, Stopwatch,
-    Timing, Warning, WarningCode,
-};
 use crate::fem::Mesh;
 use crate::linalg::dense::Cholesky;
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 /// The region of a friction DOF in Table 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -7,15 +7,14 @@
 //! iteration converges from c = 0 in a few steps. The cost grows with k polynomially: the
 //! exponential cost of the paper's method is the enumeration's, not ε's.
 
+use super::options::SolveOptions;
 use super::regularized::{Region, middle_additions, regularized_output};
+use super::shared::{MethodOutput, Stopwatch};
+use super::solution::{MethodDetails, SolveError, Timing, Warning, WarningCode};
 use super::stiffness_route::{condense, indefinite_warning};
-use super::{
-    Method, MethodDetails, MethodOutput, SolveError, SolveOptions, Stopwatch, Timing, Warning,
-    WarningCode,
-};
 use crate::fem::Mesh;
 use crate::linalg::dense::Cholesky;
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 /// The step t ≥ 0 minimising φ(c + t d) exactly. Along the line φ is convex and piecewise
 /// quadratic: φ'(t) = dᵀ∇φ(c) + t dᵀKd + Σ g_i d_i (ω̃'_ε(c_i + t d_i) − ω̃'_ε(c_i)) is

@@ -7,11 +7,12 @@
 //! b̃ = b_F − A_FI A_II⁻¹ b_I. Hence S = B A⁻¹ Bᵀ = K⁻¹ and z0 = K⁻¹ b̃ (49), and the cases of
 //! the regularised method (43) only change K's diagonal and b̃.
 
-use super::{Method, SolveError, SolveErrorKind, Stopwatch, Timing};
+use super::shared::Stopwatch;
+use super::solution::{SolveError, SolveErrorKind, Timing, Warning, WarningCode};
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
 use crate::linalg::blocktri::FrictionLastFactor;
 use crate::linalg::dense::{Cholesky, mat_vec};
-use crate::model::Problem;
+use crate::model::{Method, Problem};
 
 /// A factored stiffness matrix, condensed on the friction DOFs.
 pub(super) struct Condensed<'m> {
@@ -80,7 +81,7 @@ impl Condensed<'_> {
 }
 
 /// S (2k×2k row-major), z0, and a warning when K had to be inverted by LU.
-pub(super) type DualMatrices = (Vec<f64>, Vec<f64>, Option<super::Warning>);
+pub(super) type DualMatrices = (Vec<f64>, Vec<f64>, Option<Warning>);
 
 impl Condensed<'_> {
     /// S = K⁻¹ and z0 = K⁻¹ b̃ of (49). K is SPD in exact arithmetic; when rounding has made it
@@ -104,8 +105,8 @@ impl Condensed<'_> {
             ));
         }
         let z0 = mat_vec(&s, &self.load);
-        let warning = super::Warning::new(
-            super::WarningCode::IndefiniteFactorization,
+        let warning = Warning::new(
+            WarningCode::IndefiniteFactorization,
             format!(
                 "the condensed stiffness K on the friction DOFs is not positive definite in \
                  floating point at n = {}: rounding has destroyed it and this result means nothing",
@@ -117,10 +118,10 @@ impl Condensed<'_> {
 }
 
 /// The warning for a factorization that went on through indefinite pivots.
-pub(super) fn indefinite_warning(condensed: &Condensed, mesh: &Mesh) -> Option<super::Warning> {
+pub(super) fn indefinite_warning(condensed: &Condensed, mesh: &Mesh) -> Option<Warning> {
     condensed.first_indefinite_node().map(|node| {
-        super::Warning::new(
-            super::WarningCode::IndefiniteFactorization,
+        Warning::new(
+            WarningCode::IndefiniteFactorization,
             format!(
                 "A is not positive definite in floating point at n = {} (first at node {node} of \
                  {}): rounding has destroyed the stiffness matrix and this result means nothing",

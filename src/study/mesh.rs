@@ -124,15 +124,7 @@ pub fn mesh_sweep(
                     refused: None,
                 }),
                 Err(e) => {
-                    let reason = format!(
-                        "{}: {}",
-                        match e.kind {
-                            SolveErrorKind::Refused => "refused",
-                            SolveErrorKind::NotApplicable => "not applicable",
-                            SolveErrorKind::Breakdown => "broke down",
-                        },
-                        e.reason
-                    );
+                    let reason = format!("{}: {}", e.kind.label(), e.reason);
                     // Too large now means too large at every larger size too.
                     if e.kind != SolveErrorKind::Breakdown {
                         refused[m] = Some(reason.clone());

@@ -227,14 +227,6 @@ fn draw_panels(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, full: bo
     }
 }
 
-fn reference_name(reference: Reference) -> &'static str {
-    match reference {
-        Reference::ClosedForm => "closed form",
-        Reference::Flexibility => "flexibility",
-        Reference::ThisSolution => "itself",
-    }
-}
-
 /// "solving …" while the current state's solve runs (with its run time when the clock may
 /// show), else empty.
 fn busy_text(app: &App) -> Option<String> {
@@ -276,7 +268,7 @@ fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
                 }
                 Some(e) => parts.push(match e.max_rel {
                     Some(rel) => {
-                        format!("error {} vs {}", sci(rel, 2), reference_name(e.reference))
+                        format!("error {} vs {}", sci(rel, 2), e.reference.label())
                     }
                     None => "error n/a".into(),
                 }),

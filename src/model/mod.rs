@@ -7,6 +7,10 @@
 //! l [m], EJ [N m²], f [N/m], sliding threshold g1 [N], swivel threshold g2 [N m] — the
 //! symbols of the paper's (1)–(6) and (21).
 
+mod method;
+
+pub use method::Method;
+
 /// A stretch of the beam with constant bending stiffness E·J.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StiffnessPiece {

@@ -1,0 +1,272 @@
+//! The command line's argument types (clap derive) and the value parsers for the crate's own
+//! enums: [`Method`] and [`ConditionLevel`] know nothing of clap, so their clap names and help
+//! come from their `name()` and `description()` here.
+
+use std::sync::LazyLock;
+
+use clap::builder::PossibleValue;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::solve::{ConditionLevel, Method};
+
+/// The methods in declaration order (the order clap has always listed them in).
+static METHODS: LazyLock<Vec<Method>> = LazyLock::new(|| {
+    let mut methods = Method::ALL.to_vec();
+    methods.sort_by_key(|m| *m as u8);
+    methods
+});
+
+impl ValueEnum for Method {
+    fn value_variants<'a>() -> &'a [Self] {
+        &METHODS
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+impl ValueEnum for ConditionLevel {
+    fn value_variants<'a>() -> &'a [Self] {
+        &ConditionLevel::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+/// Explore a clamped beam through point obstacles with given sliding and swivel friction.
+#[derive(Debug, Parser)]
+#[command(
+    name = "beamfric",
+    version,
+    about,
+    args_conflicts_with_subcommands = true
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Scene file or preset name to open (default: benchmark-1).
+    pub scene: Option<String>,
+    /// Draw without Unicode (no Braille, no box drawing) for plain terminals.
+    #[arg(long)]
+    pub ascii: bool,
+    /// No colours (also when the NO_COLOR environment variable is set).
+    #[arg(long)]
+    pub no_color: bool,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Solve a scene once and print the solution with its certificate.
+    Solve(SolveArgs),
+    /// Run the stability suite on every preset (or one scene) and print the verdicts.
+    Check(CheckArgs),
+    /// Print the explorer's frame after some keys, without a terminal.
+    Render(RenderArgs),
+    /// Sweep ε or the mesh size and print the results as CSV or JSON.
+    #[command(subcommand)]
+    Sweep(SweepCommand),
+    /// Write the error-against-run-time report (Markdown, CSV, SVG) for a scene.
+    Report(ReportArgs),
+}
+
+/// `beamfric sweep …`.
+#[derive(Debug, Subcommand)]
+pub enum SweepCommand {
+    /// The regularised method over ε: error, largest condition numbers, run time.
+    Epsilon(EpsilonSweepArgs),
+    /// Every method over mesh sizes: error, median run time, KKT residual, warnings.
+    Elements(ElementsSweepArgs),
+}
+
+/// Output format of the sweeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TableFormat {
+    Csv,
+    Json,
+}
+
+/// `beamfric sweep epsilon`.
+#[derive(Debug, Args)]
+pub struct EpsilonSweepArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Smallest ε.
+    #[arg(long, default_value_t = 1e-16)]
+    pub from: f64,
+    /// Largest ε.
+    #[arg(long, default_value_t = 1.0)]
+    pub to: f64,
+    /// Number of ε values, log-spaced.
+    #[arg(long, default_value_t = 33)]
+    pub points: usize,
+    /// The enumeration of paper 2.7.1, or semismooth Newton on the same ε-problem (which
+    /// works with any number of obstacles).
+    #[arg(long, value_enum, default_value = "regularized")]
+    pub method: Method,
+    /// Number of elements (default: the scene's).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
+    pub format: TableFormat,
+}
+
+/// `beamfric sweep elements`.
+#[derive(Debug, Args)]
+pub struct ElementsSweepArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Methods, comma-separated (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub methods: Vec<Method>,
+    /// Smallest number of elements.
+    #[arg(long, default_value_t = 10)]
+    pub from: usize,
+    /// Largest number of elements.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub to: usize,
+    /// Number of mesh sizes, log-spaced.
+    #[arg(long, default_value_t = 11)]
+    pub points: usize,
+    /// Runs per point; the run time is their median.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// ε for the regularised methods (default: the scene's).
+    #[arg(long)]
+    pub epsilon: Option<f64>,
+    #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
+    pub format: TableFormat,
+}
+
+/// `beamfric report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Directory for report.md and the CSV and SVG files (default: report-<scene>).
+    #[arg(long)]
+    pub out: Option<String>,
+    /// Smallest number of elements.
+    #[arg(long, default_value_t = 10)]
+    pub from: usize,
+    /// Largest number of elements.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub to: usize,
+    /// Number of mesh sizes, log-spaced.
+    #[arg(long, default_value_t = 11)]
+    pub points: usize,
+    /// Runs per point; the run time is their median.
+    #[arg(long, default_value_t = 5)]
+    pub repeat: usize,
+    /// Replace the files of an existing report in --out.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `beamfric render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Frame size in cells, WIDTHxHEIGHT.
+    #[arg(long, default_value = "120x40", value_parser = parse_size)]
+    pub size: (u16, u16),
+    /// Keys to apply first, space-separated: Up Down Left Right S-Left S-Right Enter Esc Tab
+    /// BackTab Backspace Space, C-x (Ctrl and a letter), single characters, or text typed
+    /// after Enter.
+    #[arg(long, default_value = "", allow_hyphen_values = true)]
+    pub keys: String,
+    /// Draw without Unicode.
+    #[arg(long)]
+    pub ascii: bool,
+    /// Emit ANSI colours (plain text otherwise).
+    #[arg(long)]
+    pub color: bool,
+    /// Show run times (the frame then depends on the clock).
+    #[arg(long)]
+    pub timings: bool,
+    /// Let a save in the keys write, but only into DIR (without it, a save is simulated and
+    /// nothing on disk changes).
+    #[arg(long, value_name = "DIR")]
+    pub allow_save: Option<std::path::PathBuf>,
+}
+
+fn parse_size(text: &str) -> Result<(u16, u16), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}': write the size as WIDTHxHEIGHT, e.g. 120x40"))?;
+    let parse = |v: &str, what: &str| -> Result<u16, String> {
+        let n: u16 = v
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{text}': the {what} must be a whole number from 1 to 1000"))?;
+        if (1..=1000).contains(&n) {
+            Ok(n)
+        } else {
+            Err(format!("'{text}': the {what} must be from 1 to 1000"))
+        }
+    };
+    Ok((parse(w, "width")?, parse(h, "height")?))
+}
+
+/// Output format of `check`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CheckFormat {
+    Markdown,
+    Json,
+}
+
+/// `beamfric check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// One scene file or preset name (default: every preset).
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = CheckFormat::Markdown)]
+    pub format: CheckFormat,
+}
+
+/// Output format of `solve`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Json,
+    Table,
+}
+
+/// `beamfric solve`.
+#[derive(Debug, Args)]
+pub struct SolveArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Method (default: the scene's).
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
+    /// Number of elements (default: the scene's).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Regularisation parameter ε (default: the scene's).
+    #[arg(long, allow_negative_numbers = true)]
+    pub epsilon: Option<f64>,
+    /// Positions [m] where u and u' are reported, comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    pub at: Vec<f64>,
+    /// Leave the nodal values out of the JSON output.
+    #[arg(long)]
+    pub no_nodes: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+    /// Condition numbers: exact for N ≤ 200 and a cheap lower bound above (auto), Lanczos
+    /// estimates at any size (full), or none (off).
+    #[arg(long, value_enum, default_value_t = ConditionLevel::Auto)]
+    pub condition: ConditionLevel,
+}

@@ -1,0 +1,89 @@
+//! How to solve: the options every method reads and their default limits.
+
+use serde::Serialize;
+
+/// Which condition numbers to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ConditionLevel {
+    /// None (the explorer's per-keystroke path).
+    Off,
+    /// Exact for N ≤ 200, a cheap lower bound above.
+    #[default]
+    Auto,
+    /// Exact for N ≤ 200, Lanczos estimates above (slow at very large n).
+    Full,
+}
+
+impl ConditionLevel {
+    /// Every level, from none to the most work.
+    pub const ALL: [ConditionLevel; 3] = [
+        ConditionLevel::Off,
+        ConditionLevel::Auto,
+        ConditionLevel::Full,
+    ];
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConditionLevel::Off => "off",
+            ConditionLevel::Auto => "auto",
+            ConditionLevel::Full => "full",
+        }
+    }
+
+    /// What the level computes, in one line.
+    pub fn description(self) -> &'static str {
+        match self {
+            ConditionLevel::Off => "None (the explorer's per-keystroke path)",
+            ConditionLevel::Auto => "Exact for N ≤ 200, a cheap lower bound above",
+            ConditionLevel::Full => {
+                "Exact for N ≤ 200, Lanczos estimates above (slow at very large n)"
+            }
+        }
+    }
+}
+
+/// How to solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveOptions {
+    /// ε of (40) for the regularised methods.
+    pub epsilon: f64,
+    /// The enumeration refuses when 9^k exceeds this.
+    pub max_cases: u64,
+    /// `dual-inverse` refuses when N = 2(n − 1) exceeds this (the inverse is N² doubles).
+    pub max_dense_unknowns: usize,
+    pub condition: ConditionLevel,
+    /// Compare against a reference (closed form or flexibility) and report the error.
+    pub reference: bool,
+}
+
+/// Default limit of the enumeration: 9^6 = 531 441 cases (k ≤ 6 obstacles).
+pub const MAX_CASES: u64 = 531_441;
+/// Default limit of `dual-inverse`: N ≤ 4000 unknowns, a 128 MB inverse.
+pub const MAX_DENSE_UNKNOWNS: usize = 4000;
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            epsilon: 1e-6,
+            max_cases: MAX_CASES,
+            max_dense_unknowns: MAX_DENSE_UNKNOWNS,
+            condition: ConditionLevel::Auto,
+            reference: true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_level_name_is_its_serialized_form() {
+        for level in ConditionLevel::ALL {
+            let json = serde_json::to_value(level).unwrap();
+            assert_eq!(json.as_str(), Some(level.name()));
+        }
+    }
+}

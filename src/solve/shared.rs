@@ -1,0 +1,113 @@
+//! What the method modules share: the [`MethodOutput`] they hand to the certificate, a
+//! stopwatch for their stages, friction states from nodal values, and the common ending of
+//! the three dual methods.
+
+use std::time::{Duration, Instant};
+
+use super::options::{ConditionLevel, SolveOptions};
+use super::solution::{MethodDetails, Timing, Warning, WarningCode};
+use crate::fem::{Mesh, NodalField};
+use crate::linalg::boxqp::QpResult;
+use crate::linalg::condition::{ConditionNumber, dense_condition};
+
+/// What a method module hands back before the common certification.
+pub(crate) struct MethodOutput {
+    pub field: NodalField,
+    /// (force, moment) per obstacle.
+    pub lambda: Vec<[f64; 2]>,
+    /// (sliding, swivel) per obstacle.
+    pub moving: Vec<[bool; 2]>,
+    pub timing: Timing,
+    pub warnings: Vec<Warning>,
+    pub details: MethodDetails,
+    /// cond₂(S), when the method has S and conditioning was asked for.
+    pub dual_condition: Option<ConditionNumber>,
+    /// Regularised methods: the per-case diagonal additions (DOF index in the friction
+    /// vector → g/ε) whose largest condition number is reported.
+    pub regularized_cases: Vec<Vec<(usize, f64)>>,
+}
+
+/// Is a friction DOF moving? Its value must stand out of rounding noise: more than
+/// `1e-10` times the largest nodal value of its kind.
+pub(crate) fn is_moving(value: f64, largest_of_kind: f64) -> bool {
+    value.abs() > 1e-10 * largest_of_kind
+}
+
+/// (sliding, swivel) for every obstacle from the nodal values at the obstacle nodes.
+pub(crate) fn moving_from_values(mesh: &Mesh, field: &NodalField) -> Vec<[bool; 2]> {
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let (lu, ls) = (largest(&field.deflection), largest(&field.slope));
+    mesh.obstacle_nodes
+        .iter()
+        .map(|&node| {
+            [
+                is_moving(field.deflection[node], lu),
+                is_moving(field.slope[node], ls),
+            ]
+        })
+        .collect()
+}
+
+/// A stopwatch for the stages of a method.
+pub(crate) struct Stopwatch(Instant);
+
+impl Stopwatch {
+    pub fn start() -> Stopwatch {
+        Stopwatch(Instant::now())
+    }
+
+    /// Time since the last lap.
+    pub fn lap(&mut self) -> Duration {
+        let now = Instant::now();
+        let elapsed = now - self.0;
+        self.0 = now;
+        elapsed
+    }
+}
+
+/// What the three dual methods (`dual`, `dual-inverse`, `flexibility`) hand back once the box
+/// QP has given λ and the nodal field is rebuilt: friction states from the nodal values, a
+/// warning if the QP did not converge, and cond(S) when asked for.
+pub(crate) fn dual_output(
+    mesh: &Mesh,
+    field: NodalField,
+    qp: &QpResult,
+    s: &[f64],
+    timing: Timing,
+    mut warnings: Vec<Warning>,
+    options: &SolveOptions,
+) -> MethodOutput {
+    if !qp.converged {
+        warnings.push(Warning::new(
+            WarningCode::QpNotConverged,
+            format!(
+                "the dual QP stopped after {} iterations without meeting its KKT conditions",
+                qp.iterations
+            ),
+        ));
+    }
+    MethodOutput {
+        moving: moving_from_values(mesh, &field),
+        field,
+        lambda: qp.x.chunks(2).map(|c| [c[0], c[1]]).collect(),
+        timing,
+        warnings,
+        details: MethodDetails {
+            qp_iterations: Some(qp.iterations),
+            ..MethodDetails::default()
+        },
+        dual_condition: dual_condition(s, qp.x.len(), options),
+        regularized_cases: Vec::new(),
+    }
+}
+
+/// cond₂(S) of a dense 2k×2k matrix, when asked for.
+pub(crate) fn dual_condition(
+    s: &[f64],
+    dim: usize,
+    options: &SolveOptions,
+) -> Option<ConditionNumber> {
+    (options.condition != ConditionLevel::Off && dim > 0)
+        .then(|| dense_condition(s, dim))
+        .flatten()
+}
