@@ -317,18 +317,8 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
         .out
         .clone()
         .unwrap_or_else(|| format!("report-{}", loaded.source.stem()));
-    // Refuse before measuring, not after.
-    if !args.force
-        && let Some(existing) = crate::report::FILES
-            .iter()
-            .map(|f| std::path::Path::new(&out).join(f))
-            .find(|p| p.exists())
-    {
-        return Err(format!(
-            "{} exists: pass --force to replace the report, or choose another --out",
-            existing.display()
-        ));
-    }
+    // Checked before measuring, not after.
+    let destination = crate::report::prepare(std::path::Path::new(&out), args.force)?;
     let options = crate::report::ReportOptions {
         sizes: crate::study::mesh_sizes(args.from, args.to, args.points),
         repeat: args.repeat,
@@ -343,7 +333,7 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
         progress.report(done, total, what)
     });
     progress.finish();
-    let written = crate::report::write(&report?, std::path::Path::new(&out), args.force)?;
+    let written = crate::report::write(&report?, &destination)?;
     for path in written {
         eprintln!("wrote {path}");
     }
