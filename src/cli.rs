@@ -13,6 +13,23 @@ mod args;
 
 pub use args::*;
 
+/// A line on stderr. Unlike `eprintln!`, a closed stderr (a terminal that went away) is no
+/// reason to panic.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// Text on stderr without a new line (the progress line), failures ignored as by [`say!`].
+macro_rules! say_inline {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 /// Exit status for bad input (scene, arguments).
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status when the method gave no solution (refused, not applicable, broke down).
@@ -35,7 +52,7 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
         _ => {
             let text = error.to_string();
             let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("beamfric: {}", first.trim_start_matches("error: "));
+            say!("beamfric: {}", first.trim_start_matches("error: "));
             ExitCode::from(EXIT_BAD_INPUT)
         }
     }
@@ -59,7 +76,7 @@ pub fn run(cli: Cli) -> ExitCode {
     match result {
         Ok(code) => code,
         Err(message) => {
-            eprintln!("beamfric: {message}");
+            say!("beamfric: {message}");
             ExitCode::from(EXIT_BAD_INPUT)
         }
     }
@@ -151,7 +168,7 @@ impl ProgressLine {
         }
         let width = 24;
         let filled = done * width / total;
-        eprint!(
+        say_inline!(
             "\r{} [{}{}] {done}/{total} {what:<32}",
             self.label,
             "#".repeat(filled),
@@ -161,7 +178,7 @@ impl ProgressLine {
 
     fn finish(&self) {
         if self.enabled {
-            eprint!("\r{}\r", " ".repeat(80));
+            say_inline!("\r{}\r", " ".repeat(80));
         }
     }
 }
@@ -246,7 +263,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
     let points = match result.expect("never cancelled") {
         Ok(points) => points,
         Err(e) => {
-            eprintln!("beamfric: {e}");
+            say!("beamfric: {e}");
             return Ok(ExitCode::from(EXIT_NO_SOLUTION));
         }
     };
@@ -335,7 +352,7 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
     progress.finish();
     let written = crate::report::write(&report?, &destination)?;
     for path in written {
-        eprintln!("wrote {path}");
+        say!("wrote {path}");
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -360,7 +377,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     let failed = reports.iter().filter(|r| !r.passed()).count();
     if failed > 0 {
-        eprintln!("beamfric: {failed} of {} cases failed", reports.len());
+        say!("beamfric: {failed} of {} cases failed", reports.len());
         return Ok(ExitCode::from(EXIT_CHECK_FAILED));
     }
     Ok(ExitCode::SUCCESS)
@@ -411,7 +428,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
             let _ = stdout.write_all(text.as_bytes());
             // Exactly when the user is told, by the `non-finite` warning.
             if solution.has_warning(WarningCode::NonFinite) {
-                eprintln!(
+                say!(
                     "beamfric: {} gave non-finite values: see the warnings",
                     settings.method
                 );
@@ -429,7 +446,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
                     serde_json::to_string_pretty(&doc).expect("JSON values serialize")
                 );
             }
-            eprintln!("beamfric: {error}");
+            say!("beamfric: {error}");
             Ok(ExitCode::from(EXIT_NO_SOLUTION))
         }
     }

@@ -10,13 +10,13 @@
 #![cfg(unix)]
 
 use std::io::{Read, Write};
-use std::os::fd::{AsFd, OwnedFd};
+use std::os::fd::{AsFd, AsRawFd, FromRawFd, IntoRawFd, OwnedFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use nix::pty::{Winsize, openpty};
+use nix::pty::Winsize;
 use nix::sys::signal::{Signal, kill};
 use nix::sys::termios::{LocalFlags, tcgetattr};
 use nix::unistd::Pid;
@@ -30,23 +30,62 @@ const PATIENCE: Duration = Duration::from_secs(60);
 /// The pty's size: (rows, columns).
 const SIZE: (u16, u16) = (30, 100);
 
+/// A pty whose two sides are closed on exec, so that an explorer started by a test running
+/// at the same time cannot keep this one's terminal open (`openpty` leaves both inheritable).
+struct Pty {
+    master: OwnedFd,
+    slave: OwnedFd,
+}
+
+fn cloexec_pty(size: &Winsize) -> Pty {
+    use nix::fcntl::OFlag;
+    use nix::pty::{grantpt, posix_openpt, unlockpt};
+    use std::os::unix::fs::OpenOptionsExt;
+    let master = posix_openpt(OFlag::O_RDWR | OFlag::O_NOCTTY | OFlag::O_CLOEXEC).unwrap();
+    grantpt(&master).unwrap();
+    unlockpt(&master).unwrap();
+    let name = nix::pty::ptsname_r(&master).unwrap();
+    // The standard library opens with O_CLOEXEC.
+    let slave = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .custom_flags(nix::libc::O_NOCTTY)
+        .open(name)
+        .unwrap();
+    // SAFETY: TIOCSWINSZ reads one `winsize` from the pointer.
+    let set = unsafe { nix::libc::ioctl(slave.as_raw_fd(), nix::libc::TIOCSWINSZ, size) };
+    assert_eq!(set, 0, "set the window size");
+    // SAFETY: the master fd is open and owned by nothing else from here on.
+    let master = unsafe { OwnedFd::from_raw_fd(master.into_raw_fd()) };
+    Pty {
+        master,
+        slave: slave.into(),
+    }
+}
+
 struct Explorer {
     child: Child,
-    master: OwnedFd,
-    writer: std::fs::File,
+    master: Option<OwnedFd>,
+    writer: Option<std::fs::File>,
     output: Arc<Mutex<Vec<u8>>>,
+    stop: Arc<std::sync::atomic::AtomicBool>,
 }
 
 impl Explorer {
     /// Starts `beamfric` (the explorer on the default scene) on a 100×30 pty.
     fn start(env: &[(&str, &str)]) -> Explorer {
+        Explorer::start_with(&[], env)
+    }
+
+    /// Starts `beamfric ARGS` on a 100×30 pty.
+    fn start_with(args: &[&str], env: &[(&str, &str)]) -> Explorer {
         let size = Winsize {
             ws_row: SIZE.0,
             ws_col: SIZE.1,
             ws_xpixel: 0,
             ws_ypixel: 0,
         };
-        let pty = openpty(&size, None).expect("a pseudo-terminal");
+        let pty = cloexec_pty(&size);
         let before = tcgetattr(pty.slave.as_fd()).unwrap();
         assert!(
             before
@@ -56,6 +95,7 @@ impl Explorer {
         );
         let mut command = Command::new(env!("CARGO_BIN_EXE_beamfric"));
         command
+            .args(args)
             .stdin(Stdio::from(pty.slave.try_clone().unwrap()))
             .stdout(Stdio::from(pty.slave.try_clone().unwrap()))
             .stderr(Stdio::from(pty.slave.try_clone().unwrap()))
@@ -81,22 +121,33 @@ impl Explorer {
         let output = Arc::new(Mutex::new(Vec::new()));
         let mut reader = std::fs::File::from(pty.master.try_clone().unwrap());
         let sink = Arc::clone(&output);
+        let stop = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
         std::thread::spawn(move || {
+            use nix::poll::{PollFd, PollFlags, PollTimeout, poll};
             let mut buffer = [0u8; 4096];
-            // Ends with EIO once the child and every copy of the slave side are gone.
-            while let Ok(n) = reader.read(&mut buffer) {
-                if n == 0 {
-                    break;
+            // Ends with EIO once the child and every copy of the slave side are gone, or when
+            // told to (`hang_up`), which closes this copy of the master.
+            while !stopped.load(std::sync::atomic::Ordering::Relaxed) {
+                let mut fds = [PollFd::new(reader.as_fd(), PollFlags::POLLIN)];
+                match poll(&mut fds, PollTimeout::from(50u16)) {
+                    Ok(0) => continue,
+                    Ok(_) => {}
+                    Err(_) => break,
                 }
-                sink.lock().unwrap().extend_from_slice(&buffer[..n]);
+                match reader.read(&mut buffer) {
+                    Ok(0) | Err(_) => break,
+                    Ok(n) => sink.lock().unwrap().extend_from_slice(&buffer[..n]),
+                }
             }
         });
         let writer = std::fs::File::from(pty.master.try_clone().unwrap());
         Explorer {
             child,
-            master: pty.master,
-            writer,
+            master: Some(pty.master),
+            writer: Some(writer),
             output,
+            stop,
         }
     }
 
@@ -129,6 +180,16 @@ impl Explorer {
         parser.screen().contents()
     }
 
+    /// The alternate screen as it last was before the explorer left it.
+    fn last_frame(&self) -> String {
+        let output = self.output.lock().unwrap();
+        let text = String::from_utf8_lossy(&output).into_owned();
+        let end = text.rfind(LEAVE_ALTERNATE).unwrap_or(text.len());
+        let mut parser = vt100::Parser::new(SIZE.0, SIZE.1, 0);
+        parser.process(text[..end].as_bytes());
+        parser.screen().contents()
+    }
+
     /// Waits until the screen shows `needle`.
     fn wait_for_screen(&self, needle: &str) {
         let start = Instant::now();
@@ -143,8 +204,42 @@ impl Explorer {
     }
 
     fn type_bytes(&mut self, bytes: &[u8]) {
-        self.writer.write_all(bytes).unwrap();
-        self.writer.flush().unwrap();
+        let writer = self.writer.as_mut().expect("the terminal is open");
+        writer.write_all(bytes).unwrap();
+        writer.flush().unwrap();
+    }
+
+    /// Closes every copy of the pty's master side: the terminal is gone, as when a terminal
+    /// window or an SSH connection closes.
+    fn hang_up(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        self.writer = None;
+        self.master = None;
+        // The reader notices within its poll interval and drops its copy.
+        std::thread::sleep(Duration::from_millis(100));
+    }
+
+    /// Waits for the exit without looking at the terminal; returns the status and how long
+    /// it took from the call.
+    fn exit_status(&mut self) -> (ExitStatus, Duration) {
+        let start = Instant::now();
+        loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                return (status, start.elapsed());
+            }
+            if start.elapsed() > PATIENCE {
+                let _ = self.child.kill();
+                panic!("the explorer did not exit");
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    /// The pty's line discipline as the program left it.
+    fn local_flags(&self) -> LocalFlags {
+        tcgetattr(self.master.as_ref().expect("open").as_fd())
+            .unwrap()
+            .local_flags
     }
 
     fn signal(&self, signal: Signal) {
@@ -179,7 +274,7 @@ impl Explorer {
             text[left..].contains(SHOW_CURSOR),
             "cursor not shown again:\n{text:?}"
         );
-        let after = tcgetattr(self.master.as_fd()).unwrap();
+        let after = tcgetattr(self.master.as_ref().expect("open").as_fd()).unwrap();
         assert!(
             after
                 .local_flags
@@ -264,6 +359,153 @@ fn unsaved_changes_make_q_ask_and_esc_in_the_save_prompt_goes_back() {
     assert!(explorer.child.try_wait().unwrap().is_none(), "Esc quit");
     // Then quit for real: q, y.
     explorer.type_bytes(b"qy");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}
+
+// ---- Issue 11: never blocks, never orphans itself, quits at once. ----
+
+/// A scene whose `dual` solve takes seconds: 256 obstacles with thresholds spread over four
+/// decades on 1000 elements (5.5 s in a release build on the 2-core test machine).
+fn slow_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let mut text = String::from(
+        "title = \"256 obstacles\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\n\
+         section = { shape = \"rectangle\", width = 0.02, height = 0.02 }\n\
+         [load]\nf0 = 5e4\nf1 = -3e4\n",
+    );
+    let mut state = 7u64;
+    let mut uniform = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for i in 0..256 {
+        let x = (i + 1) as f64 / 257.0;
+        let sliding = 10f64.powf(4.0 * uniform());
+        let swivel = 10f64.powf(4.0 * uniform());
+        text.push_str(&format!(
+            "[[obstacle]]\nx = {x:?}\nsliding = {sliding:?}\nswivel = {swivel:?}\n"
+        ));
+    }
+    text.push_str(
+        "[mesh]\nelements = 1000\n[solver]\nmethod = \"dual\"\n[view]\npanels = [\"deflection\"]\n",
+    );
+    let path = dir.join("slow.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_closed_terminal_ends_the_explorer_within_a_second() {
+    let mut explorer = Explorer::start(&[]);
+    explorer.wait_for_screen("Parameters");
+    explorer.hang_up();
+    let (status, took) = explorer.exit_status();
+    assert!(took < Duration::from_secs(1), "took {took:?} to notice");
+    // Ended by its own hand (SIGHUP handled, or end of input), not killed.
+    assert_eq!(status.signal(), None, "{status:?}");
+    assert_eq!(status.code(), Some(129), "{status:?}");
+}
+
+#[test]
+fn a_paste_of_ten_thousand_keys_is_read_to_the_end() {
+    let mut explorer = Explorer::start(&[]);
+    explorer.wait_for_screen("Parameters");
+    // Selection moves, arrows and Tab (none changes the scene), then q: 10 000 bytes.
+    let mut keys = Vec::new();
+    while keys.len() < 9_990 {
+        keys.extend_from_slice(b"jk\x1b[A\x1b[B\t");
+    }
+    keys.truncate(9_990);
+    // End on whole keys.
+    while keys.last() == Some(&0x1b) || keys.ends_with(b"\x1b[") {
+        keys.pop();
+    }
+    keys.extend(std::iter::repeat_n(b'j', 9_999 - keys.len()));
+    keys.push(b'q');
+    assert_eq!(keys.len(), 10_000);
+    explorer.type_bytes(&keys);
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+}
+
+#[test]
+fn quitting_or_sigterm_during_a_long_solve_is_immediate() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = slow_scene(dir.path());
+    for (how, code) in [("q", 0), ("SIGTERM", 143)] {
+        let mut explorer = Explorer::start_with(&[scene.to_str().unwrap()], &[]);
+        explorer.wait_for_screen("solving n = 1000 with dual");
+        // The frame is up while the solve runs: the UI thread does not wait for it.
+        assert!(explorer.screen().contains("Parameters"));
+        if how == "q" {
+            explorer.type_bytes(b"q");
+        } else {
+            explorer.signal(Signal::SIGTERM);
+        }
+        let (status, took) = explorer.exit_status();
+        assert!(
+            took < Duration::from_millis(500),
+            "{how}: {took:?} to exit during a solve"
+        );
+        assert!(
+            explorer.last_frame().contains("solving"),
+            "{how}: the solve had finished"
+        );
+        let (status_again, _) = explorer.finish();
+        assert_eq!(status.code(), Some(code), "{how}: {status:?}");
+        assert_eq!(status_again.code(), Some(code));
+    }
+}
+
+#[test]
+fn ctrl_z_and_sigtstp_suspend_and_sigcont_resumes_with_a_redraw() {
+    use nix::sys::wait::{WaitPidFlag, WaitStatus, waitpid};
+    let mut explorer = Explorer::start(&[]);
+    explorer.wait_for_screen("Parameters");
+    let pid = Pid::from_raw(explorer.child.id() as i32);
+    for how in ["Ctrl-Z", "SIGTSTP"] {
+        let mark = explorer.output.lock().unwrap().len();
+        if how == "Ctrl-Z" {
+            explorer.type_bytes(b"\x1a");
+        } else {
+            explorer.signal(Signal::SIGTSTP);
+        }
+        match waitpid(pid, Some(WaitPidFlag::WUNTRACED)).unwrap() {
+            WaitStatus::Stopped(_, _) => {}
+            other => panic!("{how}: not stopped: {other:?}"),
+        }
+        // While stopped, the terminal is the shell's: line mode, normal screen.
+        std::thread::sleep(Duration::from_millis(100));
+        assert!(
+            explorer
+                .local_flags()
+                .contains(LocalFlags::ICANON | LocalFlags::ECHO),
+            "{how}: raw mode left on while stopped"
+        );
+        let since = String::from_utf8_lossy(&explorer.output.lock().unwrap()[mark..]).into_owned();
+        assert!(
+            since.contains(LEAVE_ALTERNATE),
+            "{how}: alternate screen left up"
+        );
+        explorer.signal(Signal::SIGCONT);
+        // Back: raw mode, the alternate screen, and a full frame.
+        let start = Instant::now();
+        loop {
+            let since =
+                String::from_utf8_lossy(&explorer.output.lock().unwrap()[mark..]).into_owned();
+            let back = since
+                .rfind(ENTER_ALTERNATE)
+                .is_some_and(|at| since[at..].contains("Parameters"));
+            if back && !explorer.local_flags().contains(LocalFlags::ICANON) {
+                break;
+            }
+            assert!(start.elapsed() < PATIENCE, "{how}: not resumed:\n{since:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+    explorer.type_bytes(b"q");
     let (status, _) = explorer.finish();
     assert_eq!(status.code(), Some(0));
 }

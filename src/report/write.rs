@@ -295,9 +295,12 @@ pub fn write(report: &Report, destination: &Destination) -> Result<Vec<String>, 
     if let Some(old) = leftover
         && let Err(e) = std::fs::remove_dir_all(&old)
     {
-        eprintln!(
-            "beamfric: the new report is in place, but the old one could not be removed from {}: {e}",
-            old.display()
+        let _ = std::io::Write::write_fmt(
+            &mut std::io::stderr(),
+            format_args!(
+                "beamfric: the new report is in place, but the old one could not be removed from {}: {e}\n",
+                old.display()
+            ),
         );
     }
     Ok(files

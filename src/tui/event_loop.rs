@@ -77,8 +77,15 @@ fn event_loop(
             solver.want(&request);
         }
         studies.request(app.pending_studies());
-        // Something happened (or this is the first frame): draw.
-        session.terminal.draw(|frame| view::draw(frame, app))?;
+        // Something happened (or this is the first frame): draw. A terminal that cannot be
+        // written to any more has gone away.
+        if session
+            .terminal
+            .draw(|frame| view::draw(frame, app))
+            .is_err()
+        {
+            return Ok(Ending::Hangup);
+        }
         if injected == "main" {
             panic!("injected panic ({INJECT_PANIC}=main)");
         }
@@ -126,7 +133,7 @@ fn event_loop(
                         }
                     }
                     signal_hook::consts::SIGTSTP => suspend(session, app)?,
-                    signal_hook::consts::SIGCONT => session.terminal.clear()?,
+                    signal_hook::consts::SIGCONT => session.redraw_all()?,
                     other => return Ok(Ending::Signal(other)),
                 },
                 Event::Solved(result) => match *result {

@@ -43,7 +43,10 @@ fn enter() -> io::Result<()> {
 
 /// The terminal in raw mode on the alternate screen; restored on drop.
 pub struct Session {
-    pub terminal: Terminal<CrosstermBackend<Stdout>>,
+    /// Never dropped: ratatui's `Drop` shows the cursor and, when that fails because the
+    /// terminal is gone, prints with `eprintln!` — which panics on a closed terminal.
+    /// [`restore`] shows the cursor instead, ignoring failures.
+    pub terminal: std::mem::ManuallyDrop<Terminal<CrosstermBackend<Stdout>>>,
 }
 
 impl Session {
@@ -52,7 +55,9 @@ impl Session {
         install_panic_hook();
         enter()?;
         match Terminal::new(CrosstermBackend::new(stdout())) {
-            Ok(terminal) => Ok(Session { terminal }),
+            Ok(terminal) => Ok(Session {
+                terminal: std::mem::ManuallyDrop::new(terminal),
+            }),
             Err(e) => {
                 restore();
                 Err(e)
@@ -67,7 +72,17 @@ impl Session {
         // SIGSTOP cannot be caught, so the stop happens even though SIGTSTP is handled.
         signal_hook::low_level::raise(signal_hook::consts::SIGSTOP)?;
         enter()?;
-        self.terminal.clear()
+        self.redraw_all()
+    }
+
+    /// Clears the screen and forgets what was drawn, so the next frame is drawn whole (after a
+    /// suspension, or when another program drew over the screen). Unlike ratatui's `clear`, it
+    /// does not ask the terminal for the cursor position: the answer would arrive on the input
+    /// the explorer reads itself.
+    pub fn redraw_all(&mut self) -> io::Result<()> {
+        let size = self.terminal.size()?;
+        self.terminal
+            .resize(ratatui::layout::Rect::new(0, 0, size.width, size.height))
     }
 }
 
