@@ -186,7 +186,7 @@ impl Explorer {
         let text = String::from_utf8_lossy(&output).into_owned();
         let end = text.rfind(LEAVE_ALTERNATE).unwrap_or(text.len());
         let mut parser = vt100::Parser::new(SIZE.0, SIZE.1, 0);
-        parser.process(text[..end].as_bytes());
+        parser.process(&text.as_bytes()[..end]);
         parser.screen().contents()
     }
 
