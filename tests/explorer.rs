@@ -452,3 +452,31 @@ fn a_failed_save_says_why_and_loses_nothing() {
     assert_eq!(entries.len(), 1, "a temporary file was left behind");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
+    let mut app = app("benchmark-1");
+    press(
+        &mut app,
+        "Down Down Down Down Down Down Down Down Down Enter 2000 Enter",
+    );
+    assert_eq!(app.scene.mesh.elements, 2000);
+    for _ in 0..3 {
+        press(&mut app, "m");
+    }
+    assert_eq!(app.scene.solver.method, Method::RegularizedNewton);
+    press(&mut app, "m");
+    // dual-inverse (about 0.4 s here… and growing like N³) is not entered silently.
+    assert_eq!(app.scene.solver.method, Method::ClosedForm);
+    let message = app.message.clone().unwrap();
+    assert!(
+        message.starts_with("skipped dual-inverse: about"),
+        "{message}"
+    );
+    // At n = 20 it is quick and is entered.
+    let mut app = self::app("benchmark-1");
+    for _ in 0..4 {
+        press(&mut app, "m");
+    }
+    assert_eq!(app.scene.solver.method, Method::DualInverse);
+}

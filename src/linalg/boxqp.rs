@@ -44,6 +44,12 @@ pub struct QpResult {
 
 /// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i. `h` is row-major n×n SPD, `g` ≥ 0.
 pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
+    solve_box_qp_until(h, z, g, &|| false)
+}
+
+/// [`solve_box_qp`] that gives up (unconverged) as soon as `stop` says so, checked once per
+/// iteration: the explorer cancels a solve whose result is no longer wanted.
+pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: &dyn Fn() -> bool) -> QpResult {
     let n = z.len();
     if n == 0 {
         return QpResult {
@@ -67,9 +73,9 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
         };
     }
     let mut finished = if n <= ACTIVE_SET_LIMIT {
-        active_set(&hs, &zs, &gs, vec![0.0; n])
-    } else if let Some((start, steps)) = projected_newton(&hs, &zs, &gs)
-        && let certified = active_set(&hs, &zs, &gs, start)
+        active_set(&hs, &zs, &gs, vec![0.0; n], stop)
+    } else if let Some((start, steps)) = projected_newton(&hs, &zs, &gs, stop)
+        && let certified = active_set(&hs, &zs, &gs, start, stop)
         && certified.converged
     {
         QpResult {
@@ -78,8 +84,8 @@ pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
         }
     } else {
         // MPRGP finds the active set; the active-set method finishes exactly from there.
-        let (start, steps) = mprgp(&hs, &zs, &gs);
-        let mut polished = active_set(&hs, &zs, &gs, start);
+        let (start, steps) = mprgp(&hs, &zs, &gs, stop);
+        let mut polished = active_set(&hs, &zs, &gs, start, stop);
         polished.iterations += steps;
         polished
     };
@@ -118,12 +124,26 @@ fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
 /// The primal active-set method from `start`: minimise on the face of the current free
 /// variables, stop at the first bound in the way, and release the bound with the worst
 /// multiplier once at the face's minimiser.
-fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>) -> QpResult {
+fn active_set(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    start: Vec<f64>,
+    stop: &dyn Fn() -> bool,
+) -> QpResult {
     let n = z.len();
     let mut x = start;
     let mut state = clamp_to_box(g, &mut x);
     let max_iterations = 20 * n + 50;
     for iteration in 1..=max_iterations {
+        if stop() {
+            return QpResult {
+                x,
+                state,
+                iterations: iteration,
+                converged: false,
+            };
+        }
         let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
         if !free.is_empty() {
             let Some(minimiser) = face_minimiser(h, z, &x, &state, &free) else {
@@ -284,7 +304,12 @@ const PROJECTED_NEWTON_MAX_STEPS: usize = 200;
 /// Cholesky solves where the primal active-set method needs one solve per bound. Returns the
 /// iterate at the first step that reached the minimiser of its face (the caller certifies it),
 /// with the number of steps, or `None` on a singular block or after too many steps.
-fn projected_newton(h: &[f64], z: &[f64], g: &[f64]) -> Option<(Vec<f64>, usize)> {
+fn projected_newton(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    stop: &dyn Fn() -> bool,
+) -> Option<(Vec<f64>, usize)> {
     let n = z.len();
     let objective = |x: &[f64]| -> f64 {
         let hx: f64 = (0..n)
@@ -302,6 +327,9 @@ fn projected_newton(h: &[f64], z: &[f64], g: &[f64]) -> Option<(Vec<f64>, usize)
     let mut x = vec![0.0; n];
     let mut value = objective(&x);
     for step in 1..=PROJECTED_NEWTON_MAX_STEPS {
+        if stop() {
+            return None;
+        }
         let grad = gradient(h, z, &x);
         // ‖x − P(x − ∇f)‖, the size of the projected gradient, sets the ε of "near a bound".
         let projected_gradient = (0..n)

@@ -5,7 +5,7 @@
 
 use super::closed_form::closed_form;
 use super::flexibility;
-use super::options::{ConditionLevel, SolveOptions};
+use super::options::{Cancellation, ConditionLevel, SolveOptions};
 use super::shared::MethodOutput;
 use super::solution::{
     Conditioning, ErrorReport, ObstacleResult, Reference, Solution, Warning, WarningCode,
@@ -84,7 +84,7 @@ fn judge_solution(problem: &Problem, mesh: &Mesh, options: &SolveOptions, soluti
         );
     }
     if options.reference {
-        solution.error = reference_error(problem, mesh, solution);
+        solution.error = reference_error(problem, mesh, solution, options.cancel);
         if let Some(w) = accuracy_warning(solution) {
             solution.warnings.push(w);
         }
@@ -320,19 +320,34 @@ fn accuracy_warning(solution: &Solution) -> Option<Warning> {
 /// The reference nodal field for `problem` on `mesh`: the closed form where it applies, else
 /// the flexibility method. `None` only if the flexibility method itself fails.
 pub fn reference_field(problem: &Problem, mesh: &Mesh) -> Option<(Reference, NodalField)> {
+    reference_field_until(problem, mesh, Cancellation::NEVER)
+}
+
+/// [`reference_field`] that gives up (`None`) when `cancel` says the solve is not wanted.
+pub(crate) fn reference_field_until(
+    problem: &Problem,
+    mesh: &Mesh,
+    cancel: Cancellation,
+) -> Option<(Reference, NodalField)> {
     if let Ok(exact) = closed_form(problem) {
         return Some((Reference::ClosedForm, exact.nodal_field(mesh)));
     }
     let options = SolveOptions {
         condition: ConditionLevel::Off,
         reference: false,
+        cancel,
         ..SolveOptions::default()
     };
     let output = flexibility::solve(problem, mesh, &options).ok()?;
     Some((Reference::Flexibility, output.field))
 }
 
-fn reference_error(problem: &Problem, mesh: &Mesh, solution: &Solution) -> Option<ErrorReport> {
+fn reference_error(
+    problem: &Problem,
+    mesh: &Mesh,
+    solution: &Solution,
+    cancel: Cancellation,
+) -> Option<ErrorReport> {
     let closed_form_applies = closed_form(problem).is_ok();
     let is_reference = match solution.method {
         Method::ClosedForm => true,
@@ -349,7 +364,7 @@ fn reference_error(problem: &Problem, mesh: &Mesh, solution: &Solution) -> Optio
             slope_max_rel: None,
         });
     }
-    let (reference, field) = reference_field(problem, mesh)?;
+    let (reference, field) = reference_field_until(problem, mesh, cancel)?;
     Some(compare(reference, &solution.field, &field))
 }
 

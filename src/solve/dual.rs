@@ -5,11 +5,11 @@
 //! O(n) work and memory.
 
 use super::options::SolveOptions;
-use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, Timing};
 use super::stiffness_route::{condense, indefinite_warning};
 use crate::fem::Mesh;
-use crate::linalg::boxqp::solve_box_qp;
+use crate::linalg::boxqp::solve_box_qp_until;
 use crate::linalg::dense::mat_vec;
 use crate::model::{Method, Problem};
 
@@ -26,7 +26,8 @@ pub(super) fn solve(
     timing.factorization += clock.lap();
 
     let g = problem.thresholds();
-    let qp = solve_box_qp(&s, &z0, &g);
+    let qp = solve_box_qp_until(&s, &z0, &g, &|| options.cancel.is_cancelled());
+    check_cancel(options, Method::Dual)?;
     let lambda = &qp.x;
     timing.dual_solve = clock.lap();
 

@@ -8,12 +8,12 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat, Side};
 
 use super::options::SolveOptions;
-use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, SolveErrorKind, Timing};
 use super::stiffness_route::breakdown;
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
 use crate::linalg::BlockMatrix;
-use crate::linalg::boxqp::solve_box_qp;
+use crate::linalg::boxqp::solve_box_qp_until;
 use crate::model::{Method, Problem};
 
 pub(super) fn solve(
@@ -91,7 +91,10 @@ pub(super) fn solve(
         .map(|ij| inverse[(dofs[ij / dim], dofs[ij % dim])])
         .collect();
     let z0: Vec<f64> = dofs.iter().map(|&d| inverse_b[d]).collect();
-    let qp = solve_box_qp(&s, &z0, &problem.thresholds());
+    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &|| {
+        options.cancel.is_cancelled()
+    });
+    check_cancel(options, Method::DualInverse)?;
     let lambda = qp.x.clone();
     timing.dual_solve = clock.lap();
 

@@ -15,10 +15,11 @@
 //! nodal values are the discrete solution of (38) itself, for any mesh.
 
 use super::options::SolveOptions;
-use super::shared::{MethodOutput, Stopwatch, dual_output};
+use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, Timing};
 use crate::fem::{Mesh, NodalField};
-use crate::linalg::boxqp::solve_box_qp;
+use crate::linalg::boxqp::solve_box_qp_until;
+use crate::model::Method;
 use crate::model::Problem;
 
 /// (u, u', m, m') at a point.
@@ -57,6 +58,7 @@ pub(super) fn solve(
     // (u, u') of every column at every obstacle: values[c * dim + q].
     let mut values = vec![0.0; columns * dim];
     for piece in &mesh.pieces {
+        check_cancel(options, Method::Flexibility)?;
         if let Some(j) = obstacle_at(piece.first_node) {
             for (c, s) in states.iter().enumerate() {
                 values[c * dim + 2 * j] = s[0];
@@ -104,7 +106,10 @@ pub(super) fn solve(
     }
     timing.factorization = clock.lap();
 
-    let qp = solve_box_qp(&s, &z0, &problem.thresholds());
+    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &|| {
+        options.cancel.is_cancelled()
+    });
+    check_cancel(options, Method::Flexibility)?;
     let lambda = qp.x.clone();
     timing.dual_solve = clock.lap();
 

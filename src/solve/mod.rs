@@ -24,7 +24,7 @@ use crate::model::Problem;
 pub use crate::model::Method;
 pub use certificate::{compare, reference_field};
 pub use closed_form::{ClosedForm, closed_form};
-pub use options::{ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
+pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
     Conditioning, ErrorReport, MethodDetails, ObstacleResult, Reference, Solution, SolveError,
     SolveErrorKind, Timing, Warning, WarningCode,
@@ -38,6 +38,7 @@ pub fn solve(
     method: Method,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
+    shared::check_cancel(options, method)?;
     let output = match method {
         Method::Regularized => regularized::solve(problem, mesh, options)?,
         Method::RegularizedNewton => regularized_newton::solve(problem, mesh, options)?,
@@ -46,5 +47,9 @@ pub fn solve(
         Method::Flexibility => flexibility::solve(problem, mesh, options)?,
         Method::ClosedForm => closed_form::solve(problem, mesh)?,
     };
-    Ok(certificate::certify(problem, mesh, method, options, output))
+    shared::check_cancel(options, method)?;
+    let solution = certificate::certify(problem, mesh, method, options, output);
+    // The certificate's own reference solve may have been cut short.
+    shared::check_cancel(options, method)?;
+    Ok(solution)
 }

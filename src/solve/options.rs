@@ -56,6 +56,45 @@ pub struct SolveOptions {
     pub condition: ConditionLevel,
     /// Compare against a reference (closed form or flexibility) and report the error.
     pub reference: bool,
+    /// Stops a solve whose result is no longer wanted, from inside its long loops.
+    pub cancel: Cancellation,
+}
+
+/// Whether a solve is still wanted: the explorer's solver sets a generation counter when a
+/// newer request arrives, and the methods look at it inside their long loops (QP iterations,
+/// the enumeration, Newton steps, per-piece sweeps) and give up with
+/// [`super::SolveErrorKind::Cancelled`]. It never changes a result that is computed to the
+/// end, so two options that differ only here compare equal.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Cancellation {
+    /// (the newest generation, this solve's generation)
+    watch: Option<(&'static std::sync::atomic::AtomicU64, u64)>,
+}
+
+impl Cancellation {
+    /// Never cancelled.
+    pub const NEVER: Cancellation = Cancellation { watch: None };
+
+    /// Cancelled as soon as `newest` no longer holds `generation`.
+    pub fn watching(newest: &'static std::sync::atomic::AtomicU64, generation: u64) -> Self {
+        Cancellation {
+            watch: Some((newest, generation)),
+        }
+    }
+
+    /// Has a newer request made this solve pointless?
+    pub fn is_cancelled(&self) -> bool {
+        self.watch.is_some_and(|(newest, generation)| {
+            newest.load(std::sync::atomic::Ordering::Relaxed) != generation
+        })
+    }
+}
+
+/// Equal always: cancellation is not an input of the result.
+impl PartialEq for Cancellation {
+    fn eq(&self, _: &Cancellation) -> bool {
+        true
+    }
 }
 
 /// Default limit of the enumeration: 9^6 = 531 441 cases (k ≤ 6 obstacles).
@@ -71,6 +110,7 @@ impl Default for SolveOptions {
             max_dense_unknowns: MAX_DENSE_UNKNOWNS,
             condition: ConditionLevel::Auto,
             reference: true,
+            cancel: Cancellation::NEVER,
         }
     }
 }

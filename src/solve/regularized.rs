@@ -9,6 +9,7 @@
 //! The enumeration refuses when 9^k exceeds [`SolveOptions::max_cases`].
 
 use super::options::SolveOptions;
+use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
 use super::stiffness_route::{condense, indefinite_warning};
@@ -125,6 +126,9 @@ pub(super) fn solve(
     let mut best: Option<(f64, Vec<Region>, Vec<f64>)> = None;
     let mut regions = vec![Region::Middle; dim];
     for case in 0..cases {
+        if case % 4096 == 0 {
+            check_cancel(options, Method::Regularized)?;
+        }
         let mut code = case;
         for r in regions.iter_mut() {
             *r = Region::from_digit(code % 3);

@@ -9,6 +9,7 @@
 
 use super::options::SolveOptions;
 use super::regularized::{Region, middle_additions, regularized_output};
+use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, Timing, Warning, WarningCode};
 use super::stiffness_route::{condense, indefinite_warning};
@@ -106,6 +107,7 @@ pub(super) fn solve(
     let mut iterations = 0;
     let mut converged = dim == 0;
     while !converged && iterations < MAX_ITERATIONS {
+        check_cancel(options, Method::RegularizedNewton)?;
         iterations += 1;
         let grad = gradient(&c);
         let mut matrix = k.clone();

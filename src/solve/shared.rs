@@ -29,6 +29,28 @@ pub(crate) struct MethodOutput {
 
 /// Is a friction DOF moving? Its value must stand out of rounding noise: more than
 /// `1e-10` times the largest nodal value of its kind.
+/// The error of a solve stopped by its [`super::options::Cancellation`].
+pub(crate) fn cancelled(method: crate::model::Method) -> super::solution::SolveError {
+    super::solution::SolveError {
+        method,
+        kind: super::solution::SolveErrorKind::Cancelled,
+        reason: "a newer request replaced it".into(),
+        suggestion: method,
+    }
+}
+
+/// Stops with [`cancelled`] when the solve is no longer wanted.
+pub(crate) fn check_cancel(
+    options: &SolveOptions,
+    method: crate::model::Method,
+) -> Result<(), super::solution::SolveError> {
+    if options.cancel.is_cancelled() {
+        Err(cancelled(method))
+    } else {
+        Ok(())
+    }
+}
+
 pub(crate) fn is_moving(value: f64, largest_of_kind: f64) -> bool {
     value.abs() > 1e-10 * largest_of_kind
 }

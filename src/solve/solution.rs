@@ -31,6 +31,8 @@ pub enum SolveErrorKind {
     NotApplicable,
     /// The computation broke down (a factorization failed in floating point).
     Breakdown,
+    /// A newer request made the solve pointless; it stopped part-way (never shown).
+    Cancelled,
 }
 
 impl SolveErrorKind {
@@ -40,6 +42,7 @@ impl SolveErrorKind {
             SolveErrorKind::Refused => "refused",
             SolveErrorKind::NotApplicable => "not-applicable",
             SolveErrorKind::Breakdown => "breakdown",
+            SolveErrorKind::Cancelled => "cancelled",
         }
     }
 
@@ -49,6 +52,7 @@ impl SolveErrorKind {
             SolveErrorKind::Refused => "refused",
             SolveErrorKind::NotApplicable => "not applicable",
             SolveErrorKind::Breakdown => "broke down",
+            SolveErrorKind::Cancelled => "cancelled",
         }
     }
 }

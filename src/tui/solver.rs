@@ -3,11 +3,12 @@
 //! the final value), and hands back the mesh and solution tagged with what they were computed
 //! for. The app keeps a result only if it is still the one wanted.
 
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use crate::fem::Mesh;
-use crate::solve::solve;
+use crate::solve::{Cancellation, SolveErrorKind, solve};
 
 use super::app::{Shown, SolveRequest};
 
@@ -22,16 +23,19 @@ pub fn run_solve(request: &SolveRequest) -> Shown {
     }
 }
 
-/// The newest request, and whether the worker should stop.
+/// The newest request (with its generation), and whether the worker should stop.
 #[derive(Default)]
 struct Slot {
-    request: Option<SolveRequest>,
+    request: Option<(u64, SolveRequest)>,
     closed: bool,
 }
 
 /// A background solver: `want` a request, receive its result through the callback.
 pub struct SolveWorker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
+    /// The newest generation: a solve of an older one stops inside its loops. Leaked (eight
+    /// bytes per worker) so that a `Cancellation` can hold it by `'static` reference.
+    newest: &'static AtomicU64,
     /// The last request handed over, so the same one is not solved twice.
     last: Option<SolveRequest>,
     _thread: JoinHandle<()>,
@@ -42,6 +46,7 @@ impl SolveWorker {
     pub fn start(deliver: impl Fn(Result<Shown, String>) + Send + 'static) -> SolveWorker {
         let slot: Arc<(Mutex<Slot>, Condvar)> = Arc::default();
         let shared = Arc::clone(&slot);
+        let newest: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
         let thread = std::thread::Builder::new()
             .name("solver".into())
             .spawn(move || {
@@ -57,7 +62,10 @@ impl SolveWorker {
                         }
                         slot.request.take()
                     };
-                    let Some(request) = request else { continue };
+                    let Some((generation, mut request)) = request else {
+                        continue;
+                    };
+                    request.options.cancel = Cancellation::watching(newest, generation);
                     // A panic in a method must not take the explorer down.
                     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                         run_solve(&request)
@@ -70,12 +78,19 @@ impl SolveWorker {
                             .unwrap_or_else(|| "unknown".into());
                         format!("internal error in the solver ({message})")
                     });
-                    deliver(outcome);
+                    let cancelled = matches!(
+                        &outcome,
+                        Ok(Shown { solution: Err(e), .. }) if e.kind == SolveErrorKind::Cancelled
+                    );
+                    if !cancelled {
+                        deliver(outcome);
+                    }
                 }
             })
             .expect("a thread can be started");
         SolveWorker {
             slot,
+            newest,
             last: None,
             _thread: thread,
         }
@@ -88,8 +103,11 @@ impl SolveWorker {
             return;
         }
         self.last = Some(request.clone());
+        // Whatever runs now is outdated: it stops inside its loops.
+        let generation = self.newest.fetch_add(1, Ordering::Relaxed) + 1;
         let (lock, ready) = &*self.slot;
-        lock.lock().unwrap_or_else(|e| e.into_inner()).request = Some(request.clone());
+        lock.lock().unwrap_or_else(|e| e.into_inner()).request =
+            Some((generation, request.clone()));
         ready.notify_one();
     }
 }
@@ -97,6 +115,7 @@ impl SolveWorker {
 impl Drop for SolveWorker {
     fn drop(&mut self) {
         // Never waits for a solve in progress: quitting is immediate.
+        self.newest.fetch_add(1, Ordering::Relaxed);
         let (lock, ready) = &*self.slot;
         lock.lock().unwrap_or_else(|e| e.into_inner()).closed = true;
         ready.notify_one();

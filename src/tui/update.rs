@@ -3,6 +3,7 @@
 //! leaves the state as it was and says why.
 
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
+use crate::solve::Method;
 
 use super::app::{App, Diagram, Discard, Mode, SavePolicy, UNDO_LIMIT};
 use super::keymap::{Action, Key};
@@ -167,10 +168,7 @@ fn normal(app: &mut App, action: Action) {
         }
         Action::AddObstacle => add_obstacle(app),
         Action::DeleteObstacle => delete_obstacle(app),
-        Action::NextMethod => {
-            let next = step(&app.scene, Row::Method, 1, false);
-            try_apply(app, next);
-        }
+        Action::NextMethod => next_method(app),
         Action::PickPreset => {
             let index = PRESETS
                 .iter()
@@ -222,6 +220,46 @@ fn normal(app: &mut App, action: Action) {
         Action::Interrupt | Action::Resize(..) | Action::Suspend => {
             unreachable!("handled before the mode")
         }
+    }
+}
+
+/// `dual-inverse` at its limit (N = 3998 unknowns) takes about 3 s (criterion, release), and
+/// its cost grows like N³.
+const DUAL_INVERSE_SECONDS_AT_LIMIT: (f64, f64) = (3.0, 3998.0);
+/// Cycling `m` does not enter a method expected to take longer than this; typing its name in
+/// the method row still runs it.
+const QUICK_SECONDS: f64 = 1.0;
+
+/// Expected run time of `method` on the current mesh, where it is known to be slow.
+fn expected_seconds(app: &App, method: Method) -> Option<f64> {
+    let unknowns = 2.0 * app.wanted.elements.saturating_sub(1) as f64;
+    match method {
+        Method::DualInverse => {
+            let (seconds, at) = DUAL_INVERSE_SECONDS_AT_LIMIT;
+            Some(seconds * (unknowns / at).powi(3))
+        }
+        _ => None,
+    }
+}
+
+/// The next method in the cycle, skipping (with a note) one expected to take long here.
+fn next_method(app: &mut App) {
+    let mut candidate = step(&app.scene, Row::Method, 1, false);
+    let mut skipped = None;
+    if let Some(seconds) = expected_seconds(app, candidate.solver.method)
+        && seconds > QUICK_SECONDS
+    {
+        skipped = Some((candidate.solver.method, seconds));
+        candidate = step(&candidate, Row::Method, 1, false);
+    }
+    if try_apply(app, candidate)
+        && let Some((method, seconds)) = skipped
+    {
+        app.message = Some(format!(
+            "skipped {method}: about {seconds:.0} s at n = {} (type it in the method row to \
+             run it anyway)",
+            app.wanted.elements
+        ));
     }
 }
 

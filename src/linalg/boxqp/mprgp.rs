@@ -5,7 +5,7 @@
 use super::gradient;
 
 /// MPRGP on the scaled problem; returns the iterate and the number of steps.
-pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
+pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64], stop: &dyn Fn() -> bool) -> (Vec<f64>, usize) {
     let n = z.len();
     let problem = Mprgp::new(h, g);
     let x = vec![0.0; n];
@@ -20,6 +20,9 @@ pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64]) -> (Vec<f64>, usize) {
     let tolerance = 1e-13 * dot(z, z).sqrt().max(f64::MIN_POSITIVE);
     let max_steps = 50 * n + 200;
     for step in 1..=max_steps {
+        if stop() {
+            return (it.x, step);
+        }
         let beta = problem.chopped_gradient(&it.x, &it.gr);
         let projected: f64 = it.phi.iter().zip(&beta).map(|(a, b)| (a + b).powi(2)).sum();
         if projected.sqrt() <= tolerance {
