@@ -49,6 +49,7 @@ fn keystroke(c: &mut Criterion) {
                 };
                 up = !up;
                 update(&mut app, action);
+                app.settle();
                 terminal.draw(|frame| view::draw(frame, &app)).unwrap();
             })
         });

@@ -67,6 +67,9 @@ pub struct Shown {
     pub request: SolveRequest,
     pub mesh: Mesh,
     pub solution: Result<Solution, SolveError>,
+    /// max |u| over the nodes, found once on the worker (an O(n) scan has no place in a
+    /// frame: 10⁷ nodes take milliseconds).
+    pub max_deflection: f64,
 }
 
 /// Most undo steps kept.

@@ -16,10 +16,12 @@ use super::app::{Shown, SolveRequest};
 pub fn run_solve(request: &SolveRequest) -> Shown {
     let mesh = Mesh::new(&request.problem, request.elements);
     let solution = solve(&request.problem, &mesh, request.method, &request.options);
+    let max_deflection = solution.as_ref().map_or(f64::NAN, |s| s.max_deflection());
     Shown {
         request: request.clone(),
         mesh,
         solution,
+        max_deflection,
     }
 }
 

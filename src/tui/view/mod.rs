@@ -143,7 +143,7 @@ fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let block = theme.block(" Results ", false);
     let inner = block.inner(area);
     frame.render_widget(block, area);
-    let Some(Ok(solution)) = app.solution() else {
+    let (Some(Ok(solution)), Some(shown)) = (app.solution(), &app.shown) else {
         let text = if app.shown.is_none() {
             "solving…"
         } else {
@@ -155,7 +155,7 @@ fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let eng = crate::format::eng;
     let mut lines = vec![Line::from(format!(
         "max |u| {} m",
-        eng(solution.max_deflection())
+        eng(shown.max_deflection)
     ))];
     for (i, o) in solution.obstacles.iter().enumerate() {
         lines.push(Line::from(format!(

@@ -1,0 +1,107 @@
+//! The explorer's UI thread per key, as the interactive event loop runs it (issue 11): apply
+//! the key (no solve: that is the worker's) and draw the next frame, with the previous result
+//! on screen at n up to 10⁷ for every method. Prints the longest and the median stall per
+//! (n, method), then the time from a key to the frame with its solution at n = 10⁶
+//! (flexibility), through the real solver worker. A measured harness, not a test:
+//! `cargo bench --bench ui_stall` (release build).
+
+use std::sync::mpsc::channel;
+use std::time::{Duration, Instant};
+
+use beamfric::plot::Look;
+use beamfric::scene::{LoadedScene, Scene, SceneSource, preset};
+use beamfric::solve::Method;
+use beamfric::tui::app::App;
+use beamfric::tui::keymap::Action;
+use beamfric::tui::solver::SolveWorker;
+use beamfric::tui::update::update;
+use beamfric::tui::view;
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+const KEYS: usize = 40;
+
+fn app(elements: usize, method: Method) -> App {
+    let mut scene = Scene::from_toml(preset("benchmark-1").unwrap().text, "b1").unwrap();
+    scene.mesh.elements = elements;
+    scene.solver.method = method;
+    let look = Look {
+        ascii: false,
+        color: true,
+    };
+    let loaded = LoadedScene::new(scene, SceneSource::Preset("benchmark-1")).unwrap();
+    App::new(loaded, look, true).unwrap()
+}
+
+/// The load f0 one fine step up, then down: a change of the scene every key.
+fn key(i: usize) -> Action {
+    if i % 2 == 0 {
+        Action::Increase { coarse: false }
+    } else {
+        Action::Decrease { coarse: false }
+    }
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; any other argument filters nothing here.
+    let sizes = [20, 10_000, 1_000_000, 10_000_000];
+    println!("n\tmethod\tlongest stall\tmedian\t(UI thread: key applied, frame drawn, 120x40)");
+    let mut worst = Duration::ZERO;
+    for &n in &sizes {
+        for method in Method::ALL {
+            let mut app = app(n, method);
+            update(&mut app, Action::Resize(120, 40));
+            // The result of the state before is on screen, as after any earlier key.
+            app.settle();
+            let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+            terminal.draw(|frame| view::draw(frame, &app)).unwrap();
+            let mut stalls: Vec<Duration> = (0..KEYS)
+                .map(|i| {
+                    let start = Instant::now();
+                    update(&mut app, key(i));
+                    terminal.draw(|frame| view::draw(frame, &app)).unwrap();
+                    start.elapsed()
+                })
+                .collect();
+            stalls.sort();
+            let longest = *stalls.last().unwrap();
+            worst = worst.max(longest);
+            println!(
+                "{n}\t{method}\t{:.3} ms\t{:.3} ms",
+                longest.as_secs_f64() * 1e3,
+                stalls[KEYS / 2].as_secs_f64() * 1e3
+            );
+        }
+    }
+    println!(
+        "longest stall over every n and method: {:.3} ms",
+        worst.as_secs_f64() * 1e3
+    );
+
+    // A key at n = 10⁶ (flexibility) until the frame with its solution is drawn.
+    let mut app = app(1_000_000, Method::Flexibility);
+    update(&mut app, Action::Resize(120, 40));
+    app.settle();
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    let (sender, results) = channel();
+    let mut worker = SolveWorker::start(move |result| {
+        let _ = sender.send(result);
+    });
+    let mut times = Vec::new();
+    for i in 0..10 {
+        let start = Instant::now();
+        update(&mut app, key(i));
+        worker.want(&app.wanted.clone());
+        terminal.draw(|frame| view::draw(frame, &app)).unwrap();
+        let shown = results.recv().unwrap().unwrap();
+        assert!(app.accept_solution(shown));
+        terminal.draw(|frame| view::draw(frame, &app)).unwrap();
+        times.push(start.elapsed());
+    }
+    times.sort();
+    println!(
+        "key to solved frame, n = 10^6, flexibility: median {:.1} ms, longest {:.1} ms",
+        times[5].as_secs_f64() * 1e3,
+        times[9].as_secs_f64() * 1e3
+    );
+}
