@@ -35,7 +35,7 @@ fn app(elements: usize, method: Method) -> App {
 
 /// The load f0 one fine step up, then down: a change of the scene every key.
 fn key(i: usize) -> Action {
-    if i % 2 == 0 {
+    if i.is_multiple_of(2) {
         Action::Increase { coarse: false }
     } else {
         Action::Decrease { coarse: false }
