@@ -480,3 +480,48 @@ fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
     }
     assert_eq!(app.scene.solver.method, Method::DualInverse);
 }
+
+#[test]
+fn a_chart_keeps_its_data_marked_as_updating_until_the_new_data_arrives() {
+    let mut app = app("lesson-epsilon");
+    for request in app.pending_studies() {
+        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
+    }
+    assert!(matches!(
+        app.study_state(Panel::EpsError),
+        StudyState::Ready(_)
+    ));
+    // A change of the load: the sweep is outdated, its old points stay (marked).
+    press(&mut app, "Right");
+    assert!(matches!(
+        app.study_state(Panel::EpsError),
+        StudyState::Pending(Some(_))
+    ));
+    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50).unwrap(), false);
+    assert!(frame.contains("updating…"), "{frame}");
+    assert!(!frame.contains("computing the ε sweep"), "{frame}");
+    // The new data replaces it.
+    for request in app.pending_studies() {
+        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
+    }
+    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50).unwrap(), false);
+    assert!(!frame.contains("updating…"), "{frame}");
+}
+
+#[test]
+fn only_the_visible_panel_is_computed_at_80x24() {
+    let mut app = app("benchmark-1");
+    beamfric::tui::update::update(&mut app, beamfric::tui::keymap::Action::Resize(80, 24));
+    // One panel at a time: the deflection, which needs no study.
+    assert!(app.pending_studies().is_empty());
+    press(&mut app, "Tab");
+    let pending = app.pending_studies();
+    assert_eq!(
+        pending.len(),
+        1,
+        "only the ε sweep behind the focused panel"
+    );
+    // Hiding it again cancels the need.
+    press(&mut app, "Tab Tab Tab");
+    assert!(app.pending_studies().is_empty());
+}
