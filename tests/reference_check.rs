@@ -99,7 +99,7 @@ fn benchmark_1_matches_the_closed_form_to_25_digits_on_any_mesh() {
             "n = {elements}"
         );
     }
-    // max u on 20 elements is at x = 0.4 (DESIGN.md).
+    // max u on 20 elements is at x = 0.4 (docs/design.md, section 2).
     let r = solve_reference(&problem, 20);
     let u = r.u_f64();
     assert!((u[8] - 0.021_455_456_171_7).abs() < 1e-13);
@@ -108,7 +108,7 @@ fn benchmark_1_matches_the_closed_form_to_25_digits_on_any_mesh() {
 
 #[test]
 fn nodal_values_do_not_depend_on_the_mesh() {
-    // Fact 1 of DESIGN.md: the FEM solution is exact at every node, so two meshes that share a
+    // Fact 1 of docs/design.md: the FEM solution is exact at every node, so two meshes that share a
     // node position (as the same f64) give the same values there, although their matrices
     // differ. This checks the assembly away from the obstacles.
     for name in ["benchmark-3", "eight-obstacles"] {

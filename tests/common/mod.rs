@@ -43,7 +43,7 @@ pub fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
     if scale == 0.0 { diff } else { diff / scale }
 }
 
-/// The reference values of `../shared/reference-values`, copied into `tests/data`: nodal x, u,
+/// The reference values in `tests/data` (docs/design.md, section 6): nodal x, u,
 /// slope and the (force, moment) pairs.
 pub struct ReferenceValues {
     pub x: Vec<f64>,
