@@ -256,7 +256,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
         settings.elements,
         args.method,
         &epsilons,
-        &|| false,
+        crate::solve::Cancellation::NEVER,
         &|done, total, what| progress.report(done, total, what),
     );
     progress.finish();
@@ -305,7 +305,7 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
         &sizes,
         args.repeat,
         settings.epsilon,
-        &|| false,
+        crate::solve::Cancellation::NEVER,
         &|done, total, what| progress.report(done, total, what),
     )
     .expect("never cancelled");

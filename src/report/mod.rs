@@ -90,7 +90,7 @@ pub fn build(
     progress: Progress,
 ) -> Result<Report, String> {
     let (problem, settings) = (&loaded.problem, &loaded.settings);
-    let never = &|| false;
+    let never = crate::solve::Cancellation::NEVER;
     let mesh_points = study::mesh_sweep(
         problem,
         &Method::ALL,

@@ -66,17 +66,19 @@ pub fn epsilon_sweep(
     };
     let mut points = Vec::with_capacity(epsilons.len());
     for (i, &epsilon) in epsilons.iter().enumerate() {
-        if cancel() {
+        if cancel.is_cancelled() {
             return Err(Cancelled);
         }
         progress(i, epsilons.len(), &format!("ε = {epsilon:.1e}"));
         let options = SolveOptions {
             epsilon,
             condition,
+            cancel,
             ..SolveOptions::default()
         };
         let solution = match solve(problem, &mesh, method, &options) {
             Ok(s) => s,
+            Err(e) if e.kind == crate::solve::SolveErrorKind::Cancelled => return Err(Cancelled),
             Err(e) => return Ok(Err(e)),
         };
         points.push(EpsPoint {

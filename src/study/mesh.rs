@@ -87,12 +87,13 @@ pub fn mesh_sweep(
                 });
                 continue;
             }
-            if cancel() {
+            if cancel.is_cancelled() {
                 return Err(Cancelled);
             }
             let options = SolveOptions {
                 epsilon,
                 condition: ConditionLevel::Off,
+                cancel,
                 ..SolveOptions::default()
             };
             let mut times = Vec::with_capacity(repeat.max(1));
@@ -102,6 +103,9 @@ pub fn mesh_sweep(
                     Ok(s) => {
                         times.push(s.timing.total());
                         last = Some(Ok(s));
+                    }
+                    Err(e) if e.kind == crate::solve::SolveErrorKind::Cancelled => {
+                        return Err(Cancelled);
                     }
                     Err(e) => {
                         last = Some(Err(e));

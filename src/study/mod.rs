@@ -9,8 +9,9 @@ mod mesh;
 pub use epsilon::{CONDITION_LIMIT, EpsPoint, epsilon_sweep, log_space};
 pub use mesh::{MeshPoint, mesh_sizes, mesh_sweep};
 
-/// Says whether the study should stop (its result is no longer wanted).
-pub type Cancel<'a> = &'a (dyn Fn() -> bool + Sync);
+/// Says whether the study should stop (its result is no longer wanted); it also stops the
+/// solve of the point in progress, from inside its loops.
+pub type Cancel = crate::solve::Cancellation;
 
 /// Told before each point: (points done, points in all, what comes next).
 pub type Progress<'a> = &'a (dyn Fn(usize, usize, &str) + Sync);

@@ -168,5 +168,6 @@ pub fn run(request: &StudyRequest, cancel: Cancel) -> Result<StudyResult, Cancel
 
 /// Runs one request to completion.
 pub fn run_now(request: &StudyRequest) -> StudyResult {
-    run(request, &|| false).expect("a study that is never cancelled finishes")
+    run(request, crate::solve::Cancellation::NEVER)
+        .expect("a study that is never cancelled finishes")
 }

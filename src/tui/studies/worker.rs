@@ -1,18 +1,20 @@
 //! The background thread that computes studies for the interactive explorer. Each request
 //! cancels the outdated work of its study; a panic in a study becomes a message in its panel.
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Sender, channel};
 
 use super::{STUDIES, StudyRequest, StudyResult, run};
+use crate::solve::Cancellation;
 use crate::study::Cancelled;
 
 /// A background worker for the studies.
 pub struct Worker {
     jobs: Option<Sender<(u64, StudyRequest)>>,
-    /// The newest request per study; older ones are cancelled.
-    newest: Arc<Vec<AtomicU64>>,
+    /// The newest request per study; older ones are cancelled, inside the solve of the point in
+    /// progress too. Leaked (eight bytes per study and worker) so that a `Cancellation` can
+    /// hold it by `'static` reference.
+    newest: &'static [AtomicU64],
     counter: u64,
     /// Requests already sent, so the same one is not sent twice.
     sent: Vec<StudyRequest>,
@@ -40,15 +42,15 @@ impl Worker {
     /// reported).
     pub fn start(inject_panic: bool, deliver: impl Fn(StudyResult) + Send + 'static) -> Worker {
         let (jobs, inbox) = channel::<(u64, StudyRequest)>();
-        let newest: Arc<Vec<AtomicU64>> =
-            Arc::new(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
-        let shared = Arc::clone(&newest);
+        let newest: &'static [AtomicU64] =
+            Vec::leak(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
+        let shared = newest;
         let body = move || {
             let mut inject = inject_panic;
             for (id, request) in inbox {
                 let study = request.study;
-                let cancel = || shared[study].load(Ordering::Relaxed) != id;
-                if cancel() {
+                let cancel = Cancellation::watching(&shared[study], id);
+                if cancel.is_cancelled() {
                     continue;
                 }
                 // A panic in a study must not take the explorer down: report it instead.
@@ -56,7 +58,7 @@ impl Worker {
                     if std::mem::take(&mut inject) {
                         panic!("injected panic in a study");
                     }
-                    run(&request, &cancel)
+                    run(&request, cancel)
                 }));
                 let result = match outcome {
                     Ok(Ok(result)) => result,
