@@ -6,6 +6,7 @@
 //! `flexibility` method on the same mesh) and warnings in words.
 
 mod closed_form;
+mod condensed;
 mod dual;
 mod dual_inverse;
 mod flexibility;
@@ -25,6 +26,7 @@ use crate::linalg::condition::{
 use crate::model::Problem;
 
 pub use closed_form::{ClosedForm, closed_form};
+pub use condensed::{CondensedFailure, CondensedSolution, FrictionState, solve_condensed};
 
 /// A way to solve the problem (DESIGN.md section 3).
 #[derive(
@@ -45,6 +47,8 @@ pub enum Method {
     Flexibility,
     /// Paper (50)–(51): one obstacle, constant E, J and f.
     ClosedForm,
+    /// Exact stiffness of each piece between special points, condensed onto the friction DOFs.
+    Condensed,
 }
 
 impl Method {
@@ -67,12 +71,16 @@ impl Method {
             Method::Dual => "dual",
             Method::Flexibility => "flexibility",
             Method::ClosedForm => "closed-form",
+            Method::Condensed => "condensed",
         }
     }
 
     /// Does the method work through the stiffness matrix A (and so inherit its conditioning)?
     pub fn uses_stiffness_matrix(self) -> bool {
-        !matches!(self, Method::Flexibility | Method::ClosedForm)
+        !matches!(
+            self,
+            Method::Flexibility | Method::ClosedForm | Method::Condensed
+        )
     }
 
     /// Does the method solve the regularised problem (and so depend on ε)?
@@ -402,6 +410,7 @@ pub fn solve(
         Method::Dual => dual::solve(problem, mesh, options)?,
         Method::Flexibility => flexibility::solve(problem, mesh, options)?,
         Method::ClosedForm => closed_form::solve(problem, mesh)?,
+        Method::Condensed => condensed::solve(problem, mesh, options)?,
     };
     Ok(certify(problem, mesh, method, options, output))
 }

@@ -1,0 +1,659 @@
+//! `condensed`: the exact solution of (38) from the exact relations of every piece between
+//! special points (supports, obstacles, segment ends), condensed onto the friction DOFs, with
+//! the friction solved in the primal. It is the method meant to grade the others.
+//!
+//! **Pieces.** On a piece between consecutive special points E·J is constant and f linear, so
+//! the beam equation (EJ u'')'' = f has the exact transfer y(b) = Φ y(a) + q for the state
+//! y = (u, u', m, m') with m = EJ u'' (the force formulation of DESIGN.md fact 3, but applied
+//! to one piece at a time). Because the finite-element solution is exact at the nodes
+//! (DESIGN.md fact 1), the states at the special points determine the discrete solution of (38)
+//! on any mesh.
+//!
+//! **Multiple shooting instead of single shooting.** The unknowns are the state at the start of
+//! every piece and the reactions of the stuck friction DOFs; the equations are each piece's
+//! transfer, the jumps at the obstacles (m' jumps by −λ1, m by +λ2, paper (18)–(19)), the
+//! clamped ends and c_i = 0 for stuck DOFs. That is a banded system with about 4 unknowns per
+//! special point, solved by Gaussian elimination with row equilibration and partial pivoting
+//! (`linalg::banded_lu`). Each equation involves one piece only, so no rounding is carried from
+//! one end of the beam to the other (the failure of `flexibility`, issue 10 item 1–2); a piece
+//! 1e-9·l long is an almost-identity transfer, not a stiffness of 1e27 added to one of 1 (which
+//! is what makes the assembled stiffness lose the rigid motion of a short piece between two
+//! sliding obstacles); and the forces of stuck DOFs are unknowns of the system, not differences
+//! of large displacements times large stiffnesses. The problem is first made dimensionless by
+//! powers of two (length, stiffness, load), which is exact, so a beam of 1 mm or 1 km and loads
+//! of 1e-300 or 1e300 run the same arithmetic.
+//!
+//! **Friction.** (38) is min ½cᵀAc − bᵀc + Σ g_i|c_i|; each friction DOF is stuck (c_i = 0,
+//! |λ_i| ≤ g_i) or moves (λ_i = g_i·sign c_i). Given the states, one banded solve gives c and
+//! the stuck λ; a primal–dual active-set step then changes every inconsistent DOF at once
+//! (a stuck force above its threshold starts to move in its direction; a moving DOF that
+//! reverses is stuck), which is semismooth Newton for (38). Should a pattern repeat, the
+//! iteration changes only the first inconsistent DOF per step (Murty's least-index rule,
+//! finite for the P-matrix linear complementarity problem that (38) is). The answer is one
+//! solve of the final pattern, so it satisfies (38) up to the rounding of that solve.
+//!
+//! **States.** A decision is made only where the number is computed accurately: the motion at
+//! the DOF itself and the force at the DOF itself. When |motion| is within what rounding can
+//! resolve locally (a few ulps of the adjacent pieces' own magnitudes), or |force| is within
+//! rounding of the threshold, the DOF is reported [`FrictionState::AtThreshold`] rather than a
+//! coin toss.
+//!
+//! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
+//! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,
+//! and the error does not grow with n.
+
+use std::collections::HashSet;
+
+use super::{
+    Method, MethodDetails, MethodOutput, SolveError, SolveErrorKind, SolveOptions, Stopwatch,
+    Timing, Warning, WarningCode,
+};
+use crate::fem::{Mesh, NodalField};
+use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::model::Problem;
+
+/// The friction state of one DOF (value or slope) of an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrictionState {
+    /// c = 0 and |λ| < g by more than rounding.
+    Stuck,
+    /// c ≠ 0 by more than rounding, λ = g·sign c.
+    Moves,
+    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
+    AtThreshold,
+}
+
+/// The result of the condensed method, in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CondensedSolution {
+    /// u and u' at every mesh node.
+    pub field: NodalField,
+    /// (force [N], moment [N m]) per obstacle, in the convention A c = b − Bᵀλ.
+    pub friction: Vec<[f64; 2]>,
+    /// (sliding, swivel) state per obstacle.
+    pub states: Vec<[FrictionState; 2]>,
+    /// Linear solves (one per active-set step).
+    pub solves: usize,
+    /// Did the active-set iteration end with a consistent pattern?
+    pub converged: bool,
+}
+
+/// Why the condensed method has no solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CondensedFailure {
+    /// The banded system was singular in this column.
+    pub column: usize,
+}
+
+/// Scale factors: every scale is a power of two, so scaling is exact.
+#[derive(Debug, Clone, Copy)]
+struct Scales {
+    /// log2 of the length scale.
+    length: i32,
+    /// log2 of the stiffness scale.
+    stiffness: i32,
+    /// log2 of the load scale.
+    load: i32,
+}
+
+impl Scales {
+    fn of(problem: &Problem) -> Scales {
+        let exponent = |v: f64| v.log2().round() as i32;
+        let (smallest, largest) =
+            problem
+                .stiffness
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), piece| {
+                    (
+                        lo.min(piece.bending_stiffness),
+                        hi.max(piece.bending_stiffness),
+                    )
+                });
+        let load = problem.load.f0.abs().max(problem.load.f1.abs());
+        Scales {
+            length: exponent(problem.length),
+            // The geometric mean keeps both extremes of a large contrast in range.
+            stiffness: (0.5 * (smallest.log2() + largest.log2())).round() as i32,
+            load: if load > 0.0 { exponent(load) } else { 0 },
+        }
+    }
+
+    /// u = ũ·2^this.
+    fn deflection(&self) -> i32 {
+        self.load + 4 * self.length - self.stiffness
+    }
+    /// u' = ũ'·2^this.
+    fn slope(&self) -> i32 {
+        self.load + 3 * self.length - self.stiffness
+    }
+    /// λ1 = λ̃1·2^this.
+    fn force(&self) -> i32 {
+        self.load + self.length
+    }
+    /// λ2 = λ̃2·2^this.
+    fn moment(&self) -> i32 {
+        self.load + 2 * self.length
+    }
+}
+
+/// One piece in dimensionless units.
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    length: f64,
+    stiffness: f64,
+    load_start: f64,
+    load_end: f64,
+}
+
+impl Piece {
+    /// The state at the end of the piece from the state at its start (exact).
+    fn transfer(&self, y: [f64; 4]) -> [f64; 4] {
+        let [u, du, m, v] = y;
+        let (t, e) = (self.length, self.stiffness);
+        let q = self.load_terms();
+        [
+            u + t * du + t * t * (m / 2.0 + t * v / 6.0) / e + q[0],
+            du + t * (m + t * v / 2.0) / e + q[1],
+            m + t * v + q[2],
+            v + q[3],
+        ]
+    }
+
+    /// The state at the end of the piece for a zero start state: the load's own contribution
+    /// (u, u', m, m').
+    fn load_terms(&self) -> [f64; 4] {
+        let (t, e, fa, fb) = (self.length, self.stiffness, self.load_start, self.load_end);
+        [
+            t * t * t * t * (4.0 * fa + fb) / (120.0 * e),
+            t * t * t * (3.0 * fa + fb) / (24.0 * e),
+            t * t * (2.0 * fa + fb) / 6.0,
+            t * (fa + fb) / 2.0,
+        ]
+    }
+
+    /// d(end state)/d(start state): row r of Φ.
+    fn transfer_matrix(&self) -> [[f64; 4]; 4] {
+        let (t, e) = (self.length, self.stiffness);
+        [
+            [1.0, t, t * t / (2.0 * e), t * t * t / (6.0 * e)],
+            [0.0, 1.0, t / e, t * t / (2.0 * e)],
+            [0.0, 0.0, 1.0, t],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    }
+
+    /// Size of the deflections this piece carries: its end values and its own clamped–clamped
+    /// response to the load. Rounding of anything computed from the piece is a few ulps of it.
+    fn magnitude(&self, start: [f64; 2], end: [f64; 2]) -> f64 {
+        let own = self.length.powi(4) * self.load_start.abs().max(self.load_end.abs())
+            / (384.0 * self.stiffness);
+        start[0]
+            .abs()
+            .max(end[0].abs())
+            .max(self.length * start[1].abs())
+            .max(self.length * end[1].abs())
+            .max(own)
+    }
+}
+
+/// How a friction DOF enters the linear system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Pattern {
+    Stuck,
+    /// Moves with λ = +g.
+    Positive,
+    /// Moves with λ = −g.
+    Negative,
+}
+
+/// The dimensionless problem on the special points.
+struct Condensed {
+    pieces: Vec<Piece>,
+    /// For every special point 1..P−1: the obstacle there, if any.
+    obstacle_at_point: Vec<Option<usize>>,
+    /// For every obstacle: its special point.
+    point_of_obstacle: Vec<usize>,
+    /// Dimensionless thresholds (g1, g2) per obstacle.
+    thresholds: Vec<[f64; 2]>,
+}
+
+/// The states of one solve of a fixed pattern.
+struct PatternSolution {
+    /// State just right of every special point 0..P−1 (u, u', m, m').
+    start: Vec<[f64; 4]>,
+    /// State at the end of every piece (just left of point p + 1).
+    end: Vec<[f64; 4]>,
+    /// λ per friction DOF (given for moving DOFs, solved for stuck ones).
+    lambda: Vec<f64>,
+}
+
+impl Condensed {
+    fn new(problem: &Problem, mesh: &Mesh, scales: &Scales) -> Condensed {
+        let length = |x: f64| times_power_of_two(x, -scales.length);
+        let load = |f: f64| times_power_of_two(f, -scales.load);
+        let pieces: Vec<Piece> = mesh
+            .pieces
+            .iter()
+            .map(|piece| {
+                let (a, b) = (mesh.nodes[piece.first_node], mesh.nodes[piece.last_node]);
+                Piece {
+                    length: length(b - a),
+                    stiffness: times_power_of_two(piece.bending_stiffness, -scales.stiffness),
+                    load_start: load(problem.load_at(a)),
+                    load_end: load(problem.load_at(b)),
+                }
+            })
+            .collect();
+        let mut obstacle_at_point = vec![None; pieces.len() + 1];
+        let point_of_obstacle: Vec<usize> = mesh
+            .obstacle_nodes
+            .iter()
+            .enumerate()
+            .map(|(j, &node)| {
+                let point = mesh.pieces.partition_point(|p| p.first_node < node);
+                obstacle_at_point[point] = Some(j);
+                point
+            })
+            .collect();
+        let thresholds = problem
+            .obstacles
+            .iter()
+            .map(|o| {
+                [
+                    times_power_of_two(o.sliding_threshold, -scales.force()),
+                    times_power_of_two(o.swivel_threshold, -scales.moment()),
+                ]
+            })
+            .collect();
+        Condensed {
+            pieces,
+            obstacle_at_point,
+            point_of_obstacle,
+            thresholds,
+        }
+    }
+
+    /// Solves the linear problem of one pattern: stuck DOFs are held at zero with an unknown
+    /// reaction, moving DOFs carry the force ±g.
+    fn solve_pattern(&self, pattern: &[Pattern]) -> Result<PatternSolution, CondensedFailure> {
+        let pieces = self.pieces.len();
+        // Unknown numbering: state of piece p at `state_column[p]`; the reactions of the
+        // stuck DOFs at point p (1 ≤ p < P) just before it.
+        let mut state_column = vec![0; pieces];
+        let mut reaction_column = vec![[None; 2]; pieces + 1];
+        let mut next = 0;
+        for p in 0..pieces {
+            if let Some(j) = self.obstacle_at_point[p] {
+                for d in 0..2 {
+                    if pattern[2 * j + d] == Pattern::Stuck {
+                        reaction_column[p][d] = Some(next);
+                        next += 1;
+                    }
+                }
+            }
+            state_column[p] = next;
+            next += 4;
+        }
+        let size = next;
+        // Rows follow the columns: the two clamping rows, then per piece its four transfer
+        // rows and the rows c = 0 of the stuck DOFs at its end. The band: a transfer row of
+        // piece p reaches from its own state to the next piece's state (≤ 4 + 2 + 4 columns).
+        let mut system = BandedSystem::new(size, 5, 4);
+        system.add(0, 0, 1.0);
+        system.add(1, 1, 1.0);
+        let mut row = 2;
+        for (p, piece) in self.pieces.iter().enumerate() {
+            let phi = piece.transfer_matrix();
+            let q = piece.load_terms();
+            let own = state_column[p];
+            let last = p + 1 == pieces;
+            let rows = if last { 2 } else { 4 };
+            for r in 0..rows {
+                for (c, &value) in phi[r].iter().enumerate() {
+                    if value != 0.0 {
+                        system.add(row + r, own + c, value);
+                    }
+                }
+                system.add_rhs(row + r, -q[r]);
+                if !last {
+                    system.add(row + r, state_column[p + 1] + r, -1.0);
+                }
+            }
+            if !last && let Some(j) = self.obstacle_at_point[p + 1] {
+                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1.
+                for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                    match pattern[2 * j + d] {
+                        Pattern::Stuck => {
+                            let column = reaction_column[p + 1][d].expect("stuck DOF");
+                            system.add(row + jump_row, column, sign);
+                        }
+                        Pattern::Positive => {
+                            system.add_rhs(row + jump_row, -sign * self.thresholds[j][d])
+                        }
+                        Pattern::Negative => {
+                            system.add_rhs(row + jump_row, sign * self.thresholds[j][d])
+                        }
+                    }
+                }
+            }
+            row += rows;
+            if !last {
+                for d in 0..2 {
+                    if reaction_column[p + 1][d].is_some() {
+                        system.add(row, state_column[p + 1] + d, 1.0);
+                        row += 1;
+                    }
+                }
+            }
+        }
+        debug_assert_eq!(row, size);
+        let x = system
+            .solve()
+            .map_err(|e| CondensedFailure { column: e.column })?;
+
+        let start: Vec<[f64; 4]> = state_column
+            .iter()
+            .map(|&c| [x[c], x[c + 1], x[c + 2], x[c + 3]])
+            .collect();
+        let end = self
+            .pieces
+            .iter()
+            .zip(&start)
+            .map(|(piece, &y)| piece.transfer(y))
+            .collect();
+        let lambda = pattern
+            .iter()
+            .enumerate()
+            .map(|(i, state)| {
+                let (j, d) = (i / 2, i % 2);
+                match state {
+                    Pattern::Stuck => {
+                        x[reaction_column[self.point_of_obstacle[j]][d]
+                            .expect("stuck DOF has a reaction")]
+                    }
+                    Pattern::Positive => self.thresholds[j][d],
+                    Pattern::Negative => -self.thresholds[j][d],
+                }
+            })
+            .collect();
+        Ok(PatternSolution { start, end, lambda })
+    }
+
+    /// (u, u') at special point p (the far support is clamped).
+    fn point_values(&self, solution: &PatternSolution, p: usize) -> [f64; 2] {
+        solution.start.get(p).map_or([0.0, 0.0], |y| [y[0], y[1]])
+    }
+
+    /// What rounding can resolve at friction DOF i: (motion, force) below which a value is
+    /// indistinguishable from zero, resp. a force from its threshold.
+    fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
+        const ULPS: f64 = 64.0 * f64::EPSILON;
+        let (j, d) = (i / 2, i % 2);
+        let p = self.point_of_obstacle[j];
+        let [left, right] = [p - 1, p].map(|q| {
+            let piece = &self.pieces[q];
+            let magnitude = piece.magnitude(
+                self.point_values(solution, q),
+                self.point_values(solution, q + 1),
+            );
+            // A slope is resolved to the deflection magnitude over the piece length.
+            if d == 0 {
+                magnitude
+            } else {
+                magnitude / piece.length
+            }
+        });
+        let motion = ULPS * left.min(right);
+        // m' for the force, m for the moment, on both sides of the obstacle.
+        let component = if d == 0 { 3 } else { 2 };
+        let force = ULPS
+            * solution.end[p - 1][component]
+                .abs()
+                .max(solution.start[p][component].abs());
+        (motion, force)
+    }
+
+    /// The value c_i of friction DOF i.
+    fn friction_value(&self, solution: &PatternSolution, i: usize) -> f64 {
+        let p = self.point_of_obstacle[i / 2];
+        solution.start[p][i % 2]
+    }
+
+    /// The pattern each DOF should have given this solution (the same when consistent).
+    fn wanted(&self, solution: &PatternSolution, pattern: &[Pattern], i: usize) -> Pattern {
+        let (motion_noise, force_noise) = self.resolution(solution, i);
+        let g = self.thresholds[i / 2][i % 2];
+        match pattern[i] {
+            Pattern::Stuck => {
+                let l = solution.lambda[i];
+                if l.abs() > g + force_noise {
+                    if l > 0.0 {
+                        Pattern::Positive
+                    } else {
+                        Pattern::Negative
+                    }
+                } else {
+                    Pattern::Stuck
+                }
+            }
+            moving => {
+                let sign = if moving == Pattern::Positive {
+                    1.0
+                } else {
+                    -1.0
+                };
+                if sign * self.friction_value(solution, i) < -motion_noise {
+                    Pattern::Stuck
+                } else {
+                    moving
+                }
+            }
+        }
+    }
+
+    fn state(&self, solution: &PatternSolution, pattern: &[Pattern], i: usize) -> FrictionState {
+        let (motion_noise, force_noise) = self.resolution(solution, i);
+        let g = self.thresholds[i / 2][i % 2];
+        match pattern[i] {
+            Pattern::Stuck if solution.lambda[i].abs() < g - force_noise => FrictionState::Stuck,
+            Pattern::Stuck => FrictionState::AtThreshold,
+            _ if self.friction_value(solution, i).abs() > motion_noise => FrictionState::Moves,
+            _ => FrictionState::AtThreshold,
+        }
+    }
+}
+
+/// Largest number of active-set steps that change every inconsistent DOF at once.
+const NEWTON_STEPS: usize = 64;
+
+/// Solves (38) by the condensed method; see the module documentation.
+pub fn solve_condensed(
+    problem: &Problem,
+    mesh: &Mesh,
+) -> Result<CondensedSolution, CondensedFailure> {
+    let scales = Scales::of(problem);
+    let condensed = Condensed::new(problem, mesh, &scales);
+    let dofs = 2 * problem.obstacles.len();
+    let mut pattern = vec![Pattern::Stuck; dofs];
+    let mut seen = HashSet::new();
+    let mut one_at_a_time = false;
+    let limit = NEWTON_STEPS + 4 * dofs + 16;
+    let mut solves = 0;
+    let (solution, converged) = loop {
+        let solution = condensed.solve_pattern(&pattern)?;
+        solves += 1;
+        let changes: Vec<(usize, Pattern)> = (0..dofs)
+            .filter_map(|i| {
+                let wanted = condensed.wanted(&solution, &pattern, i);
+                (wanted != pattern[i]).then_some((i, wanted))
+            })
+            .collect();
+        if changes.is_empty() {
+            break (solution, true);
+        }
+        if solves >= limit {
+            break (solution, false);
+        }
+        seen.insert(pattern.clone());
+        if one_at_a_time || solves > NEWTON_STEPS {
+            let (i, wanted) = changes[0];
+            pattern[i] = wanted;
+        } else {
+            let mut trial = pattern.clone();
+            for &(i, wanted) in &changes {
+                trial[i] = wanted;
+            }
+            if seen.contains(&trial) {
+                one_at_a_time = true;
+                let (i, wanted) = changes[0];
+                pattern[i] = wanted;
+            } else {
+                pattern = trial;
+            }
+        }
+    };
+
+    let states: Vec<[FrictionState; 2]> = (0..problem.obstacles.len())
+        .map(|j| {
+            [
+                condensed.state(&solution, &pattern, 2 * j),
+                condensed.state(&solution, &pattern, 2 * j + 1),
+            ]
+        })
+        .collect();
+    let friction = problem
+        .obstacles
+        .iter()
+        .enumerate()
+        .map(|(j, o)| {
+            let physical = |d: usize, threshold: f64, exponent: i32| match pattern[2 * j + d] {
+                // Exactly the threshold: no round trip through the scaling.
+                Pattern::Positive => threshold,
+                Pattern::Negative => -threshold,
+                Pattern::Stuck => {
+                    let l = times_power_of_two(solution.lambda[2 * j + d], exponent);
+                    l.clamp(-threshold, threshold)
+                }
+            };
+            [
+                physical(0, o.sliding_threshold, scales.force()),
+                physical(1, o.swivel_threshold, scales.moment()),
+            ]
+        })
+        .collect();
+    let field = nodal_field(mesh, &condensed, &solution, &scales);
+    Ok(CondensedSolution {
+        field,
+        friction,
+        states,
+        solves,
+        converged,
+    })
+}
+
+/// Every node from its own piece: Hermite interpolation of the piece's end values plus the
+/// piece's exact clamped–clamped response to its linear load, in SI units.
+fn nodal_field(
+    mesh: &Mesh,
+    condensed: &Condensed,
+    solution: &PatternSolution,
+    scales: &Scales,
+) -> NodalField {
+    let mut field = NodalField::zeros(mesh.nodes.len());
+    let (u_exponent, slope_exponent) = (scales.deflection(), scales.slope());
+    // 2^e as one factor when it is a normal number; else scale each value in steps.
+    let factor = |e: i32| (-1000..=1000).contains(&e).then(|| 2f64.powi(e));
+    let (u_factor, slope_factor) = (factor(u_exponent), factor(slope_exponent));
+    let unscale = |v: f64, factor: Option<f64>, e: i32| match factor {
+        Some(f) => v * f,
+        None => times_power_of_two(v, e),
+    };
+    for (p, (mesh_piece, piece)) in mesh.pieces.iter().zip(&condensed.pieces).enumerate() {
+        let [ua, sa] = condensed.point_values(solution, p);
+        let [ub, sb] = condensed.point_values(solution, p + 1);
+        let (a, b) = (
+            mesh.nodes[mesh_piece.first_node],
+            mesh.nodes[mesh_piece.last_node],
+        );
+        let span = b - a;
+        let (t, e) = (piece.length, piece.stiffness);
+        let (fa, fb) = (piece.load_start, piece.load_end);
+        let particular_u = t * t * t * t / (120.0 * e);
+        let particular_slope = t * t * t / (120.0 * e);
+        for node in mesh_piece.first_node..mesh_piece.last_node {
+            let (u, slope) = if node == mesh_piece.first_node {
+                (ua, sa)
+            } else {
+                let xi = (mesh.nodes[node] - a) / span;
+                let (x2, x3) = (xi * xi, xi * xi * xi);
+                let one_minus = 1.0 - xi;
+                let load = fa * (3.0 - xi) + fb * (2.0 + xi);
+                let bubble = x2 * one_minus * one_minus;
+                let u = ua * (1.0 - 3.0 * x2 + 2.0 * x3)
+                    + t * sa * (xi - 2.0 * x2 + x3)
+                    + ub * (3.0 * x2 - 2.0 * x3)
+                    + t * sb * (x3 - x2)
+                    + particular_u * bubble * load;
+                let slope = (6.0 * (x2 - xi) * (ua - ub)) / t
+                    + sa * (1.0 - 4.0 * xi + 3.0 * x2)
+                    + sb * (3.0 * x2 - 2.0 * xi)
+                    + particular_slope
+                        * (2.0 * xi * one_minus * (1.0 - 2.0 * xi) * load + bubble * (fb - fa));
+                (u, slope)
+            };
+            field.deflection[node] = unscale(u, u_factor, u_exponent);
+            field.slope[node] = unscale(slope, slope_factor, slope_exponent);
+        }
+    }
+    // The far support: clamped (node 0 is the first node of piece 0 and holds (0, 0)).
+    field
+}
+
+/// `solve` entry point: the condensed solution as the common [`MethodOutput`].
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    _options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
+    let mut timing = Timing::default();
+    let mut clock = Stopwatch::start();
+    let solution = solve_condensed(problem, mesh).map_err(|failure| SolveError {
+        method: Method::Condensed,
+        kind: SolveErrorKind::Breakdown,
+        reason: format!(
+            "the multiple-shooting system is singular to working precision (column {})",
+            failure.column
+        ),
+        suggestion: Method::Dual,
+    })?;
+    timing.dual_solve = clock.lap();
+    let mut warnings = Vec::new();
+    if !solution.converged {
+        warnings.push(Warning::new(
+            WarningCode::QpNotConverged,
+            format!(
+                "the active-set iteration stopped after {} solves with an inconsistent \
+                 friction state",
+                solution.solves
+            ),
+        ));
+    }
+    let moving = solution
+        .states
+        .iter()
+        .map(|s| s.map(|state| state == FrictionState::Moves))
+        .collect();
+    Ok(MethodOutput {
+        field: solution.field,
+        lambda: solution.friction,
+        moving,
+        timing,
+        warnings,
+        details: MethodDetails {
+            newton_iterations: Some(solution.solves),
+            ..MethodDetails::default()
+        },
+        dual_condition: None,
+        regularized_cases: Vec::new(),
+    })
+}
