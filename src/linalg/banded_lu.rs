@@ -28,6 +28,8 @@ pub struct BandedSystem {
     /// A as given, row by row: columns row − lower ..= row + upper.
     entries: Vec<f64>,
     rhs: Vec<f64>,
+    /// Storage of the factors, kept between solves of systems of the same shape.
+    factor_storage: Vec<f64>,
 }
 
 /// Largest number of refinement steps after the first solve.
@@ -42,7 +44,18 @@ impl BandedSystem {
             upper,
             entries: vec![0.0; size * (lower + upper + 1)],
             rhs: vec![0.0; size],
+            factor_storage: Vec::new(),
         }
+    }
+
+    /// Makes this a zero system of `size` unknowns with the same band, reusing its memory.
+    pub fn reset(&mut self, size: usize) {
+        self.size = size;
+        self.entries.clear();
+        self.entries
+            .resize(size * (self.lower + self.upper + 1), 0.0);
+        self.rhs.clear();
+        self.rhs.resize(size, 0.0);
     }
 
     /// Number of unknowns.
@@ -71,13 +84,30 @@ impl BandedSystem {
     /// the solution carried in double-double and the residual summed in double-double. That
     /// makes every component of the result accurate relative to its own size (not only to the
     /// largest component), as long as the system is not singular to working precision.
-    pub fn solve(&self) -> Result<Vec<f64>, SingularColumn> {
-        let factors = Factors::new(self)?;
+    pub fn solve(&mut self) -> Result<Vec<f64>, SingularColumn> {
+        self.solve_refined(REFINEMENT_STEPS)
+    }
+
+    /// Solves by elimination alone: accurate relative to the largest component, about four
+    /// times cheaper than [`BandedSystem::solve`].
+    pub fn solve_unrefined(&mut self) -> Result<Vec<f64>, SingularColumn> {
+        self.solve_refined(0)
+    }
+
+    fn solve_refined(&mut self, steps: usize) -> Result<Vec<f64>, SingularColumn> {
+        let storage = std::mem::take(&mut self.factor_storage);
+        let factors = Factors::new(self, storage)?;
+        let x = self.refine(&factors, steps);
+        self.factor_storage = factors.entries;
+        Ok(x)
+    }
+
+    fn refine(&self, factors: &Factors, steps: usize) -> Vec<f64> {
         let mut hi = self.rhs.clone();
         factors.solve_in_place(&mut hi);
         let mut lo = vec![0.0; self.size];
         let mut previous = f64::INFINITY;
-        for _ in 0..REFINEMENT_STEPS {
+        for _ in 0..steps {
             let mut correction = self.residual(&hi, &lo);
             factors.solve_in_place(&mut correction);
             let size = correction.iter().fold(0.0f64, |m, d| m.max(d.abs()));
@@ -91,7 +121,7 @@ impl BandedSystem {
                 *l = sum.lo;
             }
         }
-        Ok(hi)
+        hi
     }
 
     /// r − A (hi + lo), each component summed in double-double and rounded once.
@@ -170,108 +200,129 @@ struct Factors {
     upper: usize,
     width: usize,
     entries: Vec<f64>,
-    row_exponent: Vec<i32>,
+    /// The power of two each row was scaled by.
+    row_scale: Vec<f64>,
     pivot: Vec<usize>,
 }
 
 impl Factors {
-    fn new(system: &BandedSystem) -> Result<Factors, SingularColumn> {
+    fn new(system: &BandedSystem, mut entries: Vec<f64>) -> Result<Factors, SingularColumn> {
         let (n, kl, ku) = (system.size, system.lower, system.upper);
         let width = 2 * kl + ku + 1;
         let given = kl + ku + 1;
-        let mut f = Factors {
-            size: n,
-            lower: kl,
-            upper: ku,
-            width,
-            entries: vec![0.0; n * width],
-            row_exponent: vec![0; n],
-            pivot: vec![0; n],
-        };
+        entries.clear();
+        entries.resize(n * width, 0.0);
+        let mut row_scale = vec![1.0; n];
         // Scale every row by a power of two to a largest entry in [0.5, 1): exact, and the
         // pivot choice no longer depends on the rows' units.
         for row in 0..n {
             let source = &system.entries[row * given..(row + 1) * given];
+            let target = &mut entries[row * width..row * width + given];
             let largest = source.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let exponent = if largest > 0.0 && largest.is_finite() {
-                -(largest.log2().floor() as i32) - 1
+            let scale = if largest > 0.0 && largest.is_finite() {
+                power_of_two(-(largest.log2().floor() as i32) - 1)
             } else {
-                0
+                None
             };
-            f.row_exponent[row] = exponent;
-            for (k, &v) in source.iter().enumerate() {
-                f.entries[row * width + k] = times_power_of_two(v, exponent);
+            match scale {
+                Some(scale) => {
+                    row_scale[row] = scale;
+                    for (t, &v) in target.iter_mut().zip(source) {
+                        *t = v * scale;
+                    }
+                }
+                None => target.copy_from_slice(source),
             }
         }
+        let mut pivot = vec![0; n];
         let reach = kl + ku;
+        let at = |row: usize, column: usize| row * width + column + kl - row;
         for j in 0..n {
             let last_row = (j + kl).min(n - 1);
-            let mut pivot = j;
-            let mut largest = f.entries[f.index(j, j)].abs();
+            let mut best = j;
+            let mut largest = entries[at(j, j)].abs();
             for r in j + 1..=last_row {
-                let v = f.entries[f.index(r, j)].abs();
+                let v = entries[at(r, j)].abs();
                 if v > largest {
                     largest = v;
-                    pivot = r;
+                    best = r;
                 }
             }
             if largest == 0.0 || !largest.is_finite() {
                 return Err(SingularColumn { column: j });
             }
-            f.pivot[j] = pivot;
+            pivot[j] = best;
             let last_column = (j + reach).min(n - 1);
-            if pivot != j {
-                for c in j..=last_column {
-                    let (a, b) = (f.index(j, c), f.index(pivot, c));
-                    f.entries.swap(a, b);
-                }
+            let span = last_column - j + 1;
+            if best != j {
+                let (a, b) = (at(j, j), at(best, j));
+                let (head, tail) = entries.split_at_mut(b);
+                head[a..a + span].swap_with_slice(&mut tail[..span]);
             }
-            let diagonal = f.entries[f.index(j, j)];
+            let diagonal = entries[at(j, j)];
             for r in j + 1..=last_row {
-                let at = f.index(r, j);
-                let factor = f.entries[at] / diagonal;
-                f.entries[at] = factor;
+                let multiplier_at = at(r, j);
+                let factor = entries[multiplier_at] / diagonal;
+                entries[multiplier_at] = factor;
                 if factor == 0.0 {
                     continue;
                 }
-                for c in j + 1..=last_column {
-                    let source = f.entries[f.index(j, c)];
-                    let target = f.index(r, c);
-                    f.entries[target] -= factor * source;
+                // Columns j + 1 ..= last_column of rows j (pivot) and r (target).
+                let (source, target) = (at(j, j + 1), at(r, j + 1));
+                let (head, tail) = entries.split_at_mut(target);
+                for (t, s) in tail[..span - 1]
+                    .iter_mut()
+                    .zip(&head[source..source + span - 1])
+                {
+                    *t -= factor * s;
                 }
             }
         }
-        Ok(f)
-    }
-
-    fn index(&self, row: usize, column: usize) -> usize {
-        row * self.width + (column + self.lower - row)
+        Ok(Factors {
+            size: n,
+            lower: kl,
+            upper: ku,
+            width,
+            entries,
+            row_scale,
+            pivot,
+        })
     }
 
     /// Overwrites b with A⁻¹ b.
     fn solve_in_place(&self, b: &mut [f64]) {
-        let n = self.size;
-        for (v, &e) in b.iter_mut().zip(&self.row_exponent) {
-            *v = times_power_of_two(*v, e);
+        let (n, kl, width) = (self.size, self.lower, self.width);
+        let at = |row: usize, column: usize| row * width + column + kl - row;
+        for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
+            *v *= scale;
         }
         for j in 0..n {
             b.swap(j, self.pivot[j]);
             let bj = b[j];
             if bj != 0.0 {
-                for r in j + 1..=(j + self.lower).min(n - 1) {
-                    b[r] -= self.entries[self.index(r, j)] * bj;
+                for r in j + 1..=(j + kl).min(n - 1) {
+                    b[r] -= self.entries[at(r, j)] * bj;
                 }
             }
         }
-        let reach = self.lower + self.upper;
+        let reach = kl + self.upper;
         for i in (0..n).rev() {
-            let mut sum = b[i];
-            for c in i + 1..=(i + reach).min(n - 1) {
-                sum -= self.entries[self.index(i, c)] * b[c];
-            }
-            b[i] = sum / self.entries[self.index(i, i)];
+            let last = (i + reach).min(n - 1);
+            let row = &self.entries[at(i, i + 1)..at(i, i + 1) + (last - i)];
+            let sum = row
+                .iter()
+                .zip(&b[i + 1..=last])
+                .fold(b[i], |sum, (a, x)| sum - a * x);
+            b[i] = sum / self.entries[at(i, i)];
         }
     }
+}
+
+/// 2^e as a normal double, if it is one.
+fn power_of_two(e: i32) -> Option<f64> {
+    (-1022..=1023)
+        .contains(&e)
+        .then(|| f64::from_bits(((e + 1023) as u64) << 52))
 }
 
 /// x·2^e, exact unless the result leaves the range of doubles (done in steps so that 2^e

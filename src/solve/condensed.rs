@@ -275,7 +275,12 @@ impl Condensed {
 
     /// Solves the linear problem of one pattern: stuck DOFs are held at zero with an unknown
     /// reaction, moving DOFs carry the force ±g.
-    fn solve_pattern(&self, pattern: &[Pattern]) -> Result<PatternSolution, CondensedFailure> {
+    fn solve_pattern(
+        &self,
+        pattern: &[Pattern],
+        refined: bool,
+        system: &mut BandedSystem,
+    ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
         // Unknown numbering: state of piece p at `state_column[p]`; the reactions of the
         // stuck DOFs at point p (1 ≤ p < P) just before it.
@@ -296,9 +301,8 @@ impl Condensed {
         }
         let size = next;
         // Rows follow the columns: the two clamping rows, then per piece its four transfer
-        // rows and the rows c = 0 of the stuck DOFs at its end. The band: a transfer row of
-        // piece p reaches from its own state to the next piece's state (≤ 4 + 2 + 4 columns).
-        let mut system = BandedSystem::new(size, 5, 4);
+        // rows and the rows c = 0 of the stuck DOFs at its end (band: BAND_LOWER, BAND_UPPER).
+        system.reset(size);
         system.add(0, 0, 1.0);
         system.add(1, 1, 1.0);
         let mut row = 2;
@@ -347,14 +351,25 @@ impl Condensed {
             }
         }
         debug_assert_eq!(row, size);
-        let x = system
-            .solve()
-            .map_err(|e| CondensedFailure { column: e.column })?;
+        let x = if refined {
+            system.solve()
+        } else {
+            system.solve_unrefined()
+        }
+        .map_err(|e| CondensedFailure { column: e.column })?;
 
-        let start: Vec<[f64; 4]> = state_column
+        let mut start: Vec<[f64; 4]> = state_column
             .iter()
             .map(|&c| [x[c], x[c + 1], x[c + 2], x[c + 3]])
             .collect();
+        // A stuck DOF is zero by its own equation; do not let a rounding residue through.
+        for (p, reactions) in reaction_column.iter().enumerate() {
+            for d in 0..2 {
+                if reactions[d].is_some() {
+                    start[p][d] = 0.0;
+                }
+            }
+        }
         let end = self
             .pieces
             .iter()
@@ -442,13 +457,39 @@ impl Condensed {
                 } else {
                     -1.0
                 };
-                if sign * self.friction_value(solution, i) < -motion_noise {
-                    Pattern::Stuck
-                } else {
+                let c = self.friction_value(solution, i);
+                if sign * c >= -motion_noise {
                     moving
+                } else if sign * (sign * g + self.local_stiffness(i) * c) < -g {
+                    // Semismooth Newton's prediction λ + σc with σ the local stiffness: a
+                    // large reversal goes straight to the other bound.
+                    if moving == Pattern::Positive {
+                        Pattern::Negative
+                    } else {
+                        Pattern::Positive
+                    }
+                } else {
+                    Pattern::Stuck
                 }
             }
         }
+    }
+
+    /// The diagonal stiffness of friction DOF i: what the two adjacent pieces resist a unit
+    /// motion of it with (12EJ/L³ for a deflection, 4EJ/L for a slope).
+    fn local_stiffness(&self, i: usize) -> f64 {
+        let p = self.point_of_obstacle[i / 2];
+        [p - 1, p]
+            .iter()
+            .map(|&q| {
+                let piece = &self.pieces[q];
+                if i % 2 == 0 {
+                    12.0 * piece.stiffness / piece.length.powi(3)
+                } else {
+                    4.0 * piece.stiffness / piece.length
+                }
+            })
+            .sum()
     }
 
     fn state(&self, solution: &PatternSolution, pattern: &[Pattern], i: usize) -> FrictionState {
@@ -462,6 +503,11 @@ impl Condensed {
         }
     }
 }
+
+/// The band of the multiple-shooting system: a piece's first transfer row and its first
+/// state column differ by 2, which bounds the band by (5, 4).
+const BAND_LOWER: usize = 5;
+const BAND_UPPER: usize = 4;
 
 /// Largest number of active-set steps that change every inconsistent DOF at once.
 const NEWTON_STEPS: usize = 64;
@@ -479,8 +525,12 @@ pub fn solve_condensed(
     let mut one_at_a_time = false;
     let limit = NEWTON_STEPS + 4 * dofs + 16;
     let mut solves = 0;
+    // The pattern is searched with plain solves; once it is consistent, the refined solve
+    // (each value accurate to its own size) confirms it or the search goes on refined.
+    let mut refined = false;
+    let mut system = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
     let (solution, converged) = loop {
-        let solution = condensed.solve_pattern(&pattern)?;
+        let solution = condensed.solve_pattern(&pattern, refined, &mut system)?;
         solves += 1;
         let changes: Vec<(usize, Pattern)> = (0..dofs)
             .filter_map(|i| {
@@ -489,7 +539,11 @@ pub fn solve_condensed(
             })
             .collect();
         if changes.is_empty() {
-            break (solution, true);
+            if refined {
+                break (solution, true);
+            }
+            refined = true;
+            continue;
         }
         if solves >= limit {
             break (solution, false);
