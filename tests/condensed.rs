@@ -519,9 +519,18 @@ fn agrees_with_dual_on_ordinary_scenes() {
         let mesh = Mesh::new(&problem, 40);
         let ours = solve(&problem, &mesh, Method::Condensed, &fast_options()).unwrap();
         let dual = solve(&problem, &mesh, Method::Dual, &fast_options()).unwrap();
-        let u = max_relative(&ours.field.deflection, &dual.field.deflection);
-        let slope = max_relative(&ours.field.slope, &dual.field.slope);
-        assert!(u < 1e-11 && slope < 1e-11, "scene {scene}: {u:e} {slope:e}");
+        let flexibility = solve(&problem, &mesh, Method::Flexibility, &fast_options()).unwrap();
+        // `dual`'s own error reaches 1.3e-8 here (scene 36, against a 60-digit reference,
+        // where condensed is within 7e-16); `flexibility` to 1.9e-12 (scene 39).
+        for (other, tolerance) in [(&dual, 1e-7), (&flexibility, 1e-11)] {
+            let u = max_relative(&ours.field.deflection, &other.field.deflection);
+            let slope = max_relative(&ours.field.slope, &other.field.slope);
+            assert!(
+                u < tolerance && slope < tolerance,
+                "scene {scene}, {}: {u:e} {slope:e}",
+                other.method
+            );
+        }
         assert!(
             ours.kkt_residual < 1e-12,
             "scene {scene}: {}",
@@ -548,10 +557,11 @@ fn four_thousand_obstacles_satisfy_kkt() {
         .map(|j| {
             let x = (j as f64 + 0.8 * (random.next() - 0.5)) / (k + 1) as f64;
             let h = 1.0 / (k + 1) as f64;
-            // Thresholds around the fixed-end forces, so every state occurs.
+            // Thresholds around the fixed-end forces, so every state occurs (measured:
+            // 1516 stuck, 288 sliding only, 1178 swivelling only, 1018 both).
             (
                 x,
-                load * h * random.next(),
+                3.0 * load * h * random.next(),
                 load * h * h * 0.2 * random.next(),
             )
         })
@@ -563,7 +573,10 @@ fn four_thousand_obstacles_satisfy_kkt() {
     assert!(solution.kkt_residual < 1e-12, "{}", solution.kkt_residual);
     let sliding = solution.obstacles.iter().filter(|o| o.sliding).count();
     let swivel = solution.obstacles.iter().filter(|o| o.swivel).count();
-    assert!(sliding > 0 && sliding < k && swivel > 0 && swivel < k);
+    assert!(
+        sliding > 0 && sliding < k && swivel > 0 && swivel < k,
+        "{sliding} sliding, {swivel} swivelling"
+    );
     for (o, spec) in solution.obstacles.iter().zip(&problem.obstacles) {
         assert!(o.force.abs() <= spec.sliding_threshold);
         assert!(o.moment.abs() <= spec.swivel_threshold);
