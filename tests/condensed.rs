@@ -2,6 +2,9 @@
 //! ordinary scenes, and exact expectations on the hard scenes that broke `flexibility` and
 //! `dual` (clamped spans when every obstacle sticks, scaling invariance, merged obstacles).
 
+// Index loops read closer to the (force, moment) pairs here, as in the library.
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 
 use beamfric::fem::{Mesh, element_load};
@@ -210,7 +213,7 @@ fn obstacle_next_to_the_right_support_moves_the_right_way() {
     let node = mesh.obstacle_nodes[0];
     assert!(close(
         solution.field.deflection[node],
-        7.267_441_627_906_969e-17,
+        7.267_441_627_906_97e-17,
         1e-12
     ));
     assert!(close(
@@ -235,7 +238,7 @@ fn obstacles_1e8_apart_slide_together() {
         let node = mesh.obstacle_nodes[j];
         assert!(close(
             solution.field.deflection[node],
-            0.045_058_138_637_354_615,
+            0.045_058_138_637_354_62,
             1e-13
         ));
         assert_eq!(solution.field.slope[node], 0.0);

@@ -656,7 +656,7 @@ impl Condensed {
             .iter()
             .map(|&q| {
                 let piece = &self.pieces[q];
-                if i % 2 == 0 {
+                if i.is_multiple_of(2) {
                     12.0 * piece.stiffness / piece.length.powi(3)
                 } else {
                     4.0 * piece.stiffness / piece.length
@@ -680,15 +680,14 @@ impl Condensed {
 
 /// Most solves of one semismooth Newton phase.
 const NEWTON_STEPS: usize = 40;
-const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.5, 0.0];
-/// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
-/// low for this many solves.
-const NEWTON_PATIENCE: usize = 6;
-
 /// The Newton phases tried in turn before the monotone search, by σ / diagonal stiffness of
 /// the reversal prediction. Measured on 128–4000 obstacles with random thresholds: 0.5 needs
 /// 9–15 solves where 0 needs up to 300 (a front of reversals moving one obstacle per step),
 /// and 0 needs 13 where 0.5 cycles (neighbours over-react to a jump).
+const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.5, 0.0];
+/// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
+/// low for this many solves.
+const NEWTON_PATIENCE: usize = 6;
 
 /// The band of the multiple-shooting system: a piece's first transfer row and its first
 /// state column differ by 2, which bounds the band by (5, 4).
@@ -700,11 +699,23 @@ pub fn solve_condensed(
     problem: &Problem,
     mesh: &Mesh,
 ) -> Result<CondensedSolution, CondensedFailure> {
+    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS)
+}
+
+/// [`solve_condensed`] with the given Newton phases (none: the monotone search alone).
+fn solve_with_newton_phases(
+    problem: &Problem,
+    mesh: &Mesh,
+    newton_phases: &[f64],
+) -> Result<CondensedSolution, CondensedFailure> {
     let scales = Scales::of(problem);
     let condensed = Condensed::new(problem, mesh, &scales);
+    if let Some(&first) = newton_phases.first() {
+        condensed.reversal_fraction.set(first);
+    }
     let dofs = 2 * problem.obstacles.len();
     let mut pattern = vec![Pattern::Stuck; dofs];
-    let limit = 4 * dofs + 64 + NEWTON_REVERSAL_FRACTIONS.len() * NEWTON_STEPS;
+    let limit = 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS;
     let mut solves = 0;
     // The iterate (u, u' at every interior special point), which only ever lowers J.
     let mut current: Option<Vec<f64>> = None;
@@ -714,7 +725,7 @@ pub fn solve_condensed(
     // (each value accurate to its own size) confirms it or the search goes on refined.
     let mut refined = false;
     let mut system = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
-    let mut newton_phase = true;
+    let mut newton_phase = !newton_phases.is_empty();
     let (mut phase, mut phase_start) = (0, 0);
     // The fewest inconsistent DOFs seen in this phase, and when.
     let mut fewest_changes = (usize::MAX, 0);
@@ -756,7 +767,7 @@ pub fn solve_condensed(
                 phase_start = solves;
                 seen.clear();
                 pattern = vec![Pattern::Stuck; dofs];
-                match NEWTON_REVERSAL_FRACTIONS.get(phase) {
+                match newton_phases.get(phase) {
                     Some(&fraction) => condensed.reversal_fraction.set(fraction),
                     None => newton_phase = false,
                 }
@@ -770,7 +781,7 @@ pub fn solve_condensed(
                 let (next, full) = condensed.line_search(&c, &candidate);
                 if !full && next == c {
                     // No descent towards the optimum of the enlarged pattern.
-                    let step = match fallback.take() {
+                    match fallback.take() {
                         Some((base, i, moving))
                             if base.iter().zip(&pattern).any(|(a, b)| a != b) =>
                         {
@@ -786,8 +797,7 @@ pub fn solve_condensed(
                         }
                         // Rounding decides the slope here: take the optimum as it is.
                         _ => (candidate, true),
-                    };
-                    step
+                    }
                 } else {
                     (next, full)
                 }
@@ -964,4 +974,79 @@ pub(super) fn solve(
         dual_condition: None,
         regularized_cases: Vec::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{LinearLoad, Obstacle, StiffnessPiece};
+
+    /// `k` obstacles with thresholds around the fixed-end forces (every state occurs).
+    fn crowded(k: usize, seed: u64) -> Problem {
+        let mut state = seed;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (load, h) = (1e5, 1.0 / (k + 1) as f64);
+        let obstacles = (1..=k)
+            .map(|j| Obstacle {
+                x: (j as f64 + 0.8 * (next() - 0.5)) * h,
+                sliding_threshold: 3.0 * load * h * next(),
+                swivel_threshold: 0.2 * load * h * h * next(),
+            })
+            .collect();
+        Problem {
+            length: 1.0,
+            stiffness: vec![StiffnessPiece {
+                from: 0.0,
+                to: 1.0,
+                bending_stiffness: 2866.0,
+            }],
+            load: LinearLoad {
+                f0: load,
+                f1: -0.5 * load,
+            },
+            obstacles,
+        }
+    }
+
+    #[test]
+    fn the_monotone_search_alone_finds_the_same_solution() {
+        for (k, seed) in [(5, 1), (40, 2), (200, 3)] {
+            let problem = crowded(k, seed);
+            let mesh = Mesh::new(&problem, 4 * (k + 1));
+            let newton = solve_condensed(&problem, &mesh).unwrap();
+            let monotone = solve_with_newton_phases(&problem, &mesh, &[]).unwrap();
+            assert!(newton.converged && monotone.converged, "k = {k}");
+            assert_eq!(newton.states, monotone.states, "k = {k}");
+            let scale = newton
+                .field
+                .deflection
+                .iter()
+                .fold(0.0f64, |m, u| m.max(u.abs()));
+            for (a, b) in newton
+                .field
+                .deflection
+                .iter()
+                .zip(&monotone.field.deflection)
+            {
+                assert!((a - b).abs() <= 1e-13 * scale, "k = {k}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn each_newton_variant_first_gives_the_same_solution() {
+        let problem = crowded(60, 7);
+        let mesh = Mesh::new(&problem, 400);
+        let reference = solve_condensed(&problem, &mesh).unwrap();
+        for fraction in NEWTON_REVERSAL_FRACTIONS {
+            let solution = solve_with_newton_phases(&problem, &mesh, &[fraction]).unwrap();
+            assert!(solution.converged);
+            assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
+        }
+    }
 }
