@@ -2,7 +2,8 @@
 //! in O(N·kl·(kl + ku)) work and O(N·(2kl + ku)) memory.
 //!
 //! This is the linear solver of the `condensed` method (the multiple-shooting system of the
-//! exact piece relations, paper (18)–(21) on the special points): that system is not symmetric,
+//! exact piece relations of (1) with the friction conditions (3)–(6) at the obstacles, for the
+//! linear systems of the algebraic problem (38)): that system is not symmetric,
 //! mixes displacements, rotations, moments and shears, and its natural pivots can be tiny
 //! (a piece 1e-9·l long next to one of length l), so it is solved by the textbook stable
 //! choice for banded matrices, LAPACK's `gbsv` algorithm: every row is first scaled by a power

@@ -11,7 +11,7 @@
 //!
 //! **Multiple shooting instead of single shooting.** The unknowns are the state at the start of
 //! every piece and the reactions of the stuck friction DOFs; the equations are each piece's
-//! transfer, the jumps at the obstacles (m' jumps by −λ1, m by +λ2, paper (18)–(19)), the
+//! transfer, the jumps at the obstacles (m' jumps by −λ1, m by +λ2: conditions (3)–(6)), the
 //! clamped ends and c_i = 0 for stuck DOFs. That is a banded system with about 4 unknowns per
 //! special point, solved by Gaussian elimination with row equilibration and partial pivoting
 //! (`linalg::banded_lu`). Each equation involves one piece only, so no rounding is carried from
@@ -24,13 +24,18 @@
 //! of 1e-300 or 1e300 run the same arithmetic.
 //!
 //! **Friction.** (38) is min ½cᵀAc − bᵀc + Σ g_i|c_i|; each friction DOF is stuck (c_i = 0,
-//! |λ_i| ≤ g_i) or moves (λ_i = g_i·sign c_i). Given the states, one banded solve gives c and
-//! the stuck λ; a primal–dual active-set step then changes every inconsistent DOF at once
-//! (a stuck force above its threshold starts to move in its direction; a moving DOF that
-//! reverses is stuck), which is semismooth Newton for (38). Should a pattern repeat, the
-//! iteration changes only the first inconsistent DOF per step (Murty's least-index rule,
-//! finite for the P-matrix linear complementarity problem that (38) is). The answer is one
-//! solve of the final pattern, so it satisfies (38) up to the rounding of that solve.
+//! |λ_i| ≤ g_i) or moves (λ_i = g_i·sign c_i). Given the pattern of states, one banded solve
+//! gives c and the stuck λ. The pattern is found by semismooth Newton (the primal–dual active
+//! set method): every inconsistent DOF changes at once — a stuck force above its threshold
+//! starts to move its way, a moving DOF that reverses is held (or, by the prediction λ + σc
+//! with σ a fraction of its diagonal stiffness, sent to the other bound). Two variants of σ
+//! are tried in turn, each abandoned on a repeated pattern or when it stops improving; then a
+//! monotone search takes over that can neither cycle nor stall: an exact line search on the
+//! convex, piecewise quadratic J between the current point and the optimum of the next
+//! pattern, adding stuck DOFs only at the optimum of a pattern, and only the worst one when
+//! adding all of them gives no descent (feature-sign search). The answer is the solve of the
+//! final pattern, confirmed by a refined solve, so it satisfies (38) up to the rounding of
+//! that one solve.
 //!
 //! **States.** A decision is made only where the number is computed accurately: the motion at
 //! the DOF itself and the force at the DOF itself. When |motion| is within what rounding can

@@ -47,7 +47,8 @@ pub enum Method {
     Flexibility,
     /// Paper (50)–(51): one obstacle, constant E, J and f.
     ClosedForm,
-    /// Exact stiffness of each piece between special points, condensed onto the friction DOFs.
+    /// Exact relations of each piece between special points (multiple shooting), condensed
+    /// onto the friction DOFs; stable on every scene, meant as the reference.
     Condensed,
 }
 
