@@ -884,51 +884,56 @@ fn nodal_field(
 ) -> NodalField {
     let mut field = NodalField::zeros(mesh.nodes.len());
     let (u_exponent, slope_exponent) = (scales.deflection(), scales.slope());
-    // 2^e as one factor when it is a normal number; else scale each value in steps.
+    // 2^e as one factor when it is a normal number; else scale afterwards in steps.
     let factor = |e: i32| (-1000..=1000).contains(&e).then(|| 2f64.powi(e));
-    let (u_factor, slope_factor) = (factor(u_exponent), factor(slope_exponent));
-    let unscale = |v: f64, factor: Option<f64>, e: i32| match factor {
-        Some(f) => v * f,
-        None => times_power_of_two(v, e),
-    };
+    let factors = factor(u_exponent).zip(factor(slope_exponent));
+    let (u_factor, slope_factor) = factors.unwrap_or((1.0, 1.0));
     for (p, (mesh_piece, piece)) in mesh.pieces.iter().zip(&condensed.pieces).enumerate() {
         let [ua, sa] = condensed.point_values(solution, p);
         let [ub, sb] = condensed.point_values(solution, p + 1);
-        let (a, b) = (
-            mesh.nodes[mesh_piece.first_node],
-            mesh.nodes[mesh_piece.last_node],
-        );
-        let span = b - a;
+        let (first, last) = (mesh_piece.first_node, mesh_piece.last_node);
+        let a = mesh.nodes[first];
+        let to_local = 1.0 / (mesh.nodes[last] - a);
         let (t, e) = (piece.length, piece.stiffness);
         let (fa, fb) = (piece.load_start, piece.load_end);
-        let particular_u = t * t * t * t / (120.0 * e);
-        let particular_slope = t * t * t / (120.0 * e);
-        for node in mesh_piece.first_node..mesh_piece.last_node {
-            let (u, slope) = if node == mesh_piece.first_node {
-                (ua, sa)
-            } else {
-                let xi = (mesh.nodes[node] - a) / span;
-                let (x2, x3) = (xi * xi, xi * xi * xi);
-                let one_minus = 1.0 - xi;
-                let load = fa * (3.0 - xi) + fb * (2.0 + xi);
-                let bubble = x2 * one_minus * one_minus;
-                let u = ua * (1.0 - 3.0 * x2 + 2.0 * x3)
-                    + t * sa * (xi - 2.0 * x2 + x3)
-                    + ub * (3.0 * x2 - 2.0 * x3)
-                    + t * sb * (x3 - x2)
-                    + particular_u * bubble * load;
-                let slope = (6.0 * (x2 - xi) * (ua - ub)) / t
-                    + sa * (1.0 - 4.0 * xi + 3.0 * x2)
-                    + sb * (3.0 * x2 - 2.0 * xi)
-                    + particular_slope
-                        * (2.0 * xi * one_minus * (1.0 - 2.0 * xi) * load + bubble * (fb - fa));
-                (u, slope)
-            };
-            field.deflection[node] = unscale(u, u_factor, u_exponent);
-            field.slope[node] = unscale(slope, slope_factor, slope_exponent);
+        // The Hermite cubic of the end values, ua + ξ(c1 + ξ(c2 + ξ c3)), and the clamped–
+        // clamped response P ξ²(1 − ξ)²(α + βξ) to the load f = fa(1 − ξ) + fb ξ.
+        let rise = ub - ua;
+        let (c1, c2, c3) = (
+            t * sa,
+            3.0 * rise - t * (2.0 * sa + sb),
+            t * (sa + sb) - 2.0 * rise,
+        );
+        let bubble_scale = t * t * t * t / (120.0 * e);
+        let (alpha, beta) = (3.0 * fa + 2.0 * fb, fb - fa);
+        let slope_scale = slope_factor / t;
+        field.deflection[first] = ua * u_factor;
+        field.slope[first] = sa * slope_factor;
+        let nodes = &mesh.nodes[first + 1..last];
+        let deflection = &mut field.deflection[first + 1..last];
+        let slope = &mut field.slope[first + 1..last];
+        for ((x, u_out), s_out) in nodes.iter().zip(deflection).zip(slope) {
+            let xi = (x - a) * to_local;
+            let rest = 1.0 - xi;
+            let load = alpha + beta * xi;
+            let bubble = xi * xi * rest * rest;
+            let u = ua + xi * (c1 + xi * (c2 + xi * c3)) + bubble_scale * bubble * load;
+            let du = c1
+                + xi * (2.0 * c2 + 3.0 * xi * c3)
+                + bubble_scale * (2.0 * xi * rest * (1.0 - 2.0 * xi) * load + bubble * beta);
+            *u_out = u * u_factor;
+            *s_out = du * slope_scale;
         }
     }
-    // The far support: clamped (node 0 is the first node of piece 0 and holds (0, 0)).
+    if factors.is_none() {
+        for v in &mut field.deflection {
+            *v = times_power_of_two(*v, u_exponent);
+        }
+        for v in &mut field.slope {
+            *v = times_power_of_two(*v, slope_exponent);
+        }
+    }
+    // The far support stays clamped (zeros); node 0 is the first node of piece 0, (0, 0).
     field
 }
 
