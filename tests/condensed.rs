@@ -10,8 +10,8 @@ mod common;
 use beamfric::fem::{Mesh, element_load};
 use beamfric::model::{LinearLoad, Obstacle, Problem, StiffnessPiece};
 use beamfric::solve::{
-    CondensedSolution, ConditionLevel, FrictionState, Method, SolveOptions, closed_form, solve,
-    solve_condensed,
+    CondensedFailure, CondensedSolution, ConditionLevel, FrictionState, Method, SolveOptions,
+    closed_form, solve, solve_condensed, solve_condensed_while,
 };
 use common::*;
 
@@ -549,6 +549,19 @@ fn agrees_with_dual_on_ordinary_scenes() {
             );
         }
     }
+}
+
+#[test]
+fn a_solve_stops_when_asked() {
+    let problem = benchmark("benchmark-3");
+    let mesh = Mesh::new(&problem, 20);
+    let mut asked = 0;
+    let stopped = solve_condensed_while(&problem, &mesh, &mut || {
+        asked += 1;
+        asked < 2
+    });
+    assert_eq!(stopped, Err(CondensedFailure::Stopped));
+    assert_eq!(asked, 2);
 }
 
 #[test]

@@ -85,9 +85,11 @@ pub struct CondensedSolution {
 
 /// Why the condensed method has no solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CondensedFailure {
-    /// The banded system was singular in this column.
-    pub column: usize,
+pub enum CondensedFailure {
+    /// The banded system was singular to working precision in this column.
+    Singular { column: usize },
+    /// The caller's `keep_going` said stop (a newer request replaced this solve).
+    Stopped,
 }
 
 /// Scale factors: every scale is a power of two, so scaling is exact.
@@ -364,7 +366,7 @@ impl Condensed {
         } else {
             system.solve_unrefined()
         }
-        .map_err(|e| CondensedFailure { column: e.column })?;
+        .map_err(|e| CondensedFailure::Singular { column: e.column })?;
 
         let mut start: Vec<[f64; 4]> = state_column
             .iter()
@@ -704,14 +706,25 @@ pub fn solve_condensed(
     problem: &Problem,
     mesh: &Mesh,
 ) -> Result<CondensedSolution, CondensedFailure> {
-    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS)
+    solve_condensed_while(problem, mesh, &mut || true)
 }
 
-/// [`solve_condensed`] with the given Newton phases (none: the monotone search alone).
+/// [`solve_condensed`], asking `keep_going` before every linear solve (O(n + k) work each)
+/// and stopping with [`CondensedFailure::Stopped`] when it says no.
+pub fn solve_condensed_while(
+    problem: &Problem,
+    mesh: &Mesh,
+    keep_going: &mut dyn FnMut() -> bool,
+) -> Result<CondensedSolution, CondensedFailure> {
+    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS, keep_going)
+}
+
+/// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone).
 fn solve_with_newton_phases(
     problem: &Problem,
     mesh: &Mesh,
     newton_phases: &[f64],
+    keep_going: &mut dyn FnMut() -> bool,
 ) -> Result<CondensedSolution, CondensedFailure> {
     let scales = Scales::of(problem);
     let condensed = Condensed::new(problem, mesh, &scales);
@@ -736,6 +749,9 @@ fn solve_with_newton_phases(
     let mut fewest_changes = (usize::MAX, 0);
     let mut seen = HashSet::new();
     let (solution, converged) = loop {
+        if !keep_going() {
+            return Err(CondensedFailure::Stopped);
+        }
         let solution = condensed.solve_pattern(&pattern, refined, &mut system)?;
         solves += 1;
         let changes: Vec<(usize, Pattern)> = (0..dofs)
@@ -948,11 +964,14 @@ pub(super) fn solve(
     let solution = solve_condensed(problem, mesh).map_err(|failure| SolveError {
         method: Method::Condensed,
         kind: SolveErrorKind::Breakdown,
-        reason: format!(
-            "the multiple-shooting system is singular to working precision (column {})",
-            failure.column
-        ),
-        suggestion: Method::Dual,
+        reason: match failure {
+            CondensedFailure::Singular { column } => format!(
+                "the multiple-shooting system is singular to working precision (column \
+                 {column})"
+            ),
+            CondensedFailure::Stopped => "stopped".to_string(),
+        },
+        suggestion: Method::Flexibility,
     })?;
     timing.dual_solve = clock.lap();
     let mut warnings = Vec::new();
@@ -1029,7 +1048,7 @@ mod tests {
             let problem = crowded(k, seed);
             let mesh = Mesh::new(&problem, 4 * (k + 1));
             let newton = solve_condensed(&problem, &mesh).unwrap();
-            let monotone = solve_with_newton_phases(&problem, &mesh, &[]).unwrap();
+            let monotone = solve_with_newton_phases(&problem, &mesh, &[], &mut || true).unwrap();
             assert!(newton.converged && monotone.converged, "k = {k}");
             assert_eq!(newton.states, monotone.states, "k = {k}");
             let scale = newton
@@ -1054,7 +1073,8 @@ mod tests {
         let mesh = Mesh::new(&problem, 400);
         let reference = solve_condensed(&problem, &mesh).unwrap();
         for fraction in NEWTON_REVERSAL_FRACTIONS {
-            let solution = solve_with_newton_phases(&problem, &mesh, &[fraction]).unwrap();
+            let solution =
+                solve_with_newton_phases(&problem, &mesh, &[fraction], &mut || true).unwrap();
             assert!(solution.converged);
             assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
         }

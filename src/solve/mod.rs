@@ -26,7 +26,9 @@ use crate::linalg::condition::{
 use crate::model::Problem;
 
 pub use closed_form::{ClosedForm, closed_form};
-pub use condensed::{CondensedFailure, CondensedSolution, FrictionState, solve_condensed};
+pub use condensed::{
+    CondensedFailure, CondensedSolution, FrictionState, solve_condensed, solve_condensed_while,
+};
 
 /// A way to solve the problem (DESIGN.md section 3).
 #[derive(
