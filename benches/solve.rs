@@ -12,6 +12,9 @@
 //! - `dual-inverse`: the paper's explicit inverse, for the O(N³) curve.
 //! - `many-obstacles`: k = 16 … 128 obstacles at n = 1000, where the box QP has 2k > 32
 //!   unknowns and runs projected Newton before the active-set method certifies its answer.
+//! - `condensed-many-obstacles`: the `condensed` method (issue 10) on k = 16 … 4000 obstacles
+//!   at n = 10⁴ with thresholds around the fixed-end forces (every friction state occurs), and
+//!   on Benchmark 1 at n = 10⁶ (the accuracy target's mesh).
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -223,6 +226,57 @@ fn many_obstacles(c: &mut Criterion) {
     group.finish();
 }
 
+/// `k` obstacles at jittered positions with thresholds spread around the fixed-end forces of
+/// their spans, so that about a third stick, and the rest slide, swivel or both.
+fn crowded_condensed(k: usize) -> Problem {
+    let mut scene = scene("benchmark-3");
+    let load = 1e5;
+    let h = scene.beam.length / (k + 1) as f64;
+    // A fixed sequence (SplitMix64): the same scene on every run.
+    let mut state = 4000u64;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    scene.load.f0 = load;
+    scene.load.f1 = Some(0.5 * load);
+    scene.obstacles = (1..=k)
+        .map(|j| ObstacleSpec {
+            x: (j as f64 + 0.8 * (next() - 0.5)) * h,
+            sliding: 3.0 * load * h * next(),
+            swivel: 0.2 * load * h * h * next(),
+        })
+        .collect();
+    scene.validate("crowded-condensed").unwrap().0
+}
+
+fn condensed_many_obstacles(c: &mut Criterion) {
+    let mut group = c.benchmark_group("condensed-many-obstacles");
+    group.sample_size(20);
+    for k in [16usize, 128, 1000, 4000] {
+        let problem = crowded_condensed(k);
+        let mesh = Mesh::new(&problem, 10_000);
+        group.bench_with_input(BenchmarkId::new("condensed/n=1e4", k), &mesh, |b, mesh| {
+            b.iter(|| solve(&problem, mesh, Method::Condensed, &options(false)).unwrap())
+        });
+    }
+    let problem = problem("benchmark-1");
+    let mesh = Mesh::new(&problem, 1_000_000);
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(8));
+    for method in [Method::Condensed, Method::Flexibility] {
+        group.bench_with_input(
+            BenchmarkId::new(format!("{method}/benchmark-1"), 1_000_000),
+            &mesh,
+            |b, mesh| b.iter(|| solve(&problem, mesh, method, &options(false)).unwrap()),
+        );
+    }
+    group.finish();
+}
+
 criterion_group!(
     benches,
     methods,
@@ -230,6 +284,7 @@ criterion_group!(
     regularized_vs_k,
     factorization,
     dual_inverse,
-    many_obstacles
+    many_obstacles,
+    condensed_many_obstacles
 );
 criterion_main!(benches);

@@ -215,7 +215,7 @@ fn whole_file_mistakes_are_named() {
     assert_mentions(
         &reject(&crowded),
         &[
-            "257 obstacles",
+            &format!("{} obstacles", beamfric::scene::MAX_OBSTACLES + 1),
             &format!("at most {}", beamfric::scene::MAX_OBSTACLES),
         ],
     );

@@ -4,6 +4,7 @@
 //! systems on the friction DOFs, the box-constrained QP of the dual problem (49), and
 //! condition numbers (dense eigenvalues through faer, Lanczos estimates for large N).
 
+pub mod banded_lu;
 mod block;
 pub mod blocktri;
 pub mod boxqp;

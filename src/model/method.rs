@@ -22,12 +22,16 @@ pub enum Method {
     Flexibility,
     /// Paper (50)–(51): one obstacle, constant E, J and f.
     ClosedForm,
+    /// Exact relations of each piece between special points (multiple shooting), the friction
+    /// solved in the primal: stable on every scene, the reference that grades the others.
+    Condensed,
 }
 
 impl Method {
     /// Every method, in the order the explorer cycles through them.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Dual,
+        Method::Condensed,
         Method::Flexibility,
         Method::Regularized,
         Method::RegularizedNewton,
@@ -44,6 +48,7 @@ impl Method {
             Method::Dual => "dual",
             Method::Flexibility => "flexibility",
             Method::ClosedForm => "closed-form",
+            Method::Condensed => "condensed",
         }
     }
 
@@ -64,12 +69,19 @@ impl Method {
                 "The force formulation: same discrete solution without the stiffness matrix"
             }
             Method::ClosedForm => "Paper (50)–(51): one obstacle, constant E, J and f",
+            Method::Condensed => {
+                "Exact piece relations (multiple shooting) and the friction in the primal: \
+                 the stable reference"
+            }
         }
     }
 
     /// Does the method work through the stiffness matrix A (and so inherit its conditioning)?
     pub fn uses_stiffness_matrix(self) -> bool {
-        !matches!(self, Method::Flexibility | Method::ClosedForm)
+        !matches!(
+            self,
+            Method::Flexibility | Method::ClosedForm | Method::Condensed
+        )
     }
 
     /// Does the method solve the regularised problem (and so depend on ε)?

@@ -27,8 +27,9 @@ pub use serialize::{SAVED_HEADER, float_text};
 
 /// Most elements a scene may ask for (memory stays under a few hundred MB).
 pub const MAX_ELEMENTS: usize = 10_000_000;
-/// Most obstacles a scene may have (the dual matrix is dense, 2k × 2k).
-pub const MAX_OBSTACLES: usize = 256;
+/// Most obstacles a scene may have. `condensed` is O(n + k·solves); the dual methods build a
+/// dense 2k × 2k matrix (512 MB at this limit) and are slow well before it.
+pub const MAX_OBSTACLES: usize = 4096;
 /// Two distinct special points (obstacles, supports, ends of stretches) closer than this
 /// fraction of the length are rejected: the element between them would be degenerate.
 pub const MIN_SEPARATION: f64 = 1e-9;

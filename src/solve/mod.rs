@@ -8,6 +8,7 @@
 
 mod certificate;
 mod closed_form;
+mod condensed;
 mod dual;
 mod dual_inverse;
 mod flexibility;
@@ -24,6 +25,9 @@ use crate::model::Problem;
 pub use crate::model::Method;
 pub use certificate::{compare, reference_field};
 pub use closed_form::{ClosedForm, closed_form};
+pub use condensed::{
+    CondensedFailure, CondensedSolution, FrictionState, solve_condensed, solve_condensed_while,
+};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
     Conditioning, ErrorReport, MethodDetails, ObstacleResult, Reference, Solution, SolveError,
@@ -46,6 +50,7 @@ pub fn solve(
         Method::Dual => dual::solve(problem, mesh, options)?,
         Method::Flexibility => flexibility::solve(problem, mesh, options)?,
         Method::ClosedForm => closed_form::solve(problem, mesh)?,
+        Method::Condensed => condensed::solve(problem, mesh, options)?,
     };
     shared::check_cancel(options, method)?;
     let solution = certificate::certify(problem, mesh, method, options, output);

@@ -1,0 +1,393 @@
+//! Gaussian elimination with row equilibration and partial pivoting for a banded square system,
+//! in O(N·kl·(kl + ku)) work and O(N·(2kl + ku)) memory.
+//!
+//! This is the linear solver of the `condensed` method (the multiple-shooting system of the
+//! exact piece relations of (1) with the friction conditions (3)–(6) at the obstacles, for the
+//! linear systems of the algebraic problem (38)): that system is not symmetric,
+//! mixes displacements, rotations, moments and shears, and its natural pivots can be tiny
+//! (a piece 1e-9·l long next to one of length l), so it is solved by the textbook stable
+//! choice for banded matrices, LAPACK's `gbsv` algorithm: every row is first scaled by a power
+//! of two to a largest entry in [0.5, 1) (exact), then each column is pivoted on its largest
+//! entry within the band. Pivoting can move a row at most `kl` places up, so a row's entries
+//! stay within `kl + ku` columns to the right of its diagonal. A few steps of iterative
+//! refinement with the residual summed in double-double then make each component accurate to
+//! its own size: a deflection of 7e-17 m next to a support is resolved even where the largest
+//! deflection is 2e-2 m, which the sign of a friction force depends on (issue 10 item 2).
+
+/// A pivot column was zero: the system is singular (to working precision).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SingularColumn {
+    pub column: usize,
+}
+
+/// A square banded system A x = r with `lower` sub-diagonals and `upper` super-diagonals.
+#[derive(Debug, Clone)]
+pub struct BandedSystem {
+    size: usize,
+    lower: usize,
+    upper: usize,
+    /// A as given, row by row: columns row − lower ..= row + upper.
+    entries: Vec<f64>,
+    rhs: Vec<f64>,
+    /// Storage of the factors, kept between solves of systems of the same shape.
+    factor_storage: Vec<f64>,
+}
+
+/// Largest number of refinement steps after the first solve.
+const REFINEMENT_STEPS: usize = 4;
+
+impl BandedSystem {
+    /// A zero system of `size` unknowns.
+    pub fn new(size: usize, lower: usize, upper: usize) -> BandedSystem {
+        BandedSystem {
+            size,
+            lower,
+            upper,
+            entries: vec![0.0; size * (lower + upper + 1)],
+            rhs: vec![0.0; size],
+            factor_storage: Vec::new(),
+        }
+    }
+
+    /// Makes this a zero system of `size` unknowns with the same band, reusing its memory.
+    pub fn reset(&mut self, size: usize) {
+        self.size = size;
+        self.entries.clear();
+        self.entries
+            .resize(size * (self.lower + self.upper + 1), 0.0);
+        self.rhs.clear();
+        self.rhs.resize(size, 0.0);
+    }
+
+    /// Number of unknowns.
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// Adds `value` to entry (row, column), which must lie in the band.
+    pub fn add(&mut self, row: usize, column: usize, value: f64) {
+        assert!(
+            column + self.lower >= row && column <= row + self.upper,
+            "entry ({row}, {column}) outside the band ({}, {})",
+            self.lower,
+            self.upper
+        );
+        let i = row * (self.lower + self.upper + 1) + column + self.lower - row;
+        self.entries[i] += value;
+    }
+
+    /// Adds `value` to the right-hand side of `row`.
+    pub fn add_rhs(&mut self, row: usize, value: f64) {
+        self.rhs[row] += value;
+    }
+
+    /// Solves the system: elimination with partial pivoting, then iterative refinement with
+    /// the solution carried in double-double and the residual summed in double-double. That
+    /// makes every component of the result accurate relative to its own size (not only to the
+    /// largest component), as long as the system is not singular to working precision.
+    pub fn solve(&mut self) -> Result<Vec<f64>, SingularColumn> {
+        self.solve_refined(REFINEMENT_STEPS)
+    }
+
+    /// Solves by elimination alone: accurate relative to the largest component, about four
+    /// times cheaper than [`BandedSystem::solve`].
+    pub fn solve_unrefined(&mut self) -> Result<Vec<f64>, SingularColumn> {
+        self.solve_refined(0)
+    }
+
+    fn solve_refined(&mut self, steps: usize) -> Result<Vec<f64>, SingularColumn> {
+        let storage = std::mem::take(&mut self.factor_storage);
+        let factors = Factors::new(self, storage)?;
+        let x = self.refine(&factors, steps);
+        self.factor_storage = factors.entries;
+        Ok(x)
+    }
+
+    fn refine(&self, factors: &Factors, steps: usize) -> Vec<f64> {
+        let mut hi = self.rhs.clone();
+        factors.solve_in_place(&mut hi);
+        let mut lo = vec![0.0; self.size];
+        let mut previous = f64::INFINITY;
+        for _ in 0..steps {
+            let mut correction = self.residual(&hi, &lo);
+            factors.solve_in_place(&mut correction);
+            let size = correction.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+            if size == 0.0 || size >= previous || size.is_nan() {
+                break;
+            }
+            previous = size;
+            for ((h, l), d) in hi.iter_mut().zip(lo.iter_mut()).zip(&correction) {
+                let sum = DoubleDouble { hi: *h, lo: *l }.plus(*d);
+                *h = sum.hi;
+                *l = sum.lo;
+            }
+        }
+        hi
+    }
+
+    /// r − A (hi + lo), each component summed in double-double and rounded once.
+    fn residual(&self, hi: &[f64], lo: &[f64]) -> Vec<f64> {
+        let width = self.lower + self.upper + 1;
+        (0..self.size)
+            .map(|row| {
+                let first = row.saturating_sub(self.lower);
+                let last = (row + self.upper).min(self.size - 1);
+                let mut sum = DoubleDouble::from(self.rhs[row]);
+                for column in first..=last {
+                    let a = self.entries[row * width + column + self.lower - row];
+                    if a != 0.0 {
+                        sum = sum.minus_product(a, hi[column]);
+                        sum.lo -= a * lo[column];
+                    }
+                }
+                sum.value()
+            })
+            .collect()
+    }
+}
+
+/// A sum carried as an unevaluated pair hi + lo (about 106 bits).
+#[derive(Debug, Clone, Copy)]
+struct DoubleDouble {
+    hi: f64,
+    lo: f64,
+}
+
+impl From<f64> for DoubleDouble {
+    fn from(v: f64) -> DoubleDouble {
+        DoubleDouble { hi: v, lo: 0.0 }
+    }
+}
+
+impl DoubleDouble {
+    /// self − a·b, with a·b exact (fused multiply–add) and the sum error-free (TwoSum).
+    fn minus_product(self, a: f64, b: f64) -> DoubleDouble {
+        let p = -(a * b);
+        let p_error = (-a).mul_add(b, -p);
+        let s = self.hi + p;
+        let v = s - self.hi;
+        let s_error = (self.hi - (s - v)) + (p - v);
+        let lo = self.lo + p_error + s_error;
+        let hi = s + lo;
+        DoubleDouble {
+            hi,
+            lo: lo - (hi - s),
+        }
+    }
+
+    /// self + d (TwoSum, renormalised).
+    fn plus(self, d: f64) -> DoubleDouble {
+        let s = self.hi + d;
+        let v = s - self.hi;
+        let error = (self.hi - (s - v)) + (d - v);
+        let lo = self.lo + error;
+        let hi = s + lo;
+        DoubleDouble {
+            hi,
+            lo: lo - (hi - s),
+        }
+    }
+
+    fn value(self) -> f64 {
+        self.hi + self.lo
+    }
+}
+
+/// The LU factors of an equilibrated copy of A in LAPACK's `gbtrf` layout: U in the rows,
+/// the multipliers of column j below its diagonal, and the row exchanged with j.
+struct Factors {
+    size: usize,
+    lower: usize,
+    upper: usize,
+    width: usize,
+    entries: Vec<f64>,
+    /// The power of two each row was scaled by.
+    row_scale: Vec<f64>,
+    pivot: Vec<usize>,
+}
+
+impl Factors {
+    fn new(system: &BandedSystem, mut entries: Vec<f64>) -> Result<Factors, SingularColumn> {
+        let (n, kl, ku) = (system.size, system.lower, system.upper);
+        let width = 2 * kl + ku + 1;
+        let given = kl + ku + 1;
+        entries.clear();
+        entries.resize(n * width, 0.0);
+        let mut row_scale = vec![1.0; n];
+        // Scale every row by a power of two to a largest entry in [0.5, 1): exact, and the
+        // pivot choice no longer depends on the rows' units.
+        for row in 0..n {
+            let source = &system.entries[row * given..(row + 1) * given];
+            let target = &mut entries[row * width..row * width + given];
+            let largest = source.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let scale = if largest > 0.0 && largest.is_finite() {
+                power_of_two(-(largest.log2().floor() as i32) - 1)
+            } else {
+                None
+            };
+            match scale {
+                Some(scale) => {
+                    row_scale[row] = scale;
+                    for (t, &v) in target.iter_mut().zip(source) {
+                        *t = v * scale;
+                    }
+                }
+                None => target.copy_from_slice(source),
+            }
+        }
+        let mut pivot = vec![0; n];
+        let reach = kl + ku;
+        let at = |row: usize, column: usize| row * width + column + kl - row;
+        for j in 0..n {
+            let last_row = (j + kl).min(n - 1);
+            let mut best = j;
+            let mut largest = entries[at(j, j)].abs();
+            for r in j + 1..=last_row {
+                let v = entries[at(r, j)].abs();
+                if v > largest {
+                    largest = v;
+                    best = r;
+                }
+            }
+            if largest == 0.0 || !largest.is_finite() {
+                return Err(SingularColumn { column: j });
+            }
+            pivot[j] = best;
+            let last_column = (j + reach).min(n - 1);
+            let span = last_column - j + 1;
+            if best != j {
+                let (a, b) = (at(j, j), at(best, j));
+                let (head, tail) = entries.split_at_mut(b);
+                head[a..a + span].swap_with_slice(&mut tail[..span]);
+            }
+            let diagonal = entries[at(j, j)];
+            for r in j + 1..=last_row {
+                let multiplier_at = at(r, j);
+                let factor = entries[multiplier_at] / diagonal;
+                entries[multiplier_at] = factor;
+                if factor == 0.0 {
+                    continue;
+                }
+                // Columns j + 1 ..= last_column of rows j (pivot) and r (target).
+                let (source, target) = (at(j, j + 1), at(r, j + 1));
+                let (head, tail) = entries.split_at_mut(target);
+                for (t, s) in tail[..span - 1]
+                    .iter_mut()
+                    .zip(&head[source..source + span - 1])
+                {
+                    *t -= factor * s;
+                }
+            }
+        }
+        Ok(Factors {
+            size: n,
+            lower: kl,
+            upper: ku,
+            width,
+            entries,
+            row_scale,
+            pivot,
+        })
+    }
+
+    /// Overwrites b with A⁻¹ b.
+    fn solve_in_place(&self, b: &mut [f64]) {
+        let (n, kl, width) = (self.size, self.lower, self.width);
+        let at = |row: usize, column: usize| row * width + column + kl - row;
+        for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
+            *v *= scale;
+        }
+        for j in 0..n {
+            b.swap(j, self.pivot[j]);
+            let bj = b[j];
+            if bj != 0.0 {
+                for r in j + 1..=(j + kl).min(n - 1) {
+                    b[r] -= self.entries[at(r, j)] * bj;
+                }
+            }
+        }
+        let reach = kl + self.upper;
+        for i in (0..n).rev() {
+            let last = (i + reach).min(n - 1);
+            let row = &self.entries[at(i, i + 1)..at(i, i + 1) + (last - i)];
+            let sum = row
+                .iter()
+                .zip(&b[i + 1..=last])
+                .fold(b[i], |sum, (a, x)| sum - a * x);
+            b[i] = sum / self.entries[at(i, i)];
+        }
+    }
+}
+
+/// 2^e as a normal double, if it is one.
+fn power_of_two(e: i32) -> Option<f64> {
+    (-1022..=1023)
+        .contains(&e)
+        .then(|| f64::from_bits(((e + 1023) as u64) << 52))
+}
+
+/// x·2^e, exact unless the result leaves the range of doubles (done in steps so that 2^e
+/// itself never overflows).
+pub fn times_power_of_two(mut x: f64, mut e: i32) -> f64 {
+    const STEP: i32 = 1000;
+    let exact = |e: i32| power_of_two(e).expect("|e| ≤ 1000 is a normal power of two");
+    while e > STEP {
+        x *= exact(STEP);
+        e -= STEP;
+    }
+    while e < -STEP {
+        x *= exact(-STEP);
+        e += STEP;
+    }
+    x * exact(e)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_system_that_needs_pivoting() {
+        // The first pivot is zero: row exchanges are needed.
+        let mut a = BandedSystem::new(3, 1, 1);
+        let rows = [[0.0, 1.0, 0.0], [1.0, 0.0, 2.0], [0.0, 3.0, 1.0]];
+        let x_true = [1.0, 1.0, 2.0];
+        for (r, row) in rows.iter().enumerate() {
+            for (c, &v) in row.iter().enumerate() {
+                if v != 0.0 {
+                    a.add(r, c, v);
+                }
+            }
+            let rhs: f64 = row.iter().zip(x_true).map(|(a, x)| a * x).sum();
+            a.add_rhs(r, rhs);
+        }
+        let x = a.solve().unwrap();
+        for (x, t) in x.iter().zip(x_true) {
+            assert!((x - t).abs() < 1e-15, "{x} vs {t}");
+        }
+    }
+
+    #[test]
+    fn reports_a_singular_system() {
+        let mut a = BandedSystem::new(2, 1, 1);
+        a.add(0, 0, 1.0);
+        a.add(0, 1, 1.0);
+        a.add(1, 0, 2.0);
+        a.add(1, 1, 2.0);
+        assert_eq!(a.solve().unwrap_err(), SingularColumn { column: 1 });
+    }
+
+    #[test]
+    fn powers_of_two_scale_exactly_across_the_range() {
+        assert_eq!(times_power_of_two(3.0, 2), 12.0);
+        assert_eq!(times_power_of_two(1.5, -1073), 3.0 * f64::from_bits(1));
+        assert_eq!(
+            times_power_of_two(times_power_of_two(0.7, 1020), -1020),
+            0.7
+        );
+        assert_eq!(
+            times_power_of_two(times_power_of_two(1e-300, 1900), -1900),
+            1e-300
+        );
+    }
+}

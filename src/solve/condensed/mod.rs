@@ -1,0 +1,169 @@
+//! `condensed`: the exact solution of (38) from the exact relations of every piece between
+//! special points (supports, obstacles, segment ends), condensed onto the friction DOFs, with
+//! the friction solved in the primal. It is the method meant to grade the others.
+//!
+//! **Pieces.** On a piece between consecutive special points E·J is constant and f linear, so
+//! the beam equation (EJ u'')'' = f has the exact transfer y(b) = Φ y(a) + q for the state
+//! y = (u, u', m, m') with m = EJ u'' (the force formulation of DESIGN.md fact 3, but applied
+//! to one piece at a time). Because the finite-element solution is exact at the nodes
+//! (DESIGN.md fact 1), the states at the special points determine the discrete solution of (38)
+//! on any mesh.
+//!
+//! **Multiple shooting instead of single shooting.** The unknowns are the state at the start of
+//! every piece and the reactions of the stuck friction DOFs; the equations are each piece's
+//! transfer, the jumps at the obstacles (m' jumps by −λ1, m by +λ2: conditions (3)–(6)), the
+//! clamped ends and c_i = 0 for stuck DOFs. That is a banded system with about 4 unknowns per
+//! special point, solved by Gaussian elimination with row equilibration and partial pivoting
+//! (`linalg::banded_lu`). Each equation involves one piece only, so no rounding is carried from
+//! one end of the beam to the other (the failure of `flexibility`, issue 10 item 1–2); a piece
+//! 1e-9·l long is an almost-identity transfer, not a stiffness of 1e27 added to one of 1 (which
+//! is what makes the assembled stiffness lose the rigid motion of a short piece between two
+//! sliding obstacles); and the forces of stuck DOFs are unknowns of the system, not differences
+//! of large displacements times large stiffnesses. The problem is first made dimensionless by
+//! powers of two (length, stiffness, load), which is exact, so a beam of 1 mm or 1 km and loads
+//! of 1e-300 or 1e300 run the same arithmetic.
+//!
+//! **Friction.** (38) is min ½cᵀAc − bᵀc + Σ g_i|c_i|; each friction DOF is stuck (c_i = 0,
+//! |λ_i| ≤ g_i) or moves (λ_i = g_i·sign c_i). Given the pattern of states, one banded solve
+//! gives c and the stuck λ. The pattern is found by semismooth Newton (the primal–dual active
+//! set method): every inconsistent DOF changes at once — a stuck force above its threshold
+//! starts to move its way, a moving DOF that reverses is held (or, by the prediction λ + σc
+//! with σ a fraction of its diagonal stiffness, sent to the other bound). Two variants of σ
+//! are tried in turn, each abandoned on a repeated pattern or when it stops improving; then a
+//! monotone search takes over that can neither cycle nor stall: an exact line search on the
+//! convex, piecewise quadratic J between the current point and the optimum of the next
+//! pattern, adding stuck DOFs only at the optimum of a pattern, and only the worst one when
+//! adding all of them gives no descent (feature-sign search). The answer is the solve of the
+//! final pattern, confirmed by a refined solve, so it satisfies (38) up to the rounding of
+//! that one solve.
+//!
+//! **States.** A decision is made only where the number is computed accurately: the motion at
+//! the DOF itself and the force at the DOF itself. When |motion| is within what rounding can
+//! resolve locally (a few ulps of the adjacent pieces' own magnitudes), or |force| is within
+//! rounding of the threshold, the DOF is reported [`FrictionState::AtThreshold`] rather than a
+//! coin toss.
+//!
+//! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
+//! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,
+//! and the error does not grow with n.
+
+use super::options::SolveOptions;
+use super::shared::{MethodOutput, Stopwatch, cancelled};
+use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
+use crate::fem::{Mesh, NodalField};
+use crate::model::{Method, Problem};
+use search::{NEWTON_REVERSAL_FRACTIONS, solve_with_newton_phases};
+
+/// The friction state of one DOF (value or slope) of an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrictionState {
+    /// c = 0 and |λ| < g by more than rounding.
+    Stuck,
+    /// c ≠ 0 by more than rounding, λ = g·sign c.
+    Moves,
+    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
+    AtThreshold,
+}
+
+/// The result of the condensed method, in SI units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CondensedSolution {
+    /// u and u' at every mesh node.
+    pub field: NodalField,
+    /// (force [N], moment [N m]) per obstacle, in the convention A c = b − Bᵀλ.
+    pub friction: Vec<[f64; 2]>,
+    /// (sliding, swivel) state per obstacle.
+    pub states: Vec<[FrictionState; 2]>,
+    /// Linear solves (one per active-set step).
+    pub solves: usize,
+    /// Did the active-set iteration end with a consistent pattern?
+    pub converged: bool,
+}
+
+/// Why the condensed method has no solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CondensedFailure {
+    /// The banded system was singular to working precision in this column.
+    Singular { column: usize },
+    /// The caller's `keep_going` said stop (a newer request replaced this solve).
+    Stopped,
+}
+
+mod nodes;
+mod scaling;
+mod search;
+mod system;
+#[cfg(test)]
+mod tests;
+
+/// Solves (38) by the condensed method; see the module documentation.
+pub fn solve_condensed(
+    problem: &Problem,
+    mesh: &Mesh,
+) -> Result<CondensedSolution, CondensedFailure> {
+    solve_condensed_while(problem, mesh, &mut || true)
+}
+
+/// [`solve_condensed`], asking `keep_going` before every linear solve (O(n + k) work each)
+/// and stopping with [`CondensedFailure::Stopped`] when it says no.
+pub fn solve_condensed_while(
+    problem: &Problem,
+    mesh: &Mesh,
+    keep_going: &mut dyn FnMut() -> bool,
+) -> Result<CondensedSolution, CondensedFailure> {
+    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS, keep_going)
+}
+
+/// `solve` entry point: the condensed solution as the common [`MethodOutput`].
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
+    let mut timing = Timing::default();
+    let mut clock = Stopwatch::start();
+    let mut keep_going = || !options.cancel.is_cancelled();
+    let solution =
+        solve_condensed_while(problem, mesh, &mut keep_going).map_err(|failure| match failure {
+            CondensedFailure::Singular { column } => SolveError {
+                method: Method::Condensed,
+                kind: SolveErrorKind::Breakdown,
+                reason: format!(
+                    "the multiple-shooting system is singular to working precision (column \
+                     {column})"
+                ),
+                suggestion: Method::Flexibility,
+            },
+            CondensedFailure::Stopped => cancelled(Method::Condensed),
+        })?;
+    timing.dual_solve = clock.lap();
+    let mut warnings = Vec::new();
+    if !solution.converged {
+        warnings.push(Warning::new(
+            WarningCode::QpNotConverged,
+            format!(
+                "the active-set iteration stopped after {} solves with an inconsistent \
+                 friction state",
+                solution.solves
+            ),
+        ));
+    }
+    let moving = solution
+        .states
+        .iter()
+        .map(|s| s.map(|state| state == FrictionState::Moves))
+        .collect();
+    Ok(MethodOutput {
+        field: solution.field,
+        lambda: solution.friction,
+        moving,
+        timing,
+        warnings,
+        details: MethodDetails {
+            newton_iterations: Some(solution.solves),
+            ..MethodDetails::default()
+        },
+        dual_condition: None,
+        regularized_cases: Vec::new(),
+    })
+}

@@ -1,0 +1,117 @@
+//! Exact power-of-two scaling (length, stiffness, load) and the exact transfer of the state
+//! (u, u', m, m') across one piece of constant E·J and linear load.
+
+#![allow(clippy::needless_range_loop)]
+
+use crate::model::Problem;
+
+/// Scale factors: every scale is a power of two, so scaling is exact.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Scales {
+    /// log2 of the length scale.
+    pub(super) length: i32,
+    /// log2 of the stiffness scale.
+    pub(super) stiffness: i32,
+    /// log2 of the load scale.
+    pub(super) load: i32,
+}
+
+impl Scales {
+    pub(super) fn of(problem: &Problem) -> Scales {
+        let exponent = |v: f64| v.log2().round() as i32;
+        let (smallest, largest) =
+            problem
+                .stiffness
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), piece| {
+                    (
+                        lo.min(piece.bending_stiffness),
+                        hi.max(piece.bending_stiffness),
+                    )
+                });
+        let load = problem.load.f0.abs().max(problem.load.f1.abs());
+        Scales {
+            length: exponent(problem.length),
+            // The geometric mean keeps both extremes of a large contrast in range.
+            stiffness: (0.5 * (smallest.log2() + largest.log2())).round() as i32,
+            load: if load > 0.0 { exponent(load) } else { 0 },
+        }
+    }
+
+    /// u = ũ·2^this.
+    pub(super) fn deflection(&self) -> i32 {
+        self.load + 4 * self.length - self.stiffness
+    }
+    /// u' = ũ'·2^this.
+    pub(super) fn slope(&self) -> i32 {
+        self.load + 3 * self.length - self.stiffness
+    }
+    /// λ1 = λ̃1·2^this.
+    pub(super) fn force(&self) -> i32 {
+        self.load + self.length
+    }
+    /// λ2 = λ̃2·2^this.
+    pub(super) fn moment(&self) -> i32 {
+        self.load + 2 * self.length
+    }
+}
+
+/// One piece in dimensionless units.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Piece {
+    pub(super) length: f64,
+    pub(super) stiffness: f64,
+    pub(super) load_start: f64,
+    pub(super) load_end: f64,
+}
+
+impl Piece {
+    /// The state at the end of the piece from the state at its start (exact).
+    pub(super) fn transfer(&self, y: [f64; 4]) -> [f64; 4] {
+        let [u, du, m, v] = y;
+        let (t, e) = (self.length, self.stiffness);
+        let q = self.load_terms();
+        [
+            u + t * du + t * t * (m / 2.0 + t * v / 6.0) / e + q[0],
+            du + t * (m + t * v / 2.0) / e + q[1],
+            m + t * v + q[2],
+            v + q[3],
+        ]
+    }
+
+    /// The state at the end of the piece for a zero start state: the load's own contribution
+    /// (u, u', m, m').
+    pub(super) fn load_terms(&self) -> [f64; 4] {
+        let (t, e, fa, fb) = (self.length, self.stiffness, self.load_start, self.load_end);
+        [
+            t * t * t * t * (4.0 * fa + fb) / (120.0 * e),
+            t * t * t * (3.0 * fa + fb) / (24.0 * e),
+            t * t * (2.0 * fa + fb) / 6.0,
+            t * (fa + fb) / 2.0,
+        ]
+    }
+
+    /// d(end state)/d(start state): row r of Φ.
+    pub(super) fn transfer_matrix(&self) -> [[f64; 4]; 4] {
+        let (t, e) = (self.length, self.stiffness);
+        [
+            [1.0, t, t * t / (2.0 * e), t * t * t / (6.0 * e)],
+            [0.0, 1.0, t / e, t * t / (2.0 * e)],
+            [0.0, 0.0, 1.0, t],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    }
+
+    /// Size of the deflections this piece carries: its end values and its own clamped–clamped
+    /// response to the load. Rounding of anything computed from the piece is a few ulps of it.
+    pub(super) fn magnitude(&self, start: [f64; 2], end: [f64; 2]) -> f64 {
+        let own = self.length.powi(4) * self.load_start.abs().max(self.load_end.abs())
+            / (384.0 * self.stiffness);
+        start[0]
+            .abs()
+            .max(end[0].abs())
+            .max(self.length * start[1].abs())
+            .max(self.length * end[1].abs())
+            .max(own)
+    }
+}

@@ -1,0 +1,298 @@
+//! The multiple-shooting system on the special points: the unknowns (the state at the start of
+//! every piece, the reactions of stuck DOFs), one banded solve per friction pattern, and what a
+//! solve says about each DOF (its motion, its force, the state it wants).
+
+use super::CondensedFailure;
+use super::scaling::{Piece, Scales};
+use super::search::NEWTON_REVERSAL_FRACTIONS;
+use crate::fem::Mesh;
+use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::model::Problem;
+
+/// How a friction DOF enters the linear system.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(super) enum Pattern {
+    Stuck,
+    /// Moves with λ = +g.
+    Positive,
+    /// Moves with λ = −g.
+    Negative,
+}
+
+/// The dimensionless problem on the special points.
+pub(super) struct Condensed {
+    pub(super) pieces: Vec<Piece>,
+    /// For every special point 1..P−1: the obstacle there, if any.
+    pub(super) obstacle_at_point: Vec<Option<usize>>,
+    /// For every obstacle: its special point.
+    pub(super) point_of_obstacle: Vec<usize>,
+    /// Dimensionless thresholds (g1, g2) per obstacle.
+    pub(super) thresholds: Vec<[f64; 2]>,
+    /// σ / diagonal stiffness in the reversal prediction of the current Newton phase.
+    pub(super) reversal_fraction: std::cell::Cell<f64>,
+}
+
+/// The states of one solve of a fixed pattern.
+pub(super) struct PatternSolution {
+    /// State just right of every special point 0..P−1 (u, u', m, m').
+    pub(super) start: Vec<[f64; 4]>,
+    /// State at the end of every piece (just left of point p + 1).
+    pub(super) end: Vec<[f64; 4]>,
+    /// λ per friction DOF (given for moving DOFs, solved for stuck ones).
+    pub(super) lambda: Vec<f64>,
+}
+
+impl Condensed {
+    pub(super) fn new(problem: &Problem, mesh: &Mesh, scales: &Scales) -> Condensed {
+        let length = |x: f64| times_power_of_two(x, -scales.length);
+        let load = |f: f64| times_power_of_two(f, -scales.load);
+        let pieces: Vec<Piece> = mesh
+            .pieces
+            .iter()
+            .map(|piece| {
+                let (a, b) = (mesh.nodes[piece.first_node], mesh.nodes[piece.last_node]);
+                Piece {
+                    length: length(b - a),
+                    stiffness: times_power_of_two(piece.bending_stiffness, -scales.stiffness),
+                    load_start: load(problem.load_at(a)),
+                    load_end: load(problem.load_at(b)),
+                }
+            })
+            .collect();
+        let mut obstacle_at_point = vec![None; pieces.len() + 1];
+        let point_of_obstacle: Vec<usize> = mesh
+            .obstacle_nodes
+            .iter()
+            .enumerate()
+            .map(|(j, &node)| {
+                let point = mesh.pieces.partition_point(|p| p.first_node < node);
+                obstacle_at_point[point] = Some(j);
+                point
+            })
+            .collect();
+        let thresholds = problem
+            .obstacles
+            .iter()
+            .map(|o| {
+                [
+                    times_power_of_two(o.sliding_threshold, -scales.force()),
+                    times_power_of_two(o.swivel_threshold, -scales.moment()),
+                ]
+            })
+            .collect();
+        Condensed {
+            pieces,
+            obstacle_at_point,
+            point_of_obstacle,
+            thresholds,
+            reversal_fraction: std::cell::Cell::new(NEWTON_REVERSAL_FRACTIONS[0]),
+        }
+    }
+
+    /// Solves the linear problem of one pattern: stuck DOFs are held at zero with an unknown
+    /// reaction, moving DOFs carry the force ±g.
+    pub(super) fn solve_pattern(
+        &self,
+        pattern: &[Pattern],
+        refined: bool,
+        system: &mut BandedSystem,
+    ) -> Result<PatternSolution, CondensedFailure> {
+        let pieces = self.pieces.len();
+        // Unknown numbering: state of piece p at `state_column[p]`; the reactions of the
+        // stuck DOFs at point p (1 ≤ p < P) just before it.
+        let mut state_column = vec![0; pieces];
+        let mut reaction_column = vec![[None; 2]; pieces + 1];
+        let mut next = 0;
+        for p in 0..pieces {
+            if let Some(j) = self.obstacle_at_point[p] {
+                for d in 0..2 {
+                    if pattern[2 * j + d] == Pattern::Stuck {
+                        reaction_column[p][d] = Some(next);
+                        next += 1;
+                    }
+                }
+            }
+            state_column[p] = next;
+            next += 4;
+        }
+        let size = next;
+        // Rows follow the columns: the two clamping rows, then per piece its four transfer
+        // rows and the rows c = 0 of the stuck DOFs at its end (band: BAND_LOWER, BAND_UPPER).
+        system.reset(size);
+        system.add(0, 0, 1.0);
+        system.add(1, 1, 1.0);
+        let mut row = 2;
+        for (p, piece) in self.pieces.iter().enumerate() {
+            let phi = piece.transfer_matrix();
+            let q = piece.load_terms();
+            let own = state_column[p];
+            let last = p + 1 == pieces;
+            let rows = if last { 2 } else { 4 };
+            for r in 0..rows {
+                for (c, &value) in phi[r].iter().enumerate() {
+                    if value != 0.0 {
+                        system.add(row + r, own + c, value);
+                    }
+                }
+                system.add_rhs(row + r, -q[r]);
+                if !last {
+                    system.add(row + r, state_column[p + 1] + r, -1.0);
+                }
+            }
+            if !last && let Some(j) = self.obstacle_at_point[p + 1] {
+                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1.
+                for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                    match pattern[2 * j + d] {
+                        Pattern::Stuck => {
+                            let column = reaction_column[p + 1][d].expect("stuck DOF");
+                            system.add(row + jump_row, column, sign);
+                        }
+                        Pattern::Positive => {
+                            system.add_rhs(row + jump_row, -sign * self.thresholds[j][d])
+                        }
+                        Pattern::Negative => {
+                            system.add_rhs(row + jump_row, sign * self.thresholds[j][d])
+                        }
+                    }
+                }
+            }
+            row += rows;
+            if !last {
+                for d in 0..2 {
+                    if reaction_column[p + 1][d].is_some() {
+                        system.add(row, state_column[p + 1] + d, 1.0);
+                        row += 1;
+                    }
+                }
+            }
+        }
+        debug_assert_eq!(row, size);
+        let x = if refined {
+            system.solve()
+        } else {
+            system.solve_unrefined()
+        }
+        .map_err(|e| CondensedFailure::Singular { column: e.column })?;
+
+        let mut start: Vec<[f64; 4]> = state_column
+            .iter()
+            .map(|&c| [x[c], x[c + 1], x[c + 2], x[c + 3]])
+            .collect();
+        // A stuck DOF is zero by its own equation; do not let a rounding residue through.
+        for (p, reactions) in reaction_column.iter().enumerate() {
+            for d in 0..2 {
+                if reactions[d].is_some() {
+                    start[p][d] = 0.0;
+                }
+            }
+        }
+        let end = self
+            .pieces
+            .iter()
+            .zip(&start)
+            .map(|(piece, &y)| piece.transfer(y))
+            .collect();
+        let lambda = pattern
+            .iter()
+            .enumerate()
+            .map(|(i, state)| {
+                let (j, d) = (i / 2, i % 2);
+                match state {
+                    Pattern::Stuck => {
+                        x[reaction_column[self.point_of_obstacle[j]][d]
+                            .expect("stuck DOF has a reaction")]
+                    }
+                    Pattern::Positive => self.thresholds[j][d],
+                    Pattern::Negative => -self.thresholds[j][d],
+                }
+            })
+            .collect();
+        Ok(PatternSolution { start, end, lambda })
+    }
+
+    /// (u, u') at special point p (the far support is clamped).
+    pub(super) fn point_values(&self, solution: &PatternSolution, p: usize) -> [f64; 2] {
+        solution.start.get(p).map_or([0.0, 0.0], |y| [y[0], y[1]])
+    }
+
+    /// What rounding can resolve at friction DOF i: (motion, force) below which a value is
+    /// indistinguishable from zero, resp. a force from its threshold.
+    pub(super) fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
+        const ULPS: f64 = 64.0 * f64::EPSILON;
+        let (j, d) = (i / 2, i % 2);
+        let p = self.point_of_obstacle[j];
+        let [left, right] = [p - 1, p].map(|q| {
+            let piece = &self.pieces[q];
+            let magnitude = piece.magnitude(
+                self.point_values(solution, q),
+                self.point_values(solution, q + 1),
+            );
+            // A slope is resolved to the deflection magnitude over the piece length.
+            if d == 0 {
+                magnitude
+            } else {
+                magnitude / piece.length
+            }
+        });
+        let motion = ULPS * left.min(right);
+        // m' for the force, m for the moment, on both sides of the obstacle.
+        let component = if d == 0 { 3 } else { 2 };
+        let force = ULPS
+            * solution.end[p - 1][component]
+                .abs()
+                .max(solution.start[p][component].abs());
+        (motion, force)
+    }
+
+    /// The value c_i of friction DOF i.
+    pub(super) fn friction_value(&self, solution: &PatternSolution, i: usize) -> f64 {
+        let p = self.point_of_obstacle[i / 2];
+        solution.start[p][i % 2]
+    }
+
+    /// The pattern each DOF should have given this solution (the same when consistent).
+    pub(super) fn wanted(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+        i: usize,
+    ) -> Pattern {
+        let (motion_noise, force_noise) = self.resolution(solution, i);
+        let g = self.thresholds[i / 2][i % 2];
+        match pattern[i] {
+            Pattern::Stuck => {
+                let l = solution.lambda[i];
+                if l.abs() > g + force_noise {
+                    if l > 0.0 {
+                        Pattern::Positive
+                    } else {
+                        Pattern::Negative
+                    }
+                } else {
+                    Pattern::Stuck
+                }
+            }
+            moving => {
+                let sign = if moving == Pattern::Positive {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let c = self.friction_value(solution, i);
+                if sign * c >= -motion_noise {
+                    moving
+                } else if sign * (sign * g + self.reversal_stiffness(i) * c) < -g {
+                    // Semismooth Newton's prediction λ + σc: a large reversal goes straight to
+                    // the other bound.
+                    if moving == Pattern::Positive {
+                        Pattern::Negative
+                    } else {
+                        Pattern::Positive
+                    }
+                } else {
+                    Pattern::Stuck
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,74 @@
+//! Unit tests of the condensed method's search.
+
+use super::*;
+use crate::model::{LinearLoad, Obstacle, StiffnessPiece};
+
+/// `k` obstacles with thresholds around the fixed-end forces (every state occurs).
+fn crowded(k: usize, seed: u64) -> Problem {
+    let mut state = seed;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (load, h) = (1e5, 1.0 / (k + 1) as f64);
+    let obstacles = (1..=k)
+        .map(|j| Obstacle {
+            x: (j as f64 + 0.8 * (next() - 0.5)) * h,
+            sliding_threshold: 3.0 * load * h * next(),
+            swivel_threshold: 0.2 * load * h * h * next(),
+        })
+        .collect();
+    Problem {
+        length: 1.0,
+        stiffness: vec![StiffnessPiece {
+            from: 0.0,
+            to: 1.0,
+            bending_stiffness: 2866.0,
+        }],
+        load: LinearLoad {
+            f0: load,
+            f1: -0.5 * load,
+        },
+        obstacles,
+    }
+}
+
+#[test]
+fn the_monotone_search_alone_finds_the_same_solution() {
+    for (k, seed) in [(5, 1), (40, 2), (200, 3)] {
+        let problem = crowded(k, seed);
+        let mesh = Mesh::new(&problem, 4 * (k + 1));
+        let newton = solve_condensed(&problem, &mesh).unwrap();
+        let monotone = solve_with_newton_phases(&problem, &mesh, &[], &mut || true).unwrap();
+        assert!(newton.converged && monotone.converged, "k = {k}");
+        assert_eq!(newton.states, monotone.states, "k = {k}");
+        let scale = newton
+            .field
+            .deflection
+            .iter()
+            .fold(0.0f64, |m, u| m.max(u.abs()));
+        for (a, b) in newton
+            .field
+            .deflection
+            .iter()
+            .zip(&monotone.field.deflection)
+        {
+            assert!((a - b).abs() <= 1e-13 * scale, "k = {k}: {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn each_newton_variant_first_gives_the_same_solution() {
+    let problem = crowded(60, 7);
+    let mesh = Mesh::new(&problem, 400);
+    let reference = solve_condensed(&problem, &mesh).unwrap();
+    for fraction in NEWTON_REVERSAL_FRACTIONS {
+        let solution =
+            solve_with_newton_phases(&problem, &mesh, &[fraction], &mut || true).unwrap();
+        assert!(solution.converged);
+        assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
+    }
+}
