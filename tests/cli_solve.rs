@@ -92,7 +92,7 @@ fn overrides_and_no_nodes() {
         "--scene",
         "benchmark-3",
         "--method",
-        "flexibility",
+        "condensed",
         "--elements",
         "40",
         "--format",
@@ -101,8 +101,8 @@ fn overrides_and_no_nodes() {
     ]);
     assert!(doc.get("nodes").is_none());
     assert_eq!(doc["elements"], 40);
-    assert_eq!(doc["method"], "flexibility");
-    // No closed form for four obstacles: flexibility is its own reference, not "error 0".
+    assert_eq!(doc["method"], "condensed");
+    // No closed form for four obstacles: condensed is its own reference, not "error 0".
     assert_eq!(doc["error"]["reference"], "self");
     assert!(doc["error"]["max_rel"].is_null());
     assert_eq!(doc["obstacles"].as_array().unwrap().len(), 4);

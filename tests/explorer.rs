@@ -69,7 +69,7 @@ fn frames_after_key_sequences() {
         ("rejected-value", "benchmark-1", "Enter abc Enter"),
         ("add-obstacle", "benchmark-1", "a"),
         ("delete-obstacle", "benchmark-3", "Down Down Down Down d"),
-        ("method-refused", "eight-obstacles", "m m"),
+        ("method-refused", "eight-obstacles", "m m m"),
         ("moment-diagram", "benchmark-1", "b"),
         ("help", "benchmark-1", "?"),
         ("presets", "benchmark-1", "p Down"),
@@ -144,7 +144,7 @@ fn keys_change_the_state_and_the_solution() {
     press(&mut app, "m");
     assert_eq!(
         app.solution().unwrap().as_ref().unwrap().method,
-        Method::Flexibility
+        Method::Condensed
     );
     press(&mut app, "Up Up Up Up Up Up Up Up Up Up Up Up");
     press(&mut app, "Down Down Down Down Down Down Down Down S-Left");
@@ -461,7 +461,7 @@ fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
         "Down Down Down Down Down Down Down Down Down Enter 2000 Enter",
     );
     assert_eq!(app.scene.mesh.elements, 2000);
-    for _ in 0..3 {
+    for _ in 0..4 {
         press(&mut app, "m");
     }
     assert_eq!(app.scene.solver.method, Method::RegularizedNewton);
@@ -475,7 +475,7 @@ fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
     );
     // At n = 20 it is quick and is entered.
     let mut app = self::app("benchmark-1");
-    for _ in 0..4 {
+    for _ in 0..5 {
         press(&mut app, "m");
     }
     assert_eq!(app.scene.solver.method, Method::DualInverse);

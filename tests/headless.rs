@@ -156,8 +156,8 @@ fn elements_sweep_has_one_row_per_method_and_size_and_marks_the_reference() {
                 assert!(status[i].starts_with("not applicable"), "{}", status[i]);
                 assert!(max_rel[i].is_empty());
             }
-            // The flexibility method is the reference: marked, never an error of zero.
-            "flexibility" => {
+            // The condensed method is the reference: marked, never an error of zero.
+            "condensed" => {
                 assert_eq!(status[i], "reference");
                 assert!(max_rel[i].is_empty());
             }
@@ -268,7 +268,10 @@ fn the_report_writes_markdown_csv_and_svg_and_is_honest() {
         assert!(dir.join(file).exists(), "{file}");
     }
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
-    assert!(md.contains("| n | dual | flexibility |"), "{md}");
+    assert!(
+        md.contains("| n | dual | condensed | flexibility |"),
+        "{md}"
+    );
     // The closed form is the reference: its column says so (with its run time), with no
     // error of zero.
     assert!(md.contains("| reference · "), "{md}");
@@ -286,7 +289,7 @@ fn the_report_writes_markdown_csv_and_svg_and_is_honest() {
         .unwrap()
         .records()
         .count();
-    assert_eq!(rows, 6 * 4);
+    assert_eq!(rows, beamfric::solve::Method::ALL.len() * 4);
     let rows = csv::Reader::from_path(dir.join("epsilon-sweep.csv"))
         .unwrap()
         .records()

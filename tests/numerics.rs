@@ -285,12 +285,12 @@ fn every_method_agrees_with_flexibility_on_benchmarks_2_and_3() {
             );
         }
         for method in Method::ALL {
-            if method == Method::ClosedForm || method == Method::Flexibility {
+            if method == Method::ClosedForm || method == Method::Condensed {
                 continue;
             }
             let solution = solve_with(&problem, 20, method, 1e-12);
             let error = solution.error.unwrap();
-            assert_eq!(error.reference, Reference::Flexibility);
+            assert_eq!(error.reference, Reference::Condensed);
             let tolerance = if method.is_regularized() { 1e-8 } else { 1e-12 };
             assert!(
                 error.max_rel.unwrap() < tolerance,

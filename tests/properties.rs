@@ -163,13 +163,15 @@ proptest! {
             reference: false,
             ..SolveOptions::default()
         };
-        let reference = solve(&problem, &mesh, Method::Flexibility, &base).unwrap();
+        // The condensed method is the reference (issue 10): exact piece relations, no
+        // conditioning of its own to speak of.
+        let reference = solve(&problem, &mesh, Method::Condensed, &base).unwrap();
         prop_assert!(reference.is_finite());
-        prop_assert!(reference.kkt_residual < 1e-10, "flexibility KKT {:e}", reference.kkt_residual);
+        prop_assert!(reference.kkt_residual < 1e-10, "condensed KKT {:e}", reference.kkt_residual);
         let scale_u = reference.max_deflection().max(f64::MIN_POSITIVE);
         let scale_slope = reference.field.slope.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for method in Method::ALL {
-            if method == Method::Flexibility
+            if method == Method::Condensed
                 || (method == Method::Regularized && problem.obstacles.len() > 3)
             {
                 continue;
@@ -186,13 +188,19 @@ proptest! {
                 }
             };
             prop_assert!(solution.is_finite(), "{method}");
-            // Exact methods: both this solution and the reference solve a QP in the friction
-            // forces, so each is accurate to about (cond(A) + cond(S))·eps, and their difference
-            // to twice that (seen: 1.5e-11 with cond(A) = 4.5e4, cond(S) = 4.4e4 on six
-            // obstacles, eight elements); regularised ones: O(ε) on top.
+            // Exact methods solve a QP in the friction forces through A (stiffness route) or S
+            // (both dual routes), so each is accurate to about (cond(A) + cond(S))·eps of its
+            // own matrices (seen: 1.5e-11 with cond(A) = 4.5e4, cond(S) = 4.4e4 on six
+            // obstacles, eight elements; flexibility 2.3e-12 from condensed where its single
+            // shooting lost digits); regularised ones: O(ε) on top.
             let cond_stiffness = solution.conditioning.stiffness.map_or(1.0, |c| c.value);
-            let cond_dual = reference.conditioning.dual.map_or(1.0, |c| c.value);
-            let tolerance = 1e-12 + 2.0 * (cond_stiffness + cond_dual) * f64::EPSILON
+            let cond_dual = solution.conditioning.dual.map_or(1.0, |c| c.value);
+            // Flexibility's single shooting carries rounding across the beam beyond what
+            // cond(S) says (issue 10): it is held to the issue's bound for an exact method
+            // that does not warn, 1e-10.
+            let shooting = if method == Method::Flexibility { 1e-10 } else { 0.0 };
+            let tolerance = (1e-12 + 2.0 * (cond_stiffness + cond_dual) * f64::EPSILON)
+                .max(shooting)
                 + if method.is_regularized() { 1e-6 } else { 0.0 };
             let du = common::relative_difference(&solution.field.deflection, &reference.field.deflection);
             prop_assert!(du < tolerance, "{method}: u differs by {du:e} (tolerance {tolerance:e})");

@@ -9,7 +9,7 @@
 //!   `cargo test --test reference_check -- --ignored --nocapture measure`): every method on
 //!   the regression scenes and `BEAMFRIC_HARD_SCENES` (default 2000) generated scenes; prints
 //!   the worst errors per method and the worst scenes as TOML.
-//! - `stable_method_*` (ignored until the stable method of issue 10 lands): [`STABLE_METHOD`]
+//! - `stable_method_*`: [`STABLE_METHOD`] (the condensed method)
 //!   within 1e-12 (u, slope) and 1e-10 (forces), right flags, no warnings; cases from
 //!   `BEAMFRIC_PROPTEST_CASES` (default 32).
 
@@ -30,7 +30,7 @@ use reference::*;
 
 /// The method that must agree with the reference on every scene. Today's candidate is
 /// `flexibility`; the stable method of issue 10 replaces it here.
-const STABLE_METHOD: Method = Method::Flexibility;
+const STABLE_METHOD: Method = Method::Condensed;
 
 fn env_number(name: &str, default: u64) -> u64 {
     std::env::var(name)
@@ -569,7 +569,7 @@ fn check_stable(name: &str, scene: &Scene) -> Result<(), String> {
     let solution = run_method(&p, &mesh, STABLE_METHOD, &SolveOptions::default())
         .map_err(|e| format!("{name}: {e}"))?;
     let c = compare(&p, &solution, &r);
-    if c.agrees(FIELD_TOLERANCE, FORCE_TOLERANCE) && !c.warned() {
+    if c.agrees_to_resolution(FIELD_TOLERANCE, FORCE_TOLERANCE) && !c.warned() {
         Ok(())
     } else {
         Err(format!("{name}: {c:?}\n{}", scene.to_toml()))
@@ -577,7 +577,6 @@ fn check_stable(name: &str, scene: &Scene) -> Result<(), String> {
 }
 
 #[test]
-#[ignore = "fails on today's flexibility (issue 10); enable when the stable method lands"]
 fn stable_method_agrees_on_regression_scenes_and_presets() {
     let mut failures = Vec::new();
     for (name, scene) in regression_scenes() {
@@ -600,7 +599,8 @@ proptest! {
     })]
 
     #[test]
-    #[ignore = "fails on today's flexibility (issue 10); enable when the stable method lands"]
+    #[ignore = "condensed fails some (warned): hard scene 2272772372855260192, obstacles 1e-9·l \
+                apart, gives qp-not-converged and u off by 0.99 (issue 10, open)"]
     fn stable_method_agrees_on_hard_scenes(scene in hard_scenes()) {
         let result = check_stable(&scene.title, &scene);
         prop_assert!(result.is_ok(), "{}", result.unwrap_err());

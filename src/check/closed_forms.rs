@@ -1,4 +1,4 @@
-//! Closed forms the stability suite compares the flexibility method against, written
+//! Closed forms the stability suite compares the condensed method against, written
 //! independently of it: the paper's (50) (through [`crate::solve::closed_form`]), the plain
 //! clamped beam when every threshold is zero, and clamped-clamped spans between the obstacles
 //! when every obstacle is stuck. Constant E·J only; the load may be linear.

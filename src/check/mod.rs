@@ -3,9 +3,9 @@
 //!
 //! For each case it checks that no number is NaN or infinite; that every method which does not
 //! flag itself (a `stiffness-conditioning` or `indefinite-factorization` warning) agrees with
-//! the flexibility method to its own accuracy (1e-8 for exact methods, an O(ε) bound for the
+//! the condensed method to its own accuracy (1e-8 for exact methods, an O(ε) bound for the
 //! regularised ones) — so a loss of digits is always warned about; that the stiffness route
-//! warns at 10⁶ elements; that the flexibility method is within 1e-10 of every closed form that
+//! warns at 10⁶ elements; that the condensed method is within 1e-10 of every closed form that
 //! applies (paper (50), the plain clamped beam for g = 0, clamped spans when every obstacle is
 //! stuck); that scaling l, E and f changes u by the predicted factor; and that a refused method
 //! names a method that then works.
@@ -26,9 +26,9 @@ pub use closed_forms::closed_forms;
 
 /// Accuracy an exact method must reach when it raises no flag (the accuracy-loss threshold).
 const EXACT_TOLERANCE: f64 = 1e-8;
-/// The flexibility method against a closed form.
+/// The condensed method against a closed form.
 const CLOSED_FORM_TOLERANCE: f64 = 1e-10;
-/// The flexibility method against its own scaled problem.
+/// The condensed method against its own scaled problem.
 const SCALING_TOLERANCE: f64 = 1e-12;
 /// Scaling used for the scaling check: l → αl, E → βE, f → γf (u scales by γα⁴/β).
 const SCALING: (f64, f64, f64) = (10.0, 3.0, 7.0);
@@ -39,7 +39,7 @@ pub struct MethodRun {
     pub method: Method,
     /// `solved`, `refused`, `not-applicable` or `breakdown`.
     pub outcome: String,
-    /// max relative nodal difference from the flexibility method (u and u').
+    /// max relative nodal difference from the condensed method (u and u').
     pub disagreement: Option<f64>,
     pub kkt_residual: Option<f64>,
     /// The method flagged its own result as unreliable.
@@ -57,7 +57,7 @@ pub struct CaseReport {
     pub max_disagreement: Option<f64>,
     /// Largest disagreement of the regularised methods (an O(ε) error by design).
     pub regularized_disagreement: Option<f64>,
-    /// Flexibility against each closed form that applies: (name, relative error).
+    /// Condensed against each closed form that applies: (name, relative error).
     pub closed_forms: Vec<(String, f64)>,
     /// Largest KKT residual among the exact methods that do not flag themselves.
     pub kkt_residual: Option<f64>,
@@ -130,7 +130,7 @@ fn judge(
         Some(format!("{method}: NaN or infinite values"))
     } else if !flagged && disagreement > tolerance {
         Some(format!(
-            "{method}: differs from flexibility by {} (tolerance {}) without a warning",
+            "{method}: differs from condensed by {} (tolerance {}) without a warning",
             sci(disagreement, 2),
             sci(tolerance, 2)
         ))
@@ -160,7 +160,7 @@ pub fn scaled_scene(scene: &Scene, (alpha, beta, gamma): (f64, f64, f64)) -> Sce
     scaled
 }
 
-/// Runs the suite on one scene: every method against the flexibility method, then the closed
+/// Runs the suite on one scene: every method against the condensed method, then the closed
 /// forms and the scaling law.
 pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
     let mut report = CaseReport {
@@ -184,17 +184,17 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
     let mesh = Mesh::new(&problem, settings.elements);
     report.elements = mesh.elements();
     let epsilon = settings.epsilon;
-    let reference = match solve(&problem, &mesh, Method::Flexibility, &options(epsilon)) {
+    let reference = match solve(&problem, &mesh, Method::Condensed, &options(epsilon)) {
         Ok(s) => s,
         Err(e) => {
-            report.failures.push(format!("flexibility failed: {e}"));
+            report.failures.push(format!("condensed failed: {e}"));
             return report;
         }
     };
     if !reference.is_finite() {
         report
             .failures
-            .push("flexibility: NaN or infinite values".into());
+            .push("condensed: NaN or infinite values".into());
         return report;
     }
     let bench = Bench {
@@ -219,7 +219,7 @@ struct Bench<'a> {
     problem: &'a Problem,
     mesh: &'a Mesh,
     epsilon: f64,
-    /// The flexibility method's solution.
+    /// The condensed method's solution.
     reference: &'a Solution,
     /// Its largest |u| (never zero).
     largest: f64,
@@ -304,9 +304,9 @@ fn summarize(report: &mut CaseReport) {
             .iter()
             .filter(move |r| !r.flagged && r.method.is_regularized() == regularized)
     };
-    // The flexibility method is the yardstick: its own "disagreement" says nothing.
+    // The condensed method is the yardstick: its own "disagreement" says nothing.
     let max_disagreement = unflagged(false)
-        .filter(|r| r.method != Method::Flexibility)
+        .filter(|r| r.method != Method::Condensed)
         .filter_map(|r| r.disagreement)
         .reduce(f64::max);
     let regularized_disagreement = unflagged(true)
@@ -320,7 +320,7 @@ fn summarize(report: &mut CaseReport) {
     report.kkt_residual = kkt_residual;
 }
 
-/// The flexibility method against every closed form that applies.
+/// The condensed method against every closed form that applies.
 fn check_closed_forms(bench: &Bench, report: &mut CaseReport) {
     let all_stuck = bench
         .reference
@@ -331,7 +331,7 @@ fn check_closed_forms(bench: &Bench, report: &mut CaseReport) {
         let error = relative_difference(&bench.reference.field, &exact);
         if error.is_nan() || error > CLOSED_FORM_TOLERANCE {
             report.failures.push(format!(
-                "flexibility differs from the {name} closed form by {}",
+                "condensed differs from the {name} closed form by {}",
                 sci(error, 2)
             ));
         }
@@ -348,7 +348,7 @@ fn check_scaling(scene: &Scene, reference: &Solution, failures: &mut Vec<String>
         .map_err(|e| e.to_string())
         .and_then(|(p, s)| {
             let mesh = Mesh::new(&p, s.elements);
-            solve(&p, &mesh, Method::Flexibility, &options(s.epsilon)).map_err(|e| e.to_string())
+            solve(&p, &mesh, Method::Condensed, &options(s.epsilon)).map_err(|e| e.to_string())
         });
     let solution = match result {
         Ok(s) => s,

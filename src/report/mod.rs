@@ -175,7 +175,7 @@ fn write_introduction(md: &mut String, loaded: &LoadedScene, title: &str, option
         if crate::solve::closed_form(&loaded.problem).is_ok() {
             "the closed form (50)"
         } else {
-            "the flexibility method on the same mesh (whose own rows read \"reference\")"
+            "the condensed method on the same mesh (whose own rows read \"reference\")"
         }
     );
 }

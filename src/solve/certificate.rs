@@ -1,10 +1,10 @@
 //! The certificate [`solve`](super::solve) attaches to every method's answer, the same way for
 //! every method: the relative KKT residual of (38), the friction state of every obstacle,
 //! condition numbers when asked, the error against a reference (the closed form (50) where it
-//! applies, else the `flexibility` method on the same mesh) and warnings in words.
+//! applies, else the `condensed` method on the same mesh) and warnings in words.
 
 use super::closed_form::closed_form;
-use super::flexibility;
+use super::condensed;
 use super::options::{Cancellation, ConditionLevel, SolveOptions};
 use super::shared::MethodOutput;
 use super::solution::{
@@ -278,7 +278,7 @@ fn conditioning_warning(scaled: ConditionNumber, mesh: &Mesh) -> Option<Warning>
     Some(Warning::new(
         WarningCode::StiffnessConditioning,
         format!(
-            "cond(D^-1/2 A D^-1/2) {relation} {:.1e} at n = {}: {consequence}; the flexibility \
+            "cond(D^-1/2 A D^-1/2) {relation} {:.1e} at n = {}: {consequence}; the condensed \
              method stays accurate",
             scaled.value,
             mesh.elements(),
@@ -318,7 +318,7 @@ fn accuracy_warning(solution: &Solution) -> Option<Warning> {
 }
 
 /// The reference nodal field for `problem` on `mesh`: the closed form where it applies, else
-/// the flexibility method. `None` only if the flexibility method itself fails.
+/// the condensed method. `None` only if the condensed method itself fails.
 pub fn reference_field(problem: &Problem, mesh: &Mesh) -> Option<(Reference, NodalField)> {
     reference_field_until(problem, mesh, Cancellation::NEVER)
 }
@@ -338,8 +338,8 @@ pub(crate) fn reference_field_until(
         cancel,
         ..SolveOptions::default()
     };
-    let output = flexibility::solve(problem, mesh, &options).ok()?;
-    Some((Reference::Flexibility, output.field))
+    let output = condensed::solve(problem, mesh, &options).ok()?;
+    Some((Reference::Condensed, output.field))
 }
 
 fn reference_error(
@@ -351,7 +351,7 @@ fn reference_error(
     let closed_form_applies = closed_form(problem).is_ok();
     let is_reference = match solution.method {
         Method::ClosedForm => true,
-        Method::Flexibility => !closed_form_applies,
+        Method::Condensed => !closed_form_applies,
         _ => false,
     };
     if is_reference {

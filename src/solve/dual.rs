@@ -18,6 +18,7 @@ pub(super) fn solve(
     mesh: &Mesh,
     options: &SolveOptions,
 ) -> Result<MethodOutput, SolveError> {
+    super::shared::refuse_many_obstacles(problem, Method::Dual)?;
     let mut timing = Timing::default();
     let condensed = condense(problem, mesh, Method::Dual, &mut timing)?;
     let indefinite_warning_opt = indefinite_warning(&condensed, mesh);

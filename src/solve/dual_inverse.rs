@@ -21,6 +21,7 @@ pub(super) fn solve(
     mesh: &Mesh,
     options: &SolveOptions,
 ) -> Result<MethodOutput, SolveError> {
+    super::shared::refuse_many_obstacles(problem, Method::DualInverse)?;
     let n = mesh.unknowns();
     if n > options.max_dense_unknowns {
         return Err(SolveError {

@@ -43,6 +43,7 @@ pub(super) fn solve(
     mesh: &Mesh,
     options: &SolveOptions,
 ) -> Result<MethodOutput, SolveError> {
+    super::shared::refuse_many_obstacles(problem, Method::Flexibility)?;
     let mut timing = Timing::default();
     let mut clock = Stopwatch::start();
     let k = problem.obstacles.len();

@@ -82,6 +82,7 @@ pub(super) fn solve(
     mesh: &Mesh,
     options: &SolveOptions,
 ) -> Result<MethodOutput, SolveError> {
+    super::shared::refuse_many_obstacles(problem, Method::RegularizedNewton)?;
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
     let condensed = condense(problem, mesh, Method::RegularizedNewton, &mut timing)?;

@@ -29,6 +29,33 @@ pub(crate) struct MethodOutput {
 
 /// Is a friction DOF moving? Its value must stand out of rounding noise: more than
 /// `1e-10` times the largest nodal value of its kind.
+/// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
+/// (`dual`, `dual-inverse`, `flexibility`, `regularized-newton`): 1024² doubles = 8 MB, and the
+/// box QP's cost grows like k³ beyond. The condensed method has no such limit.
+pub(crate) const MAX_DENSE_OBSTACLES: usize = 512;
+
+/// Refuses a method with dense 2k × 2k matrices on more than [`MAX_DENSE_OBSTACLES`].
+pub(crate) fn refuse_many_obstacles(
+    problem: &crate::model::Problem,
+    method: crate::model::Method,
+) -> Result<(), super::solution::SolveError> {
+    let k = problem.obstacles.len();
+    if k <= MAX_DENSE_OBSTACLES {
+        return Ok(());
+    }
+    let dim = 2 * k;
+    Err(super::solution::SolveError {
+        method,
+        kind: super::solution::SolveErrorKind::Refused,
+        reason: format!(
+            "{k} obstacles need a dense {dim} × {dim} matrix ({:.0} MB) and a box QP whose \
+             cost grows like k³; the limit is {MAX_DENSE_OBSTACLES} obstacles",
+            (dim * dim * 8) as f64 / 1e6
+        ),
+        suggestion: crate::model::Method::Condensed,
+    })
+}
+
 /// The error of a solve stopped by its [`super::options::Cancellation`].
 pub(crate) fn cancelled(method: crate::model::Method) -> super::solution::SolveError {
     super::solution::SolveError {

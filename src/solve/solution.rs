@@ -226,27 +226,27 @@ impl ObstacleResult {
 pub enum Reference {
     /// The closed form (50)–(51).
     ClosedForm,
-    /// The flexibility method on the same mesh.
-    Flexibility,
+    /// The condensed method on the same mesh.
+    Condensed,
     /// This solution is itself the reference; no error is reported.
     ThisSolution,
 }
 
 impl Reference {
-    /// The code in JSON and CSV: `closed-form`, `flexibility`, `self`.
+    /// The code in JSON and CSV: `closed-form`, `condensed`, `self`.
     pub fn name(self) -> &'static str {
         match self {
             Reference::ClosedForm => "closed-form",
-            Reference::Flexibility => "flexibility",
+            Reference::Condensed => "condensed",
             Reference::ThisSolution => "self",
         }
     }
 
-    /// The reference in words on screen: `closed form`, `flexibility`, `itself`.
+    /// The reference in words on screen: `closed form`, `condensed`, `itself`.
     pub fn label(self) -> &'static str {
         match self {
             Reference::ClosedForm => "closed form",
-            Reference::Flexibility => "flexibility",
+            Reference::Condensed => "condensed",
             Reference::ThisSolution => "itself",
         }
     }

@@ -57,6 +57,17 @@ impl Comparison {
             && self.flag_errors.is_empty()
     }
 
+    /// [`Comparison::agrees`] up to what double precision can decide: every flag the reference
+    /// settles by more than rounding (a motion of at least 1e-12 of the largest of its kind, a
+    /// stuck force clearly below its threshold) must be right; a motion below that may be
+    /// reported "at the threshold" (not moving), which is what the stable method does with a
+    /// motion its own rounding cannot resolve.
+    pub fn agrees_to_resolution(&self, field_tolerance: f64, force_tolerance: f64) -> bool {
+        self.field_error() <= field_tolerance
+            && self.force_error() <= force_tolerance
+            && self.gross_flag_errors == 0
+    }
+
     /// Did the program warn about anything that bears on accuracy?
     pub fn warned(&self) -> bool {
         !self.warnings.is_empty()
