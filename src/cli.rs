@@ -114,6 +114,14 @@ fn colors_wanted(no_color: bool) -> bool {
 }
 
 fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> {
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() {
+        return Err(
+            "the explorer draws on a terminal, and standard output is not one; `beamfric \
+             render` prints a frame as text"
+                .into(),
+        );
+    }
     let loaded = scene::load(name).map_err(|e| e.to_string())?;
     let look = crate::plot::Look {
         ascii,

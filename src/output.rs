@@ -120,6 +120,20 @@ pub fn solution_table(
     lines.iter().map(|l| format!("{l}\n")).collect()
 }
 
+/// Text from a scene file as a terminal may show it: control characters (an escape sequence in
+/// a title would retitle or clear the user's terminal) written as `\u{1b}`-style escapes.
+fn printable(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c.is_control() {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
 fn heading_lines(lines: &mut Vec<String>, context: &SolveContext, solution: &Solution) {
     let eps = solution
         .epsilon
@@ -127,8 +141,8 @@ fn heading_lines(lines: &mut Vec<String>, context: &SolveContext, solution: &Sol
         .unwrap_or_default();
     lines.push(format!(
         "{} ({}) — method {}, {} elements, N = {} unknowns{eps}",
-        context.title,
-        context.source,
+        printable(context.title),
+        printable(context.source),
         solution.method,
         context.mesh.elements(),
         context.mesh.unknowns()

@@ -208,4 +208,29 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     );
     assert!(frame.contains("is outside"), "{frame}");
     assert!(!cwd.path().join("escape.toml").exists());
+    // Nor through a symbolic link inside DIR (found by a hostile test pass).
+    let outside = cwd.path().join("outside");
+    std::fs::create_dir(&outside).unwrap();
+    std::os::unix::fs::symlink(&outside, allowed.join("lnk")).unwrap();
+    std::fs::write(outside.join("target.toml"), "keep").unwrap();
+    std::os::unix::fs::symlink(outside.join("target.toml"), allowed.join("flink")).unwrap();
+    for (name, confirm) in [("lnk/x.toml", ""), ("flink", "")] {
+        let keys = format!("Right s {} {name} Enter{confirm}", "Backspace ".repeat(300));
+        let frame = render(&keys, &["--allow-save", dir]);
+        assert!(frame.contains("is outside"), "{name}: {frame}");
+    }
+    assert!(!outside.join("x.toml").exists());
+    assert_eq!(
+        std::fs::read_to_string(outside.join("target.toml")).unwrap(),
+        "keep"
+    );
+    // The overwrite question is about the file inside DIR.
+    let frame = render(
+        &format!(
+            "Right s {} benchmark-1.toml Enter",
+            "Backspace ".repeat(300)
+        ),
+        &["--allow-save", dir],
+    );
+    assert!(frame.contains("exists: overwrite it?"), "{frame}");
 }

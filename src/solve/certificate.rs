@@ -85,6 +85,13 @@ fn judge_solution(problem: &Problem, mesh: &Mesh, options: &SolveOptions, soluti
     }
     if options.reference {
         solution.error = reference_error(problem, mesh, solution, options.cancel);
+        if solution.error.is_none() && !options.cancel.is_cancelled() {
+            solution.warnings.push(Warning::new(
+                WarningCode::UntrustedReference,
+                "no trusted reference: the condensed method did not certify itself on this \
+                 scene (its friction search did not converge), so no error is reported",
+            ));
+        }
         if let Some(w) = accuracy_warning(solution) {
             solution.warnings.push(w);
         }
@@ -339,7 +346,15 @@ pub(crate) fn reference_field_until(
         ..SolveOptions::default()
     };
     let output = condensed::solve(problem, mesh, &options).ok()?;
-    Some((Reference::Condensed, output.field))
+    // A reference that did not certify itself grades nothing.
+    let certified = output.warnings.is_empty()
+        && output
+            .field
+            .deflection
+            .iter()
+            .chain(&output.field.slope)
+            .all(|v| v.is_finite());
+    certified.then_some((Reference::Condensed, output.field))
 }
 
 fn reference_error(

@@ -123,11 +123,13 @@ pub enum WarningCode {
     IndefiniteFactorization,
     /// A value is NaN or infinite.
     NonFinite,
+    /// The reference did not certify itself here, so no error is reported.
+    UntrustedReference,
 }
 
 impl WarningCode {
     /// Every code.
-    pub const ALL: [WarningCode; 8] = [
+    pub const ALL: [WarningCode; 9] = [
         WarningCode::MeshRaised,
         WarningCode::StiffnessConditioning,
         WarningCode::AccuracyLoss,
@@ -136,6 +138,7 @@ impl WarningCode {
         WarningCode::NewtonNotConverged,
         WarningCode::IndefiniteFactorization,
         WarningCode::NonFinite,
+        WarningCode::UntrustedReference,
     ];
 
     /// The code in JSON and CSV, e.g. `stiffness-conditioning`.
@@ -149,6 +152,7 @@ impl WarningCode {
             WarningCode::NewtonNotConverged => "newton-not-converged",
             WarningCode::IndefiniteFactorization => "indefinite-factorization",
             WarningCode::NonFinite => "non-finite",
+            WarningCode::UntrustedReference => "untrusted-reference",
         }
     }
 
@@ -163,6 +167,7 @@ impl WarningCode {
             WarningCode::NewtonNotConverged => "newton",
             WarningCode::IndefiniteFactorization => "indefinite",
             WarningCode::NonFinite => "non-finite",
+            WarningCode::UntrustedReference => "no-reference",
         }
     }
 }

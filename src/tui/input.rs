@@ -50,16 +50,24 @@ impl Decoder {
     /// Decodes `bytes` (appended to what was pending). A lone ESC at the end stays pending.
     pub fn feed(&mut self, bytes: &[u8]) -> Vec<Input> {
         let mut inputs = Vec::new();
-        for &byte in bytes {
+        self.feed_into(bytes, &mut inputs);
+        inputs
+    }
+
+    fn feed_into(&mut self, bytes: &[u8], inputs: &mut Vec<Input>) {
+        let mut queue: std::collections::VecDeque<u8> = bytes.iter().copied().collect();
+        while let Some(byte) = queue.pop_front() {
             self.pending.push(byte);
             if self.pending == [0x1b] {
                 // The start of a sequence, or the Esc key: the next byte tells (or, at the end
                 // of what arrived, the timeout: see `flush`).
                 continue;
             }
-            self.decode_pending(&mut inputs, false);
+            // Bytes after a dropped one are decoded again (at most SEQUENCE_LIMIT of them).
+            for byte in self.decode_pending(inputs, false).into_iter().rev() {
+                queue.push_front(byte);
+            }
         }
-        inputs
     }
 
     /// Is a lone ESC (or an incomplete sequence) waiting?
@@ -71,20 +79,37 @@ impl Decoder {
     /// ESC is the Esc key).
     pub fn flush(&mut self) -> Vec<Input> {
         let mut inputs = Vec::new();
-        self.decode_pending(&mut inputs, true);
+        let rest = self.decode_pending(&mut inputs, true);
         self.pending.clear();
+        if !rest.is_empty() {
+            self.feed_into(&rest, &mut inputs);
+            inputs.extend(self.flush());
+        }
         inputs
     }
 
-    fn decode_pending(&mut self, inputs: &mut Vec<Input>, flushing: bool) {
+    /// Decodes what is pending; returns the bytes to decode again after a dropped one.
+    fn decode_pending(&mut self, inputs: &mut Vec<Input>, flushing: bool) -> Vec<u8> {
         match Event::parse_from(&self.pending) {
             Ok(Some(event)) => {
                 inputs.extend(translate(event));
                 self.pending.clear();
+                Vec::new()
             }
-            Ok(None) if self.pending.len() < SEQUENCE_LIMIT && !flushing => {}
-            // Garbage, or a sequence that never ends: dropped.
-            _ => self.pending.clear(),
+            Ok(None) if self.pending.len() < SEQUENCE_LIMIT && !flushing => Vec::new(),
+            // A sequence that never ends: dropped.
+            Ok(None) => {
+                self.pending.clear();
+                Vec::new()
+            }
+            // Garbage: only its first byte is dropped, and what follows is decoded again, so a
+            // stray byte (an 8-bit Alt, half a UTF-8 character) cannot turn the escape
+            // sequence after it into keystrokes.
+            Err(_) => {
+                let rest = self.pending.split_off(1);
+                self.pending.clear();
+                rest
+            }
         }
     }
 }
@@ -216,6 +241,20 @@ mod tests {
             .collect();
         let _ = d.feed(&random);
         let _ = d.flush();
+        // A long run of stray bytes is dropped one by one, without recursion.
+        let mut stray = vec![0xc3u8; 200_000];
+        stray.push(b'j');
+        assert_eq!(keys(&d.feed(&stray)), vec![Key::Char('j')]);
+    }
+
+    #[test]
+    fn a_stray_byte_does_not_leak_the_sequence_after_it() {
+        // Found by a hostile test pass: half a UTF-8 character, then an arrow key.
+        let mut d = Decoder::default();
+        assert_eq!(keys(&d.feed(b"\xc3\x1b[A")), vec![Key::Up]);
+        let got = d.feed(b"\xc3\x1b[<0;10;5M");
+        assert_eq!(got, vec![Input::Mouse(9, 4, MouseInput::Press)]);
+        assert_eq!(keys(&d.feed(b"\xff\xfeq")), vec![Key::Char('q')]);
     }
 
     #[test]

@@ -416,7 +416,8 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
             if path.is_empty() {
                 app.mode = Mode::Normal;
                 app.message = Some("not saved: no file name".into());
-            } else if std::path::Path::new(&path).exists() {
+            } else if save_target(&app.save_policy, &path).is_some_and(|t| t.exists()) {
+                // The file the save would write (under --allow-save DIR, inside DIR).
                 app.mode = Mode::ConfirmOverwrite { path };
             } else {
                 app.mode = Mode::Normal;
@@ -449,7 +450,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             ));
             return;
         }
-        SavePolicy::Within(dir) => match within(dir, path) {
+        SavePolicy::Within(dir) => match save_target(&app.save_policy, path) {
             Some(target) => target,
             None => {
                 app.message = Some(format!(
@@ -475,13 +476,33 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
     }
 }
 
-/// `path` inside `dir` (a relative path is taken from `dir`), or `None` when it leads out.
-fn within(dir: &std::path::Path, path: &str) -> Option<std::path::PathBuf> {
+/// The file a save of `path` writes: the path itself, or under `--allow-save DIR` the path
+/// inside DIR (`None` when it leads out of DIR, by `..`, an absolute path elsewhere, or a
+/// symbolic link inside DIR that points out — the save would follow it).
+fn save_target(policy: &SavePolicy, path: &str) -> Option<std::path::PathBuf> {
     use std::path::Component;
+    let dir = match policy {
+        SavePolicy::Within(dir) => dir,
+        _ => return Some(std::path::PathBuf::from(path)),
+    };
+    let real_dir = dir.canonicalize().ok()?;
     let path = std::path::Path::new(path);
-    let relative = path.strip_prefix(dir).unwrap_or(path);
+    let relative = path
+        .strip_prefix(dir)
+        .or_else(|_| path.strip_prefix(&real_dir))
+        .unwrap_or(path);
     let plain = relative
         .components()
         .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
-    (plain && !relative.as_os_str().is_empty()).then(|| dir.join(relative))
+    if !plain || relative.as_os_str().is_empty() {
+        return None;
+    }
+    let target = real_dir.join(relative);
+    // Where the write really lands: the parent resolved, and the file's own link followed.
+    let parent = target.parent()?.canonicalize().ok()?;
+    let landing = match std::fs::symlink_metadata(&target) {
+        Ok(meta) if meta.file_type().is_symlink() => target.canonicalize().ok()?,
+        _ => parent.join(target.file_name()?),
+    };
+    landing.starts_with(&real_dir).then_some(target)
 }
