@@ -525,3 +525,21 @@ fn only_the_visible_panel_is_computed_at_80x24() {
     press(&mut app, "Tab Tab Tab");
     assert!(app.pending_studies().is_empty());
 }
+
+#[test]
+fn save_first_then_quit_saves_and_quits() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut app = app("benchmark-1");
+    app.set_save_directory(dir.path().to_path_buf());
+    // Found by a hostile test pass: `s` in the question saved but did not go on.
+    press(&mut app, "Right q s Enter");
+    assert!(dir.path().join("benchmark-1.toml").exists());
+    assert!(app.quit, "{:?}", app.message);
+    // A cancelled save does not go on later.
+    let mut app = self::app("benchmark-1");
+    app.set_save_directory(dir.path().to_path_buf());
+    press(&mut app, "Right r s Esc");
+    assert!(app.modified());
+    press(&mut app, "s Enter y");
+    assert!(!app.modified() && app.scene != scene("benchmark-1").scene);
+}

@@ -509,3 +509,20 @@ fn ctrl_z_and_sigtstp_suspend_and_sigcont_resumes_with_a_redraw() {
     let (status, _) = explorer.finish();
     assert_eq!(status.code(), Some(0));
 }
+
+#[test]
+fn a_bracketed_paste_is_never_run_as_commands() {
+    let mut explorer = Explorer::start(&[]);
+    explorer.wait_for_screen("Parameters");
+    // A paste of commands in normal mode: noted, not run.
+    explorer.type_bytes(b"\x1b[200~dq\rq\x1b[201~");
+    explorer.wait_for_screen("a paste is typed only into a prompt");
+    assert!(
+        explorer.child.try_wait().unwrap().is_none(),
+        "the paste quit"
+    );
+    assert!(!explorer.screen().contains("[modified]"));
+    explorer.type_bytes(b"q");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}

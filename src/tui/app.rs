@@ -96,6 +96,8 @@ pub struct App {
     pub undo: Vec<Scene>,
     pub redo: Vec<Scene>,
     pub save_policy: SavePolicy,
+    /// What to do once the save in progress succeeds (`s` in a "lose the changes?" question).
+    pub after_save: Option<Discard>,
     /// The problem and settings the loaded scene validated to.
     pub loaded_problem: (Problem, Settings),
     /// Where the scene came from.
@@ -155,6 +157,7 @@ impl App {
             undo: Vec::new(),
             redo: Vec::new(),
             save_policy: SavePolicy::Write,
+            after_save: None,
             loaded_problem: (loaded.problem.clone(), loaded.settings),
             scene: loaded.scene,
             source: loaded.source,

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use super::app::{App, Shown};
 use super::input::{Decoder, ESC_TIMEOUT, Input};
-use super::keymap::{Action, action_for};
+use super::keymap::{Action, action_for, paste_actions};
 use super::solver::SolveWorker;
 use super::studies::{StudyResult, Worker};
 use super::terminal::{SIGNALS, Session};
@@ -161,6 +161,11 @@ fn apply_input(app: &mut App, input: Input) {
     match input {
         Input::Key(key) => {
             if let Some(action) = action_for(&app.mode, key) {
+                update::update(app, action);
+            }
+        }
+        Input::Paste(text) => {
+            for action in paste_actions(&app.mode, &text) {
                 update::update(app, action);
             }
         }

@@ -19,13 +19,19 @@ use super::keymap::Key;
 pub const ESC_TIMEOUT: Duration = Duration::from_millis(30);
 /// Longest escape sequence kept while incomplete.
 pub const SEQUENCE_LIMIT: usize = 64;
+/// Longest bracketed paste kept (a paste is typed into a prompt, which takes far less).
+pub const PASTE_LIMIT: usize = 64 * 1024;
+/// How a bracketed paste starts.
+const PASTE_START: &[u8] = b"\x1b[200~";
 
 /// What the terminal said.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Input {
     Key(Key),
     /// A mouse event: (column, row, what).
     Mouse(u16, u16, MouseInput),
+    /// A bracketed paste: text the terminal marked as pasted, not typed.
+    Paste(String),
     /// The terminal is gone (end of file or a read error).
     Hangup,
 }
@@ -88,6 +94,15 @@ impl Decoder {
         inputs
     }
 
+    /// How long the pending bytes may grow before they are dropped as never-ending.
+    fn limit(&self) -> usize {
+        if self.pending.starts_with(PASTE_START) {
+            PASTE_LIMIT
+        } else {
+            SEQUENCE_LIMIT
+        }
+    }
+
     /// Decodes what is pending; returns the bytes to decode again after a dropped one.
     fn decode_pending(&mut self, inputs: &mut Vec<Input>, flushing: bool) -> Vec<u8> {
         match Event::parse_from(&self.pending) {
@@ -96,7 +111,7 @@ impl Decoder {
                 self.pending.clear();
                 Vec::new()
             }
-            Ok(None) if self.pending.len() < SEQUENCE_LIMIT && !flushing => Vec::new(),
+            Ok(None) if !flushing && self.pending.len() < self.limit() => Vec::new(),
             // A sequence that never ends: dropped.
             Ok(None) => {
                 self.pending.clear();
@@ -153,6 +168,7 @@ fn translate(event: Event) -> Option<Input> {
             };
             Some(Input::Mouse(mouse.column, mouse.row, what))
         }
+        Event::Paste(text) => Some(Input::Paste(text)),
         _ => None,
     }
 }
@@ -255,6 +271,18 @@ mod tests {
         let got = d.feed(b"\xc3\x1b[<0;10;5M");
         assert_eq!(got, vec![Input::Mouse(9, 4, MouseInput::Press)]);
         assert_eq!(keys(&d.feed(b"\xff\xfeq")), vec![Key::Char('q')]);
+    }
+
+    #[test]
+    fn a_bracketed_paste_is_one_input_of_text() {
+        let mut d = Decoder::default();
+        let mut bytes = b"\x1b[200~".to_vec();
+        bytes.extend(b"q\rq".repeat(200));
+        bytes.extend(b"\x1b[201~j");
+        let got = d.feed(&bytes);
+        assert_eq!(got.len(), 2);
+        assert_eq!(got[0], Input::Paste("q\rq".repeat(200)));
+        assert_eq!(got[1], Input::Key(Key::Char('j')));
     }
 
     #[test]

@@ -78,6 +78,8 @@ pub enum Action {
     Cancel,
     /// A key that means nothing in normal mode (its name goes into the message).
     Unbound(Key),
+    /// Text pasted where no prompt takes it: ignored, never run as commands.
+    PasteIgnored,
     /// The terminal changed size.
     Resize(u16, u16),
 }
@@ -406,6 +408,19 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
             Key::Char('s') => Some(Action::Save),
             _ => Some(Action::Cancel),
         },
+    }
+}
+
+/// What a bracketed paste means in `mode`: its printable characters typed into a prompt
+/// (a pasted newline does not submit it), or, anywhere else, nothing but a note.
+pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
+    match mode {
+        Mode::Editing { .. } | Mode::Save { .. } => text
+            .chars()
+            .filter(|c| !c.is_control())
+            .map(Action::Type)
+            .collect(),
+        _ => vec![Action::PasteIgnored],
     }
 }
 

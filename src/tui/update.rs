@@ -43,6 +43,11 @@ pub fn update(app: &mut App, action: Action) {
             app.suspend_requested = true;
             return;
         }
+        Action::PasteIgnored => {
+            app.message =
+                Some("a paste is typed only into a prompt (Enter opens one); ignored".into());
+            return;
+        }
         _ => {}
     }
     match app.mode.clone() {
@@ -90,6 +95,8 @@ fn confirm_discard(app: &mut App, action: Action, then: Discard) {
     match action {
         Action::Confirm => discard_and(app, then),
         Action::Save => {
+            // Save first, then do what was asked once the save has succeeded.
+            app.after_save = Some(then);
             app.mode = Mode::Save {
                 buffer: app.save_path.clone(),
             }
@@ -217,7 +224,7 @@ fn normal(app: &mut App, action: Action) {
         | Action::DeleteChar
         | Action::Confirm
         | Action::Cancel => {}
-        Action::Interrupt | Action::Resize(..) | Action::Suspend => {
+        Action::Interrupt | Action::Resize(..) | Action::Suspend | Action::PasteIgnored => {
             unreachable!("handled before the mode")
         }
     }
@@ -426,6 +433,7 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
         }
         Action::Cancel => {
             app.mode = Mode::Normal;
+            app.after_save = None;
             app.message = Some("not saved".into());
         }
         _ => app.mode = Mode::Save { buffer },
@@ -436,11 +444,16 @@ fn confirm_overwrite(app: &mut App, action: Action, path: String) {
     app.mode = Mode::Normal;
     match action {
         Action::Confirm => save(app, &path, true),
-        _ => app.message = Some(format!("not saved: {path} left as it was")),
+        _ => {
+            app.after_save = None;
+            app.message = Some(format!("not saved: {path} left as it was"));
+        }
     }
 }
 
 fn save(app: &mut App, path: &str, overwrite: bool) {
+    // What to do after a successful save; a failed or refused one drops it.
+    let then = app.after_save.take();
     let target = match &app.save_policy {
         SavePolicy::Write => std::path::PathBuf::from(path),
         SavePolicy::Simulate => {
@@ -471,6 +484,9 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             } else {
                 format!("saved to {path} ({notes})")
             });
+            if let Some(then) = then {
+                discard_and(app, then);
+            }
         }
         Err(e) => app.message = Some(format!("not saved: {e}")),
     }

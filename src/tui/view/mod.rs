@@ -337,7 +337,7 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
             };
             format!(
                 "the scene has unsaved changes: {what} and lose them? \
-                 y: yes · s: save first · n or Esc: no"
+                 y: yes · s: save, then {what} · n or Esc: no"
             )
         }
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
