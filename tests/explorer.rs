@@ -543,3 +543,37 @@ fn save_first_then_quit_saves_and_quits() {
     press(&mut app, "s Enter y");
     assert!(!app.modified() && app.scene != scene("benchmark-1").scene);
 }
+
+#[test]
+fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
+    // Issue 12 item 3: the save prompt used to cut names at 200 characters silently.
+    let mut app = app("benchmark-1");
+    press(&mut app, "s");
+    while let Mode::Save { buffer } = &app.mode {
+        if buffer.is_empty() {
+            break;
+        }
+        beamfric::tui::press(&mut app, Key::Backspace);
+    }
+    let long = "d/".repeat(1000) + "scene.toml";
+    for c in long.chars() {
+        beamfric::tui::press(&mut app, Key::Char(c));
+    }
+    let Mode::Save { buffer } = &app.mode else {
+        panic!("left the prompt")
+    };
+    assert_eq!(buffer, &long, "a 2010-character name is kept whole");
+    for _ in 0..3000 {
+        beamfric::tui::press(&mut app, Key::Char('x'));
+    }
+    let Mode::Save { buffer } = &app.mode else {
+        panic!("left the prompt")
+    };
+    assert_eq!(buffer.chars().count(), 4096);
+    assert!(
+        app.message
+            .as_deref()
+            .unwrap()
+            .contains("at most 4096 characters")
+    );
+}
