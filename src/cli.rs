@@ -125,6 +125,8 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
         // As if by SIGHUP: the terminal went away.
         crate::tui::Ending::Hangup => Ok(ExitCode::from(128 + 1)),
+        // Only served sessions have an idle timeout.
+        crate::tui::Ending::Idle => Ok(ExitCode::SUCCESS),
     }
 }
 

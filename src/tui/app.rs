@@ -49,6 +49,8 @@ pub enum SavePolicy {
     Write,
     Simulate,
     Within(std::path::PathBuf),
+    /// No file is written or read (a served session): `s` says why, in these words.
+    Refuse(String),
 }
 
 /// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the
@@ -128,6 +130,8 @@ pub struct App {
     pub suspend_requested: bool,
     /// One slot per study of [`super::studies::STUDIES`], by the same index.
     pub studies: Vec<StudySlot>,
+    /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
+    pub max_elements: Option<usize>,
 }
 
 /// Solve options of the explorer: no condition numbers on the per-keystroke path, the
@@ -172,6 +176,7 @@ impl App {
             quit: false,
             suspend_requested: false,
             studies: vec![StudySlot::default(); STUDIES.len()],
+            max_elements: None,
         };
         app.refresh_studies();
         Ok(app)
