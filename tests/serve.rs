@@ -1,0 +1,500 @@
+//! `beamfric serve` (issue 14) through real SSH: each test starts the server on an ephemeral
+//! loopback port with a temporary host key, connects with russh's client (and once with
+//! OpenSSH's `ssh` where installed), asks for a pty, and reads the screen through the `vt100`
+//! terminal emulator.
+
+#![cfg(unix)]
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use beamfric::serve::{ServeOptions, Server};
+use russh::client::{self, AuthResult, Handle};
+use russh::keys::ssh_key::private::Ed25519Keypair;
+use russh::keys::{PrivateKey, PrivateKeyWithHashAlg, PublicKeyOrCertificate};
+use russh::{Channel, ChannelMsg};
+
+/// A guard against a hung server, not a measurement.
+const PATIENCE: Duration = Duration::from_secs(30);
+
+/// The client accepts the server's key (a fresh one per test).
+struct TrustingClient;
+
+impl client::Handler for TrustingClient {
+    type Error = russh::Error;
+
+    async fn check_server_key(
+        &mut self,
+        _key: &PublicKeyOrCertificate,
+    ) -> Result<bool, Self::Error> {
+        Ok(true)
+    }
+}
+
+/// A server on a free loopback port with its host key in a temporary directory.
+struct TestServer {
+    server: Server,
+    _dir: tempfile::TempDir,
+}
+
+fn options(dir: &tempfile::TempDir) -> ServeOptions {
+    ServeOptions {
+        listen: "127.0.0.1:0".into(),
+        host_key: Some(dir.path().join("host_key")),
+        open: true,
+        ..ServeOptions::default()
+    }
+}
+
+fn open_server() -> TestServer {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&options(&dir)).unwrap();
+    TestServer { server, _dir: dir }
+}
+
+fn user_key(seed: u8) -> PrivateKey {
+    PrivateKey::from(Ed25519Keypair::from_seed(&[seed; 32]))
+}
+
+fn runtime() -> tokio::runtime::Runtime {
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .unwrap()
+}
+
+async fn connect(server: &Server) -> Handle<TrustingClient> {
+    let config = Arc::new(client::Config::default());
+    client::connect(config, server.address(), TrustingClient)
+        .await
+        .unwrap()
+}
+
+/// Connected and logged in with "none" (an `--open` server).
+async fn logged_in(server: &Server) -> Handle<TrustingClient> {
+    let mut handle = connect(server).await;
+    let result = handle.authenticate_none("student").await.unwrap();
+    assert_eq!(result, AuthResult::Success);
+    handle
+}
+
+/// A served explorer as the client sees it.
+struct Explorer {
+    channel: Channel<client::Msg>,
+    screen: vt100::Parser,
+    /// Everything received, raw.
+    raw: Vec<u8>,
+    closed: bool,
+    exit_status: Option<u32>,
+}
+
+impl Explorer {
+    async fn open(
+        handle: &Handle<TrustingClient>,
+        size: (u16, u16),
+        env: &[(&str, &str)],
+    ) -> Explorer {
+        let channel = handle.channel_open_session().await.unwrap();
+        channel
+            .request_pty(
+                true,
+                "xterm-256color",
+                size.0.into(),
+                size.1.into(),
+                0,
+                0,
+                &[],
+            )
+            .await
+            .unwrap();
+        for (name, value) in env {
+            channel.set_env(true, *name, *value).await.unwrap();
+        }
+        channel.request_shell(true).await.unwrap();
+        Explorer {
+            channel,
+            screen: vt100::Parser::new(size.1, size.0, 0),
+            raw: Vec::new(),
+            closed: false,
+            exit_status: None,
+        }
+    }
+
+    fn text(&self) -> String {
+        self.screen.screen().contents()
+    }
+
+    /// Reads until the screen shows `needle` (panics after [`PATIENCE`]).
+    async fn wait_for(&mut self, needle: &str) {
+        let deadline = Instant::now() + PATIENCE;
+        while !self.text().contains(needle) {
+            assert!(
+                self.read_once(deadline).await,
+                "the channel ended before {needle:?} was shown; screen:\n{}",
+                self.text()
+            );
+        }
+    }
+
+    /// Reads until the channel closes.
+    async fn wait_for_close(&mut self) {
+        let deadline = Instant::now() + PATIENCE;
+        while self.read_once(deadline).await {}
+    }
+
+    /// One message; false once the channel is closed.
+    async fn read_once(&mut self, deadline: Instant) -> bool {
+        if self.closed {
+            return false;
+        }
+        let left = deadline.saturating_duration_since(Instant::now());
+        let message = tokio::time::timeout(left, self.channel.wait())
+            .await
+            .unwrap_or_else(|_| panic!("nothing for {PATIENCE:?}; screen:\n{}", self.text()));
+        match message {
+            Some(ChannelMsg::Data { data }) => {
+                self.raw.extend_from_slice(&data);
+                self.screen.process(&data);
+            }
+            Some(ChannelMsg::ExitStatus { exit_status }) => self.exit_status = Some(exit_status),
+            Some(ChannelMsg::Close) | None => self.closed = true,
+            Some(_) => {}
+        }
+        !self.closed
+    }
+
+    async fn send(&self, bytes: &[u8]) {
+        self.channel.data_bytes(bytes.to_vec()).await.unwrap();
+    }
+
+    async fn resize(&mut self, size: (u16, u16)) {
+        self.screen.screen_mut().set_size(size.1, size.0);
+        self.channel
+            .window_change(size.0.into(), size.1.into(), 0, 0)
+            .await
+            .unwrap();
+    }
+}
+
+/// Waits until `condition` holds (panics after [`PATIENCE`]); returns how long it took.
+fn eventually(what: &str, condition: impl Fn() -> bool) -> Duration {
+    let start = Instant::now();
+    while !condition() {
+        assert!(start.elapsed() < PATIENCE, "never: {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    start.elapsed()
+}
+
+#[test]
+fn a_session_shows_the_explorer_follows_keys_and_resizes_and_ends_on_disconnect() {
+    let test = open_server();
+    let server = &test.server;
+    runtime().block_on(async {
+        let handle = logged_in(server).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        assert_eq!(server.sessions(), 1);
+        // At 100×30 one panel is shown at a time: the ε-condition chart is not on screen.
+        assert!(!explorer.text().contains("cond2 of the cases"));
+
+        // A key changes the frame: the help overlay.
+        assert!(!explorer.text().contains("change it by a coarse step"));
+        explorer.send(b"?").await;
+        explorer.wait_for("change it by a coarse step").await;
+        explorer.send(b"\x1b").await;
+
+        // Growing the window to 130×42 shows every panel.
+        explorer.resize((130, 42)).await;
+        explorer.wait_for("cond2 of the cases").await;
+
+        handle
+            .disconnect(russh::Disconnect::ByApplication, "", "en")
+            .await
+            .unwrap();
+    });
+    // The issue asks for one second; the bound here is generous for a loaded machine.
+    let took = eventually("the session ends after a disconnect", || {
+        server.sessions() == 0
+    });
+    assert!(took < Duration::from_secs(3), "took {took:?}");
+    eventually("the connection is gone", || server.connections() == 0);
+}
+
+#[test]
+fn q_quits_and_closes_the_channel_with_status_zero() {
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(&test.server).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        explorer.send(b"q").await;
+        explorer.wait_for_close().await;
+        assert_eq!(explorer.exit_status, Some(0));
+        // The alternate screen was left.
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(
+            raw.ends_with("\x1b[?25h") || raw.contains("\x1b[?1049l"),
+            "{raw:?}"
+        );
+    });
+    eventually("the session ends", || test.server.sessions() == 0);
+}
+
+#[test]
+fn ascii_and_no_color_follow_the_clients_environment() {
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(&test.server).await;
+        let mut plain =
+            Explorer::open(&handle, (100, 30), &[("LANG", "C"), ("NO_COLOR", "1")]).await;
+        plain.wait_for("Parameters").await;
+        let text = plain.text();
+        assert!(!text.contains('┌') && !text.contains('│'), "{text}");
+        let screen = plain.screen.screen();
+        for row in 0..30 {
+            for col in 0..100 {
+                let cell = screen.cell(row, col).unwrap();
+                assert_eq!(cell.fgcolor(), vt100::Color::Default, "({row}, {col})");
+            }
+        }
+
+        let handle = logged_in(&test.server).await;
+        let mut fancy = Explorer::open(&handle, (100, 30), &[("LANG", "en_US.UTF-8")]).await;
+        fancy.wait_for("Parameters").await;
+        assert!(fancy.text().contains('│'));
+    });
+}
+
+#[test]
+fn saving_is_refused_in_a_served_session() {
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(&test.server).await;
+        let mut explorer = Explorer::open(&handle, (120, 40), &[]).await;
+        explorer.wait_for("Parameters").await;
+        explorer.send(b"s").await;
+        explorer.wait_for("writes no files on the server").await;
+    });
+}
+
+#[test]
+fn wrong_password_and_unknown_key_are_rejected() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let known = user_key(7);
+    let unknown = user_key(8);
+    let authorized = dir.path().join("authorized_keys");
+    std::fs::write(&authorized, known.public_key().to_openssh().unwrap() + "\n").unwrap();
+    let password = dir.path().join("password");
+    std::fs::write(&password, "correct horse\n").unwrap();
+    std::fs::set_permissions(&password, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let server = Server::start(&ServeOptions {
+        authorized_keys: Some(authorized),
+        password_file: Some(password),
+        open: false,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let mut handle = connect(&server).await;
+        assert!(!handle.authenticate_none("eve").await.unwrap().success());
+        let wrong = handle.authenticate_password("eve", "battery staple").await;
+        assert!(!wrong.unwrap().success());
+        let key = PrivateKeyWithHashAlg::new(Arc::new(unknown), None);
+        assert!(
+            !handle
+                .authenticate_publickey("eve", key)
+                .await
+                .unwrap()
+                .success()
+        );
+        let right = handle.authenticate_password("ann", "correct horse").await;
+        assert!(right.unwrap().success());
+
+        let mut handle = connect(&server).await;
+        let key = PrivateKeyWithHashAlg::new(Arc::new(known), None);
+        assert!(
+            handle
+                .authenticate_publickey("bob", key)
+                .await
+                .unwrap()
+                .success()
+        );
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+    });
+}
+
+#[test]
+fn exec_subsystem_a_shell_without_pty_and_port_forwarding_are_refused() {
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(&test.server).await;
+        let mut exec = handle.channel_open_session().await.unwrap();
+        exec.exec(true, "cat /etc/passwd").await.unwrap();
+        assert!(!succeeded(&mut exec).await, "exec was accepted");
+
+        let handle = logged_in(&test.server).await;
+        let mut subsystem = handle.channel_open_session().await.unwrap();
+        subsystem.request_subsystem(true, "sftp").await.unwrap();
+        assert!(!succeeded(&mut subsystem).await, "subsystem was accepted");
+
+        let handle = logged_in(&test.server).await;
+        let mut shell = handle.channel_open_session().await.unwrap();
+        shell.request_shell(true).await.unwrap();
+        assert!(!succeeded(&mut shell).await, "shell was accepted");
+
+        let handle = logged_in(&test.server).await;
+        let forward = handle
+            .channel_open_direct_tcpip("127.0.0.1", 22, "127.0.0.1", 5555)
+            .await;
+        assert!(forward.is_err(), "a direct-tcpip channel was opened");
+        assert!(handle.tcpip_forward("127.0.0.1", 0).await.is_err());
+    });
+    assert_eq!(test.server.sessions(), 0);
+}
+
+/// Whether the first reply to a request was a success (data before it skipped).
+async fn succeeded(channel: &mut Channel<client::Msg>) -> bool {
+    loop {
+        let message = tokio::time::timeout(PATIENCE, channel.wait())
+            .await
+            .expect("a reply")
+            .expect("the channel is open");
+        match message {
+            ChannelMsg::Success => return true,
+            ChannelMsg::Failure => return false,
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn without_open_or_credentials_the_server_refuses_to_start() {
+    let dir = tempfile::tempdir().unwrap();
+    let refused = Server::start(&ServeOptions {
+        open: false,
+        ..options(&dir)
+    });
+    let message = refused.err().expect("refused");
+    assert!(message.contains("--open"), "{message}");
+
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .args(["serve", "--listen", "127.0.0.1:0", "--host-key"])
+        .arg(dir.path().join("host_key"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("--open"), "{stderr}");
+}
+
+#[test]
+fn beyond_the_session_cap_a_client_gets_a_polite_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        max_sessions: 1,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let first = logged_in(&server).await;
+        let mut running = Explorer::open(&first, (100, 30), &[]).await;
+        running.wait_for("Parameters").await;
+        let second = logged_in(&server).await;
+        let mut refused = Explorer::open(&second, (100, 30), &[]).await;
+        refused.wait_for("the server is full").await;
+        refused.wait_for_close().await;
+        assert_eq!(refused.exit_status, Some(1));
+    });
+}
+
+#[test]
+fn forty_concurrent_sessions_each_get_their_first_frame() {
+    let test = open_server();
+    let server = &test.server;
+    runtime().block_on(async {
+        let mut tasks = Vec::new();
+        for _ in 0..40 {
+            let handle = logged_in(server).await;
+            tasks.push(tokio::spawn(async move {
+                let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+                explorer.wait_for("Parameters").await;
+                (handle, explorer)
+            }));
+        }
+        let mut sessions = Vec::new();
+        for task in tasks {
+            sessions.push(task.await.unwrap());
+        }
+        assert_eq!(server.sessions(), 40);
+        drop(sessions);
+    });
+    eventually("all 40 sessions end", || server.sessions() == 0);
+}
+
+#[test]
+fn openssh_reaches_the_explorer() {
+    let Ok(ssh) = which("ssh") else {
+        println!("skipped: OpenSSH's ssh is not installed");
+        return;
+    };
+    let test = open_server();
+    let port = test.server.address().port().to_string();
+    let mut child = std::process::Command::new(ssh)
+        .args([
+            "-tt",
+            "-p",
+            &port,
+            "-o",
+            "StrictHostKeyChecking=no",
+            "-o",
+            "UserKnownHostsFile=/dev/null",
+            "-o",
+            "BatchMode=yes",
+            "-o",
+            "LogLevel=ERROR",
+            "-F",
+            "/dev/null",
+            "student@127.0.0.1",
+        ])
+        .env("TERM", "xterm")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut screen = vt100::Parser::new(24, 80, 0);
+        let mut buffer = [0u8; 4096];
+        let mut seen = false;
+        loop {
+            match std::io::Read::read(&mut stdout, &mut buffer) {
+                Ok(0) | Err(_) => return seen,
+                Ok(n) => {
+                    screen.process(&buffer[..n]);
+                    seen |= screen.screen().contents().contains("Parameters");
+                }
+            }
+        }
+    });
+    eventually("a session starts", || test.server.sessions() == 1);
+    // Give the first frame time to arrive, then quit.
+    std::thread::sleep(Duration::from_millis(500));
+    use std::io::Write;
+    child.stdin.as_mut().unwrap().write_all(b"q").unwrap();
+    let status = child.wait().unwrap();
+    assert!(reader.join().unwrap(), "OpenSSH showed the explorer");
+    assert!(status.success(), "ssh exited with {status}");
+}
+
+fn which(program: &str) -> Result<std::path::PathBuf, ()> {
+    let path = std::env::var_os("PATH").ok_or(())?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(program))
+        .find(|candidate| candidate.is_file())
+        .ok_or(())
+}
