@@ -498,3 +498,59 @@ fn which(program: &str) -> Result<std::path::PathBuf, ()> {
         .find(|candidate| candidate.is_file())
         .ok_or(())
 }
+
+#[test]
+fn a_served_session_cannot_ask_for_more_elements_than_the_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        max_elements: 1000,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(&server).await;
+        let mut explorer = Explorer::open(&handle, (120, 40), &[]).await;
+        explorer.wait_for("Parameters").await;
+        // The last row is the method, the one before it the elements.
+        explorer.send(&b"j".repeat(30)).await;
+        explorer.send(b"k\r200000\r").await;
+        explorer.wait_for("at most 1000 here").await;
+    });
+}
+
+#[test]
+fn an_idle_session_is_closed_with_a_word() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        idle_timeout: Some(Duration::from_secs(1)),
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(&server).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(raw.contains("closed after 1 s without input"), "{raw:?}");
+    });
+    eventually("the session ends", || server.sessions() == 0);
+}
+
+#[test]
+fn an_absurd_window_size_is_clamped_and_the_session_goes_on() {
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(&test.server).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        explorer
+            .channel
+            .window_change(60_000, 60_000, 0, 0)
+            .await
+            .unwrap();
+        explorer.resize((100, 30)).await;
+        explorer.send(b"?").await;
+        explorer.wait_for("change it by a coarse step").await;
+    });
+}
