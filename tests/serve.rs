@@ -554,3 +554,122 @@ fn an_absurd_window_size_is_clamped_and_the_session_goes_on() {
         explorer.wait_for("change it by a coarse step").await;
     });
 }
+
+/// Key-to-frame latency with 40 students, each pressing a key every 200 ms on Benchmark 1
+/// (and then with one of them at n = 10⁵): a benchmark, not a test of the suite. Run it with
+/// `cargo test --test serve -- --ignored --nocapture`; it prints p50 and p99 over all keys of
+/// the first frame after the key and of the last of its frames, and the memory per session
+/// (the process's resident size, which includes the 40 clients; in the second run, what the
+/// first left to the allocator too).
+#[test]
+#[ignore]
+fn benchmark_forty_sessions_pressing_a_key_every_200_ms() {
+    const SESSIONS: usize = 40;
+    const KEYS: usize = 40;
+    for heavy in [false, true] {
+        let test = open_server();
+        let before = resident_kib();
+        let (mut first, mut last, during) = runtime().block_on(async {
+            let mut tasks = Vec::new();
+            for index in 0..SESSIONS {
+                let handle = logged_in(&test.server).await;
+                let heavy_one = heavy && index == 0;
+                tasks.push(tokio::spawn(async move {
+                    let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+                    explorer.wait_for("Parameters").await;
+                    if heavy_one {
+                        explorer.send(&b"j".repeat(30)).await;
+                        explorer.send(b"k\r100000\r").await;
+                        explorer.wait_for("n = 100000").await;
+                    }
+                    // Stagger the students over the 200 ms period.
+                    tokio::time::sleep(Duration::from_millis(5 * index as u64)).await;
+                    let mut latencies = Vec::new();
+                    for key in 0..KEYS {
+                        // Select up and down on the parameter rows (a heavy student steps the
+                        // mesh instead: every key re-solves at n = 10⁵ or near it).
+                        let bytes: &[u8] = match (heavy_one, key % 2) {
+                            (true, 0) => b"h",
+                            (true, _) => b"l",
+                            (false, 0) => b"l",
+                            (false, _) => b"h",
+                        };
+                        let sent = Instant::now();
+                        explorer.send(bytes).await;
+                        // The first frame after the key (however late), then the rest of its
+                        // frames: whatever follows within 50 ms of the one before.
+                        let (mut first, mut last) = (None, None);
+                        let mut wait = PATIENCE;
+                        while let Ok(Some(message)) =
+                            tokio::time::timeout(wait, explorer.channel.wait()).await
+                        {
+                            if let ChannelMsg::Data { data } = message {
+                                explorer.screen.process(&data);
+                                first.get_or_insert(sent.elapsed());
+                                last = Some(sent.elapsed());
+                                wait = Duration::from_millis(50);
+                            }
+                        }
+                        if !heavy_one {
+                            latencies.push((first, last));
+                        }
+                        let next = sent + Duration::from_millis(200);
+                        tokio::time::sleep(next.saturating_duration_since(Instant::now())).await;
+                    }
+                    (handle, latencies)
+                }));
+            }
+            let during = {
+                tokio::time::sleep(Duration::from_secs(4)).await;
+                resident_kib()
+            };
+            let (mut first, mut last) = (Vec::new(), Vec::new());
+            let mut handles = Vec::new();
+            for task in tasks {
+                let (handle, latencies) = task.await.unwrap();
+                handles.push(handle);
+                for (f, l) in latencies {
+                    first.push(f.unwrap_or(Duration::MAX));
+                    last.push(l.unwrap_or(Duration::MAX));
+                }
+            }
+            (first, last, during)
+        });
+        let missed = first.iter().filter(|d| **d == Duration::MAX).count();
+        let label = if heavy {
+            "with one student at n = 1e5"
+        } else {
+            "all at n = 20"
+        };
+        println!(
+            "{SESSIONS} sessions, {label}: key to first frame p50 {:?} p99 {:?}; to last frame \
+             p50 {:?} p99 {:?}, worst {:?}; {missed} of {} keys without a frame; \
+             memory {} KiB before, {} KiB during, {} KiB per session",
+            percentile(&mut first, 0.5),
+            percentile(&mut first, 0.99),
+            percentile(&mut last, 0.5),
+            percentile(&mut last, 0.99),
+            percentile(&mut last, 1.0),
+            first.len(),
+            before,
+            during,
+            during.saturating_sub(before) / SESSIONS as u64,
+        );
+        assert_eq!(missed, 0, "keys without a frame");
+    }
+}
+
+fn percentile(values: &mut [Duration], p: f64) -> Duration {
+    values.sort();
+    values[((values.len() - 1) as f64 * p).round() as usize]
+}
+
+/// The process's resident memory (VmRSS) in KiB.
+fn resident_kib() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    status
+        .lines()
+        .find_map(|line| line.strip_prefix("VmRSS:"))
+        .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
+        .unwrap_or(0)
+}
