@@ -137,6 +137,7 @@ fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
         listen: args.listen.clone(),
         host_key: args.host_key.clone(),
         authorized_keys: args.authorized_keys.clone(),
+        presenter_keys: args.presenter_keys.clone(),
         password_file: args.password_file.clone(),
         open: args.open,
         max_sessions: args.max_sessions,

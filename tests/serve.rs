@@ -79,6 +79,15 @@ async fn logged_in(server: &Server) -> Handle<TrustingClient> {
     handle
 }
 
+/// Connected and logged in with `key`.
+async fn logged_in_with(server: &Server, key: PrivateKey) -> Handle<TrustingClient> {
+    let mut handle = connect(server).await;
+    let key = PrivateKeyWithHashAlg::new(Arc::new(key), None);
+    let result = handle.authenticate_publickey("someone", key).await.unwrap();
+    assert_eq!(result, AuthResult::Success);
+    handle
+}
+
 /// A served explorer as the client sees it.
 struct Explorer {
     channel: Channel<client::Msg>,
@@ -672,4 +681,66 @@ fn resident_kib() -> u64 {
         .find_map(|line| line.strip_prefix("VmRSS:"))
         .and_then(|rest| rest.split_whitespace().next()?.parse().ok())
         .unwrap_or(0)
+}
+
+#[test]
+fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let (presenter_key, student_key) = (user_key(1), user_key(2));
+    let presenters = dir.path().join("presenters");
+    std::fs::write(
+        &presenters,
+        presenter_key.public_key().to_openssh().unwrap(),
+    )
+    .unwrap();
+    let students = dir.path().join("students");
+    std::fs::write(&students, student_key.public_key().to_openssh().unwrap()).unwrap();
+    let server = Server::start(&ServeOptions {
+        authorized_keys: Some(students),
+        presenter_keys: Some(presenters),
+        open: false,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let lecturer = logged_in_with(&server, presenter_key).await;
+        let mut presenter = Explorer::open(&lecturer, (120, 40), &[]).await;
+        presenter.wait_for("presenting").await;
+        let student = logged_in_with(&server, student_key).await;
+        let mut follower = Explorer::open(&student, (120, 40), &[]).await;
+        follower.wait_for("following the presenter").await;
+        follower.wait_for("load f0 (x=0)  5.0e4").await;
+
+        // The presenter's change, seen by the follower.
+        let sent = Instant::now();
+        presenter.send(b"]").await;
+        follower.wait_for("load f0 (x=0)  5.0e5").await;
+        let seen = sent.elapsed();
+        println!("a presenter's change reached the follower in {seen:?}");
+        assert!(seen < Duration::from_secs(1), "{seen:?}");
+        presenter.wait_for("load f0 (x=0)  5.0e5").await;
+        presenter.wait_for("1 follow").await;
+        assert_eq!(server.followers(), 1);
+
+        // While following, a change of the student's own is refused.
+        follower.send(b"]").await;
+        follower.wait_for("f to explore on your own").await;
+
+        // A fork is the student's own: the presenter never sees it.
+        follower.send(b"f").await;
+        follower.wait_for("own exploration").await;
+        follower.send(b"]").await;
+        follower.wait_for("load f0 (x=0)  5.0e6").await;
+        presenter.send(b"[").await;
+        presenter.wait_for("load f0 (x=0)  5.0e4").await;
+        presenter.wait_for("0 follow").await;
+        assert!(!String::from_utf8_lossy(&presenter.raw).contains("5.0e6"));
+        assert!(follower.text().contains("load f0 (x=0)  5.0e6"));
+
+        // F rejoins at the presenter's current state.
+        follower.send(b"F").await;
+        follower.wait_for("load f0 (x=0)  5.0e4").await;
+        follower.wait_for("following the presenter").await;
+        assert_eq!(server.followers(), 1);
+    });
 }

@@ -88,6 +88,10 @@ pub struct ServeArgs {
     /// Public keys that may log in (OpenSSH authorized_keys format).
     #[arg(long, value_name = "PATH")]
     pub authorized_keys: Option<std::path::PathBuf>,
+    /// Public keys whose sessions present: every other session follows them (f forks, F
+    /// rejoins).
+    #[arg(long, value_name = "PATH")]
+    pub presenter_keys: Option<std::path::PathBuf>,
     /// A file whose first line is the password any user name may log in with.
     #[arg(long, value_name = "PATH")]
     pub password_file: Option<std::path::PathBuf>,

@@ -29,6 +29,8 @@ pub struct Connection {
     user: Option<String>,
     /// The fingerprint of the key the user logged in with.
     key: Option<String>,
+    /// Logged in with a presenter key.
+    presenter: bool,
     /// The session channel (one per connection).
     channel: Option<ChannelId>,
     /// The pty asked for, and the environment sent so far.
@@ -49,6 +51,7 @@ impl Connection {
             started: Instant::now(),
             user: None,
             key: None,
+            presenter: false,
             channel: None,
             terminal: ClientTerminal::default(),
             has_pty: false,
@@ -72,7 +75,20 @@ impl Connection {
 
     fn key_allowed(&self, key: &PublicKey) -> bool {
         let access = &self.shared.access;
-        access.open || access.keys.iter().any(|k| k.key_data() == key.key_data())
+        access.open
+            || access
+                .keys
+                .iter()
+                .chain(&access.presenter_keys)
+                .any(|k| k.key_data() == key.key_data())
+    }
+
+    fn is_presenter_key(&self, key: &PublicKey) -> bool {
+        let access = &self.shared.access;
+        access
+            .presenter_keys
+            .iter()
+            .any(|k| k.key_data() == key.key_data())
     }
 
     fn is_ours(&self, channel: ChannelId) -> bool {
@@ -125,6 +141,7 @@ impl Handler for Connection {
 
     async fn auth_publickey(&mut self, user: &str, key: &PublicKey) -> Result<Auth, Self::Error> {
         Ok(if self.key_allowed(key) {
+            self.presenter = self.is_presenter_key(key);
             self.accepted(user, Some(key))
         } else {
             Auth::reject()
@@ -242,7 +259,14 @@ impl Handler for Connection {
             return session.close(channel);
         };
         let handle = session.handle();
-        match explorer::start(&self.shared.explorer, slot, handle, channel, &self.terminal) {
+        match explorer::start(
+            &self.shared,
+            self.presenter,
+            slot,
+            handle,
+            channel,
+            &self.terminal,
+        ) {
             Ok(feed) => {
                 self.feed = Some(feed);
                 session.channel_success(channel)

@@ -5,6 +5,7 @@
 //! no colours with `NO_COLOR`.
 
 use std::io::{self, Write};
+use std::sync::Arc;
 use std::time::Duration;
 
 use russh::ChannelId;
@@ -14,8 +15,10 @@ use tokio::sync::mpsc;
 use crate::plot::Look;
 use crate::scene::LoadedScene;
 use crate::tui::app::{App, SavePolicy};
-use crate::tui::remote::{self, Feed};
+use crate::tui::follow::{self, Follow};
+use crate::tui::remote::{self, AfterFrame, Feed};
 
+use super::Shared;
 use super::limits::SessionSlot;
 
 /// Chunks of output waiting for the client; a client that stops reading holds its explorer
@@ -91,21 +94,44 @@ impl Write for ChannelWriter {
     }
 }
 
-/// Starts an explorer on `channel` (called on the server's runtime). Returns the feed for the
-/// client's bytes and window changes.
-pub fn start(
-    settings: &ExplorerSettings,
+/// Starts an explorer on `channel` (called on the server's runtime), presenting or following
+/// when the server has presenters. Returns the feed for the client's bytes and window changes.
+pub(crate) fn start(
+    shared: &Arc<Shared>,
+    presenter: bool,
     slot: SessionSlot,
     handle: Handle,
     channel: ChannelId,
     client: &ClientTerminal,
 ) -> Result<Feed, String> {
+    let settings = &shared.explorer;
     let mut app = App::new(settings.scene.clone(), client.look(), true)?;
     app.save_policy = SavePolicy::Refuse(
         "a served session writes no files on the server (the lecturer can share the scene)".into(),
     );
     app.max_elements = Some(settings.max_elements);
     let (feed, events) = remote::events();
+    // Follow mode: a presenter publishes every frame's state, a student joins the hub.
+    let mut after_frame: Option<AfterFrame> = None;
+    let mut student_id = None;
+    if let Some(hub) = &shared.hub {
+        if presenter {
+            app.follow = Some(Follow::presenter(&hub.followers));
+            let publishing = Arc::clone(shared);
+            after_frame = Some(Box::new(move |app: &App| {
+                if let Some(hub) = &publishing.hub {
+                    hub.publish(app);
+                }
+            }));
+        } else {
+            app.follow = Some(Follow::student(&hub.followers));
+            let (id, latest) = hub.join(feed.clone());
+            student_id = Some(id);
+            if let Some(snapshot) = latest {
+                follow::receive(&mut app, snapshot);
+            }
+        }
+    }
     let (chunks, mut outbox) = mpsc::channel::<Vec<u8>>(OUTPUT_QUEUE);
     tokio::spawn(async move {
         while let Some(chunk) = outbox.recv().await {
@@ -124,12 +150,16 @@ pub fn start(
     };
     let size = (client.width, client.height);
     let idle_timeout = settings.idle_timeout;
+    let leaving = Arc::clone(shared);
     std::thread::Builder::new()
         .name("session".into())
         .spawn(move || {
             // Held until the explorer and its workers are let go.
             let _slot = slot;
-            let _ = remote::run(app, writer, size, events, idle_timeout);
+            let _ = remote::run(app, writer, size, events, idle_timeout, after_frame);
+            if let (Some(hub), Some(id)) = (&leaving.hub, student_id) {
+                hub.leave(id);
+            }
         })
         .map_err(|e| format!("cannot start a session thread: {e}"))?;
     Ok(feed)

@@ -7,10 +7,12 @@
 //! - [`keys`]: host key, authorized keys, password;
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
 //! - [`explorer`]: one served explorer and the output path to its client;
+//! - [`follow`]: the presenter's state handed to the students who follow;
 //! - [`limits`]: the cap on sessions and the input budget.
 
 pub mod connection;
 pub mod explorer;
+pub mod follow;
 pub mod keys;
 pub mod limits;
 
@@ -46,6 +48,8 @@ pub struct ServeOptions {
     /// `None`: [`keys::default_host_key_path`].
     pub host_key: Option<PathBuf>,
     pub authorized_keys: Option<PathBuf>,
+    /// Keys whose sessions present (follow mode); they may log in too.
+    pub presenter_keys: Option<PathBuf>,
     pub password_file: Option<PathBuf>,
     /// Anyone may log in (only when neither keys nor a password are given).
     pub open: bool,
@@ -63,6 +67,7 @@ impl Default for ServeOptions {
             listen: DEFAULT_LISTEN.into(),
             host_key: None,
             authorized_keys: None,
+            presenter_keys: None,
             password_file: None,
             open: false,
             max_sessions: DEFAULT_MAX_SESSIONS,
@@ -78,6 +83,7 @@ impl Default for ServeOptions {
 pub(crate) struct Access {
     pub open: bool,
     pub keys: Vec<PublicKey>,
+    pub presenter_keys: Vec<PublicKey>,
     pub password: Option<String>,
 }
 
@@ -88,6 +94,8 @@ pub(crate) struct Shared {
     pub explorer: ExplorerSettings,
     pub slots: Arc<SessionSlots>,
     pub connections: AtomicUsize,
+    /// Follow mode, when there are presenter keys.
+    pub hub: Option<follow::Hub>,
 }
 
 /// Counts a connection while it lives.
@@ -167,6 +175,7 @@ impl Server {
             },
             slots: SessionSlots::new(options.max_sessions),
             connections: AtomicUsize::new(0),
+            hub: options.presenter_keys.is_some().then(follow::Hub::default),
         });
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
@@ -212,6 +221,14 @@ impl Server {
     /// Explorers running now (a disconnected one counts until its thread has ended).
     pub fn sessions(&self) -> usize {
         self.shared.slots.running()
+    }
+
+    /// Students following a presenter now.
+    pub fn followers(&self) -> usize {
+        self.shared
+            .hub
+            .as_ref()
+            .map_or(0, |hub| hub.followers.load(Ordering::Acquire))
     }
 
     /// Connections open now, logged in or not.
@@ -260,11 +277,15 @@ fn access(options: &ServeOptions) -> Result<Access, String> {
         Some(path) => keys::read_authorized_keys(path)?,
         None => Vec::new(),
     };
+    let presenter_keys = match &options.presenter_keys {
+        Some(path) => keys::read_authorized_keys(path)?,
+        None => Vec::new(),
+    };
     let password = match &options.password_file {
         Some(path) => Some(keys::read_password(path)?),
         None => None,
     };
-    let anyone = keys.is_empty() && password.is_none();
+    let anyone = keys.is_empty() && presenter_keys.is_empty() && password.is_none();
     if anyone && !options.open {
         return Err(
             "no --authorized-keys or --password-file: anyone could log in; give one, or --open \
@@ -275,6 +296,7 @@ fn access(options: &ServeOptions) -> Result<Access, String> {
     Ok(Access {
         open: anyone,
         keys,
+        presenter_keys,
         password,
     })
 }
@@ -288,7 +310,7 @@ fn russh_config(
     if access.open {
         methods.push(MethodKind::None);
     }
-    if access.open || !access.keys.is_empty() {
+    if access.open || !access.keys.is_empty() || !access.presenter_keys.is_empty() {
         methods.push(MethodKind::PublicKey);
     }
     if access.open || access.password.is_some() {

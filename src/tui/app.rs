@@ -132,6 +132,8 @@ pub struct App {
     pub studies: Vec<StudySlot>,
     /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
     pub max_elements: Option<usize>,
+    /// Follow mode (served sessions with a presenter); `None`: an explorer of its own.
+    pub follow: Option<super::follow::Follow>,
 }
 
 /// Solve options of the explorer: no condition numbers on the per-keystroke path, the
@@ -177,6 +179,7 @@ impl App {
             suspend_requested: false,
             studies: vec![StudySlot::default(); STUDIES.len()],
             max_elements: None,
+            follow: None,
         };
         app.refresh_studies();
         Ok(app)

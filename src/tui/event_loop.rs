@@ -48,6 +48,8 @@ pub enum Event {
     Signal(i32),
     Solved(Box<Result<Shown, String>>),
     Study(StudyResult),
+    /// The presenter's new state (follow mode).
+    Follow(std::sync::Arc<super::follow::Snapshot>),
 }
 
 /// Where the loop draws: the local terminal ([`Session`]) or a remote one (an SSH channel).
@@ -67,13 +69,17 @@ pub trait Screen {
     fn redraw_all(&mut self) -> io::Result<()>;
 }
 
+/// Called with the state after every frame (a presenter publishes it).
+pub type AfterFrame = Box<dyn FnMut(&App) + Send>;
+
 /// How a loop behaves beyond its screen.
-#[derive(Debug, Clone, Default)]
+#[derive(Default)]
 pub struct LoopOptions {
     /// End the session after this long without input.
     pub idle_timeout: Option<Duration>,
     /// `main` or `worker`: panic there after the first frame (tests of the local terminal).
     pub inject_panic: String,
+    pub after_frame: Option<AfterFrame>,
 }
 
 /// Runs the explorer in the local terminal until it quits, a signal ends it, or the terminal
@@ -86,8 +92,9 @@ pub fn run(mut app: App) -> Result<Ending, String> {
     let options = LoopOptions {
         idle_timeout: None,
         inject_panic: std::env::var(INJECT_PANIC).unwrap_or_default(),
+        after_frame: None,
     };
-    let result = event_loop(&mut session, &mut app, &sender, &events, &options);
+    let result = event_loop(&mut session, &mut app, &sender, &events, options);
     drop(session);
     result.map_err(|e| format!("terminal error: {e}"))
 }
@@ -99,9 +106,10 @@ pub fn event_loop<S: Screen>(
     app: &mut App,
     sender: &Sender<Event>,
     events: &Receiver<Event>,
-    options: &LoopOptions,
+    mut options: LoopOptions,
 ) -> io::Result<Ending> {
-    let injected = options.inject_panic.as_str();
+    let injected = std::mem::take(&mut options.inject_panic);
+    let injected = injected.as_str();
     let (width, height) = screen.size()?;
     update::update(app, Action::Resize(width, height));
     let solved = sender.clone();
@@ -130,6 +138,9 @@ pub fn event_loop<S: Screen>(
             .is_err()
         {
             return Ok(Ending::Hangup);
+        }
+        if let Some(after_frame) = &mut options.after_frame {
+            after_frame(app);
         }
         if injected == "main" {
             panic!("injected panic ({INJECT_PANIC}=main)");
@@ -207,6 +218,7 @@ pub fn event_loop<S: Screen>(
                 Event::Study(result) => {
                     app.accept(result);
                 }
+                Event::Follow(snapshot) => super::follow::receive(app, snapshot),
             }
             if app.quit {
                 return Ok(Ending::Quit);
@@ -222,6 +234,9 @@ pub fn event_loop<S: Screen>(
 fn apply_input(app: &mut App, input: Input) {
     match input {
         Input::Key(key) => {
+            if super::follow::intercept(app, key) {
+                return;
+            }
             if let Some(action) = action_for(&app.mode, key) {
                 update::update(app, action);
             }

@@ -7,6 +7,7 @@
 
 pub mod app;
 mod event_loop;
+pub mod follow;
 pub mod input;
 pub mod keymap;
 pub mod params;

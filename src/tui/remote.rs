@@ -16,6 +16,7 @@ use ratatui::{Terminal, TerminalOptions, Viewport};
 
 use super::Ending;
 use super::app::App;
+pub use super::event_loop::AfterFrame;
 use super::event_loop::{Event, LoopOptions, Screen, event_loop};
 
 /// Largest terminal accepted, in cells (a hostile client could ask for 65535 × 65535).
@@ -57,6 +58,11 @@ impl Feed {
     pub fn resize(&self, width: u32, height: u32) {
         let (width, height) = clamp_size(width, height);
         let _ = self.0.send(Event::Resize(width, height));
+    }
+
+    /// The presenter's new state (follow mode).
+    pub fn follow(&self, snapshot: std::sync::Arc<super::follow::Snapshot>) {
+        let _ = self.0.send(Event::Follow(snapshot));
     }
 
     /// The client went away.
@@ -106,13 +112,15 @@ impl<W: Write> Screen for RemoteScreen<W> {
 /// Runs the explorer on a remote terminal of `size` (columns, rows) that `output` writes to,
 /// until the user quits, the feed hangs up, or nothing arrives for `idle_timeout`. The
 /// alternate screen is entered first and left at the end (a write error there is ignored:
-/// the client may be gone). Returns how it ended.
+/// the client may be gone). `after_frame` sees the state after every frame. Returns how it
+/// ended.
 pub fn run(
     mut app: App,
     mut output: impl Write,
     size: (u32, u32),
     events: Events,
     idle_timeout: Option<Duration>,
+    after_frame: Option<AfterFrame>,
 ) -> io::Result<Ending> {
     let (width, height) = clamp_size(size.0, size.1);
     queue!(output, EnterAlternateScreen, Hide)?;
@@ -129,13 +137,14 @@ pub fn run(
     let loop_options = LoopOptions {
         idle_timeout,
         inject_panic: String::new(),
+        after_frame,
     };
     let ending = event_loop(
         &mut screen,
         &mut app,
         &events.sender,
         &events.receiver,
-        &loop_options,
+        loop_options,
     );
     // Shows the cursor, so that ratatui's `Drop` has nothing left to do (it would print on
     // the server's stderr on failure).

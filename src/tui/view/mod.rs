@@ -290,6 +290,14 @@ fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
             Line::styled(format!("{e}"), theme.error()),
         ),
     };
+    if let Some(follow) = &app.follow {
+        let mut spans = vec![
+            Span::styled(follow.label(), theme.warning()),
+            Span::raw(" · "),
+        ];
+        spans.extend(summary.spans);
+        summary = Line::from(spans);
+    }
     if let Some(busy) = busy_text(app) {
         // The previous result stays, marked as such.
         let mut spans = vec![
