@@ -218,7 +218,11 @@ pub fn event_loop<S: Screen>(
                 Event::Study(result) => {
                     app.accept(result);
                 }
-                Event::Follow(snapshot) => super::follow::receive(app, snapshot),
+                Event::Follow(snapshot) => {
+                    // A student watching the presenter is not idle.
+                    last_input = Instant::now();
+                    super::follow::receive(app, snapshot);
+                }
             }
             if app.quit {
                 return Ok(Ending::Quit);
