@@ -744,3 +744,33 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         assert_eq!(server.followers(), 1);
     });
 }
+
+#[test]
+fn a_flood_of_input_is_cut_to_the_budget_and_the_session_goes_on() {
+    let test = open_server();
+    let server = &test.server;
+    runtime().block_on(async {
+        let handle = logged_in(server).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        // 256 KiB of "select the next row" at once: far beyond 32 KiB per second.
+        let flood = 256 * 1024;
+        explorer.send(&b"j".repeat(flood)).await;
+        eventually("most of the flood is dropped", || {
+            server.dropped_input() >= (flood - 2 * 32 * 1024) as u64
+        });
+        // Once the budget refills, keys work again.
+        let deadline = Instant::now() + PATIENCE;
+        while !explorer.text().contains("change it by a coarse step") {
+            assert!(
+                Instant::now() < deadline,
+                "the session never answered again"
+            );
+            explorer.send(b"?").await;
+            let _ = tokio::time::timeout(Duration::from_millis(200), async {
+                explorer.wait_for("change it by a coarse step").await
+            })
+            .await;
+        }
+    });
+}

@@ -13,7 +13,7 @@ use russh::server::{Auth, ChannelOpenHandle, Handler, Msg, Session};
 use russh::{Channel, ChannelId, ChannelOpenFailure, Pty};
 
 use super::Shared;
-use super::explorer::{self, ACCEPTED_ENV, ClientTerminal, ENV_VALUE_LIMIT};
+use super::explorer::{self, ACCEPTED_ENV, ClientTerminal, ENV_COUNT_LIMIT, ENV_VALUE_LIMIT};
 use super::keys::{fingerprint, same_secret};
 use super::limits::{INPUT_BYTES_PER_SECOND, InputBudget};
 use crate::tui::remote::Feed;
@@ -227,7 +227,9 @@ impl Handler for Connection {
         value: &str,
         session: &mut Session,
     ) -> Result<(), Self::Error> {
-        let wanted = ACCEPTED_ENV.contains(&name) && value.len() <= ENV_VALUE_LIMIT;
+        let wanted = ACCEPTED_ENV.contains(&name)
+            && value.len() <= ENV_VALUE_LIMIT
+            && self.terminal.env.len() < ENV_COUNT_LIMIT;
         if !self.is_ours(channel) || self.feed.is_some() || !wanted {
             return session.channel_failure(channel);
         }
@@ -339,6 +341,10 @@ impl Handler for Connection {
             if allowed > 0 {
                 feed.bytes(&data[..allowed]);
             }
+            let dropped = (data.len() - allowed) as u64;
+            self.shared
+                .dropped_input
+                .fetch_add(dropped, std::sync::atomic::Ordering::Relaxed);
         }
         Ok(())
     }

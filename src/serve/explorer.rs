@@ -27,6 +27,8 @@ const OUTPUT_QUEUE: usize = 64;
 /// Environment variables a client may set, and the longest value kept.
 pub const ACCEPTED_ENV: [&str; 4] = ["LANG", "LC_ALL", "LC_CTYPE", "NO_COLOR"];
 pub const ENV_VALUE_LIMIT: usize = 256;
+/// Most environment requests kept per session.
+pub const ENV_COUNT_LIMIT: usize = 16;
 
 /// What every served explorer shares.
 #[derive(Debug, Clone)]

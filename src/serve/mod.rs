@@ -19,7 +19,7 @@ pub mod limits;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use russh::MethodKind;
@@ -94,6 +94,8 @@ pub(crate) struct Shared {
     pub explorer: ExplorerSettings,
     pub slots: Arc<SessionSlots>,
     pub connections: AtomicUsize,
+    /// Input bytes dropped over the budget, all sessions together.
+    pub dropped_input: AtomicU64,
     /// Follow mode, when there are presenter keys.
     pub hub: Option<follow::Hub>,
 }
@@ -175,6 +177,7 @@ impl Server {
             },
             slots: SessionSlots::new(options.max_sessions),
             connections: AtomicUsize::new(0),
+            dropped_input: AtomicU64::new(0),
             hub: options.presenter_keys.is_some().then(follow::Hub::default),
         });
         let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -229,6 +232,12 @@ impl Server {
             .hub
             .as_ref()
             .map_or(0, |hub| hub.followers.load(Ordering::Acquire))
+    }
+
+    /// Input bytes dropped so far because a client typed faster than
+    /// [`limits::INPUT_BYTES_PER_SECOND`].
+    pub fn dropped_input(&self) -> u64 {
+        self.shared.dropped_input.load(Ordering::Acquire)
     }
 
     /// Connections open now, logged in or not.
@@ -329,6 +338,9 @@ fn russh_config(
                 .unwrap_or(DEFAULT_IDLE_TIMEOUT)
                 .saturating_add(Duration::from_secs(60)),
         ),
+        // A client that vanished without a word (a closed laptop) is noticed within a minute.
+        keepalive_interval: Some(Duration::from_secs(15)),
+        keepalive_max: 3,
         max_auth_attempts: 6,
         nodelay: true,
         ..Default::default()
