@@ -710,6 +710,8 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         let mut follower = Explorer::open(&student, (120, 40), &[]).await;
         follower.wait_for("following the presenter").await;
         follower.wait_for("load f0 (x=0)  5.0e4").await;
+        // The presenter's status line counts the follower at once, without a key.
+        presenter.wait_for("1 follow").await;
 
         // The presenter's change, seen by the follower.
         let sent = Instant::now();
@@ -719,7 +721,6 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         println!("a presenter's change reached the follower in {seen:?}");
         assert!(seen < Duration::from_secs(1), "{seen:?}");
         presenter.wait_for("load f0 (x=0)  5.0e5").await;
-        presenter.wait_for("1 follow").await;
         assert_eq!(server.followers(), 1);
 
         // While following, a change of the student's own is refused.
@@ -729,11 +730,11 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         // A fork is the student's own: the presenter never sees it.
         follower.send(b"f").await;
         follower.wait_for("own exploration").await;
+        presenter.wait_for("0 follow").await;
         follower.send(b"]").await;
         follower.wait_for("load f0 (x=0)  5.0e6").await;
         presenter.send(b"[").await;
         presenter.wait_for("load f0 (x=0)  5.0e4").await;
-        presenter.wait_for("0 follow").await;
         assert!(!String::from_utf8_lossy(&presenter.raw).contains("5.0e6"));
         assert!(follower.text().contains("load f0 (x=0)  5.0e6"));
 

@@ -115,10 +115,11 @@ pub(crate) fn start(
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.
     let mut after_frame: Option<AfterFrame> = None;
-    let mut student_id = None;
+    let mut hub_id = None;
     if let Some(hub) = &shared.hub {
         if presenter {
             app.follow = Some(Follow::presenter(&hub.followers));
+            hub_id = Some(hub.join_presenter(feed.clone()));
             let publishing = Arc::clone(shared);
             after_frame = Some(Box::new(move |app: &App| {
                 if let Some(hub) = &publishing.hub {
@@ -128,7 +129,7 @@ pub(crate) fn start(
         } else {
             app.follow = Some(Follow::student(&hub.followers));
             let (id, latest) = hub.join(feed.clone());
-            student_id = Some(id);
+            hub_id = Some(id);
             if let Some(snapshot) = latest {
                 follow::receive(&mut app, snapshot);
             }
@@ -159,7 +160,7 @@ pub(crate) fn start(
             // Held until the explorer and its workers are let go.
             let _slot = slot;
             let _ = remote::run(app, writer, size, events, idle_timeout, after_frame);
-            if let (Some(hub), Some(id)) = (&leaving.hub, student_id) {
+            if let (Some(hub), Some(id)) = (&leaving.hub, hub_id) {
                 hub.leave(id);
             }
         })

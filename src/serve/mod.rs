@@ -231,7 +231,7 @@ impl Server {
         self.shared
             .hub
             .as_ref()
-            .map_or(0, |hub| hub.followers.load(Ordering::Acquire))
+            .map_or(0, |hub| hub.followers.count())
     }
 
     /// Input bytes dropped so far because a client typed faster than

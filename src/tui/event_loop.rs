@@ -50,6 +50,8 @@ pub enum Event {
     Study(StudyResult),
     /// The presenter's new state (follow mode).
     Follow(std::sync::Arc<super::follow::Snapshot>),
+    /// Nothing but a new frame (e.g. the number of followers changed).
+    Redraw,
 }
 
 /// Where the loop draws: the local terminal ([`Session`]) or a remote one (an SSH channel).
@@ -218,6 +220,7 @@ pub fn event_loop<S: Screen>(
                 Event::Study(result) => {
                     app.accept(result);
                 }
+                Event::Redraw => {}
                 Event::Follow(snapshot) => {
                     // A student watching the presenter is not idle.
                     last_input = Instant::now();

@@ -15,12 +15,46 @@ use super::app::{App, Diagram, Mode, Shown, SolveRequest};
 use super::keymap::{Action, Key, action_for};
 use super::studies::StudySlot;
 
+/// How many explorers follow now, shared by the presenter and every student, and who to tell
+/// when that changes (the presenters, whose status line shows it).
+#[derive(Default)]
+pub struct Followers {
+    count: AtomicUsize,
+    on_change: std::sync::Mutex<Option<Box<dyn Fn() + Send + Sync>>>,
+}
+
+impl std::fmt::Debug for Followers {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Followers({})", self.count())
+    }
+}
+
+impl Followers {
+    /// `on_change` is called (on the thread that made the change) whenever the count changes.
+    pub fn new(on_change: impl Fn() + Send + Sync + 'static) -> Arc<Followers> {
+        Arc::new(Followers {
+            count: AtomicUsize::new(0),
+            on_change: std::sync::Mutex::new(Some(Box::new(on_change))),
+        })
+    }
+
+    pub fn count(&self) -> usize {
+        self.count.load(Ordering::Acquire)
+    }
+
+    fn changed(&self) {
+        let on_change = self.on_change.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(on_change) = on_change.as_ref() {
+            on_change();
+        }
+    }
+}
+
 /// An explorer's part in follow mode.
 #[derive(Debug, Clone)]
 pub struct Follow {
     pub role: Role,
-    /// How many explorers follow now (shared by the presenter and every student).
-    pub followers: Arc<AtomicUsize>,
+    pub followers: Arc<Followers>,
     /// The presenter's newest state, kept while forked for `F`.
     pub latest: Option<Arc<Snapshot>>,
 }
@@ -34,12 +68,13 @@ pub enum Role {
 
 /// Counts one following explorer for as long as it lives.
 #[derive(Debug)]
-pub struct Following(Arc<AtomicUsize>);
+pub struct Following(Arc<Followers>);
 
 impl Following {
-    pub fn new(count: &Arc<AtomicUsize>) -> Following {
-        count.fetch_add(1, Ordering::AcqRel);
-        Following(Arc::clone(count))
+    pub fn new(followers: &Arc<Followers>) -> Following {
+        followers.count.fetch_add(1, Ordering::AcqRel);
+        followers.changed();
+        Following(Arc::clone(followers))
     }
 }
 
@@ -51,13 +86,14 @@ impl Clone for Following {
 
 impl Drop for Following {
     fn drop(&mut self) {
-        self.0.fetch_sub(1, Ordering::AcqRel);
+        self.0.count.fetch_sub(1, Ordering::AcqRel);
+        self.0.changed();
     }
 }
 
 impl Follow {
     /// A student who follows from the start.
-    pub fn student(followers: &Arc<AtomicUsize>) -> Follow {
+    pub fn student(followers: &Arc<Followers>) -> Follow {
         Follow {
             role: Role::Student(Some(Following::new(followers))),
             followers: Arc::clone(followers),
@@ -65,7 +101,7 @@ impl Follow {
         }
     }
 
-    pub fn presenter(followers: &Arc<AtomicUsize>) -> Follow {
+    pub fn presenter(followers: &Arc<Followers>) -> Follow {
         Follow {
             role: Role::Presenter,
             followers: Arc::clone(followers),
@@ -79,7 +115,7 @@ impl Follow {
 
     /// The mode in words, for the status line.
     pub fn label(&self) -> String {
-        let count = self.followers.load(Ordering::Acquire);
+        let count = self.followers.count();
         match &self.role {
             Role::Presenter => format!("presenting · {count} follow"),
             Role::Student(Some(_)) => format!("following the presenter · {count} follow · f forks"),

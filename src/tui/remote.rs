@@ -65,6 +65,11 @@ impl Feed {
         let _ = self.0.send(Event::Follow(snapshot));
     }
 
+    /// Draw again (something the frame shows changed outside the explorer).
+    pub fn redraw(&self) {
+        let _ = self.0.send(Event::Redraw);
+    }
+
     /// The client went away.
     pub fn hangup(&self) {
         let _ = self.0.send(Event::Hangup);
