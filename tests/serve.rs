@@ -277,15 +277,25 @@ fn ascii_and_no_color_follow_the_clients_environment() {
 }
 
 #[test]
-fn saving_is_refused_in_a_served_session() {
+fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
     let test = open_server();
+    let cwd_before = std::fs::read_dir(".").unwrap().count();
     runtime().block_on(async {
         let handle = logged_in(&test.server).await;
         let mut explorer = Explorer::open(&handle, (120, 40), &[]).await;
         explorer.wait_for("Parameters").await;
         explorer.send(b"s").await;
-        explorer.wait_for("writes no files on the server").await;
+        explorer.wait_for("nothing is saved on the server").await;
+        // The scene's own TOML, as `Scene::to_toml` writes it.
+        let scene = beamfric::scene::load("benchmark-1").unwrap().scene;
+        let toml = scene.to_toml();
+        let first_table = toml.lines().find(|l| l.starts_with('[')).unwrap();
+        assert!(explorer.text().contains(first_table), "{}", explorer.text());
+        // Any key closes it.
+        explorer.send(b"x").await;
+        explorer.wait_for("Parameters").await;
     });
+    assert_eq!(std::fs::read_dir(".").unwrap().count(), cwd_before);
 }
 
 #[test]

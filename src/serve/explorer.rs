@@ -108,9 +108,8 @@ pub(crate) fn start(
 ) -> Result<Feed, String> {
     let settings = &shared.explorer;
     let mut app = App::new(settings.scene.clone(), client.look(), true)?;
-    app.save_policy = SavePolicy::Refuse(
-        "a served session writes no files on the server (the lecturer can share the scene)".into(),
-    );
+    // Nothing is written on the server: `s` shows the scene's TOML to copy.
+    app.save_policy = SavePolicy::ShowText;
     app.max_elements = Some(settings.max_elements);
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.

@@ -22,6 +22,8 @@ pub enum Mode {
     Editing { row: Row, buffer: String },
     /// The help overlay.
     Help,
+    /// The scene as TOML, to copy from the screen (saving in a served session).
+    SceneText,
     /// The preset picker, with the highlighted entry.
     Presets { index: usize },
     /// Typing the file name to save to.
@@ -51,6 +53,8 @@ pub enum SavePolicy {
     Within(std::path::PathBuf),
     /// No file is written or read (a served session): `s` says why, in these words.
     Refuse(String),
+    /// No file is written: `s` shows the scene as TOML to copy (a served session).
+    ShowText,
 }
 
 /// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the

@@ -46,7 +46,7 @@ pub fn update(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help => {
+        Mode::Help | Mode::SceneText => {
             if action == Action::Cancel {
                 app.mode = Mode::Normal;
             }
@@ -132,9 +132,16 @@ fn undo_redo(app: &mut App, undo: bool) {
 
 /// Asks for the file name to save to, unless saving is off here.
 fn start_save(app: &mut App) {
-    if let SavePolicy::Refuse(reason) = &app.save_policy {
-        app.message = Some(format!("not saved: {reason}"));
-        return;
+    match &app.save_policy {
+        SavePolicy::Refuse(reason) => {
+            app.message = Some(format!("not saved: {reason}"));
+            return;
+        }
+        SavePolicy::ShowText => {
+            app.mode = Mode::SceneText;
+            return;
+        }
+        _ => {}
     }
     app.mode = Mode::Save {
         buffer: app.save_path.clone(),
@@ -427,6 +434,10 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
         SavePolicy::Write => std::path::PathBuf::from(path),
         SavePolicy::Refuse(reason) => {
             app.message = Some(format!("not saved: {reason}"));
+            return;
+        }
+        SavePolicy::ShowText => {
+            app.mode = Mode::SceneText;
             return;
         }
         SavePolicy::Simulate => {

@@ -350,6 +350,7 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         }
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
         Mode::Help => "any key closes the help".into(),
+        Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
         Mode::Normal => hint_line(app.look.ascii),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
