@@ -67,6 +67,7 @@ pub fn run(cli: Cli) -> ExitCode {
         Some(Command::Sweep(SweepCommand::Epsilon(args))) => epsilon_sweep_command(&args),
         Some(Command::Sweep(SweepCommand::Elements(args))) => elements_sweep_command(&args),
         Some(Command::Report(args)) => report_command(&args),
+        Some(Command::Serve(args)) => serve_command(&args),
         None => explore(
             cli.scene.as_deref().unwrap_or("benchmark-1"),
             cli.ascii,
@@ -133,7 +134,33 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
         // As if by SIGHUP: the terminal went away.
         crate::tui::Ending::Hangup => Ok(ExitCode::from(128 + 1)),
+        // Only served sessions have an idle timeout.
+        crate::tui::Ending::Idle => Ok(ExitCode::SUCCESS),
     }
+}
+
+#[cfg(unix)]
+fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
+    let options = crate::serve::ServeOptions {
+        listen: args.listen.clone(),
+        host_key: args.host_key.clone(),
+        authorized_keys: args.authorized_keys.clone(),
+        presenter_keys: args.presenter_keys.clone(),
+        password_file: args.password_file.clone(),
+        open: args.open,
+        max_sessions: args.max_sessions,
+        max_elements: args.max_elements,
+        idle_timeout: (args.idle_timeout > 0)
+            .then(|| std::time::Duration::from_secs(args.idle_timeout)),
+        scene: args.scene.clone(),
+    };
+    crate::serve::run(&options)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(not(unix))]
+fn serve_command(_args: &ServeArgs) -> Result<ExitCode, String> {
+    Err("serve needs a Unix system".into())
 }
 
 fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {

@@ -29,6 +29,8 @@ pub mod output;
 pub mod plot;
 pub mod report;
 pub mod scene;
+#[cfg(unix)]
+pub mod serve;
 pub mod solve;
 pub mod study;
 pub mod tui;

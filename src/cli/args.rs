@@ -71,6 +71,45 @@ pub enum Command {
     Sweep(SweepCommand),
     /// Write the error-against-run-time report (Markdown, CSV, SVG) for a scene.
     Report(ReportArgs),
+    /// Serve the explorer over SSH: every connection gets its own explorer.
+    Serve(ServeArgs),
+}
+
+/// `beamfric serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// Address and port to listen on.
+    #[arg(long, default_value = "127.0.0.1:2222", value_name = "ADDR:PORT")]
+    pub listen: String,
+    /// The server's host key (created with mode 0600 on first start); default under
+    /// ~/.config/beamfric.
+    #[arg(long, value_name = "PATH")]
+    pub host_key: Option<std::path::PathBuf>,
+    /// Public keys that may log in (OpenSSH authorized_keys format).
+    #[arg(long, value_name = "PATH")]
+    pub authorized_keys: Option<std::path::PathBuf>,
+    /// Public keys whose sessions present: every other session follows them (f forks, F
+    /// rejoins).
+    #[arg(long, value_name = "PATH")]
+    pub presenter_keys: Option<std::path::PathBuf>,
+    /// A file whose first line is the password any user name may log in with.
+    #[arg(long, value_name = "PATH")]
+    pub password_file: Option<std::path::PathBuf>,
+    /// Let anyone log in (needed when neither --authorized-keys nor --password-file is given).
+    #[arg(long)]
+    pub open: bool,
+    /// Most explorers at once; beyond, a polite message.
+    #[arg(long, default_value_t = 64, value_name = "N")]
+    pub max_sessions: usize,
+    /// Most elements a served session may ask for.
+    #[arg(long, default_value_t = 100_000, value_name = "N")]
+    pub max_elements: usize,
+    /// End a session after this many seconds without input (0: never).
+    #[arg(long, default_value_t = 1800, value_name = "SECS")]
+    pub idle_timeout: u64,
+    /// The scene every session starts with: a preset name or a scene file.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
 }
 
 /// `beamfric sweep …`.

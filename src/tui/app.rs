@@ -22,6 +22,8 @@ pub enum Mode {
     Editing { row: Row, buffer: String },
     /// The help overlay.
     Help,
+    /// The scene as TOML, to copy from the screen (saving in a served session).
+    SceneText,
     /// The preset picker, with the highlighted entry.
     Presets { index: usize },
     /// Typing the file name to save to.
@@ -49,6 +51,10 @@ pub enum SavePolicy {
     Write,
     Simulate,
     Within(std::path::PathBuf),
+    /// No file is written or read (a served session): `s` says why, in these words.
+    Refuse(String),
+    /// No file is written: `s` shows the scene as TOML to copy (a served session).
+    ShowText,
 }
 
 /// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the
@@ -133,6 +139,10 @@ pub struct App {
     pub suspend_requested: bool,
     /// One slot per study of [`super::studies::STUDIES`], by the same index.
     pub studies: Vec<StudySlot>,
+    /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
+    pub max_elements: Option<usize>,
+    /// Follow mode (served sessions with a presenter); `None`: an explorer of its own.
+    pub follow: Option<super::follow::Follow>,
 }
 
 /// Solve options of the explorer: no condition numbers on the per-keystroke path, the
@@ -178,6 +188,8 @@ impl App {
             quit: false,
             suspend_requested: false,
             studies: vec![StudySlot::default(); STUDIES.len()],
+            max_elements: None,
+            follow: None,
         };
         app.refresh_studies();
         Ok(app)

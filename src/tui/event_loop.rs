@@ -1,9 +1,13 @@
-//! The interactive explorer's event loop. The UI thread only reads events, updates the state
-//! and draws; everything slow runs on workers:
+//! The interactive explorer's event loop, the same for the local terminal and for a remote one
+//! (an SSH channel, see `crate::serve`): it draws on a [`Screen`] and hears everything through
+//! one channel of [`Event`]s. The UI thread only reads events, updates the state and draws;
+//! everything slow runs on workers:
 //!
-//! - an input thread reads the terminal's bytes (end of file or a read error: [`Event::Bytes`]
-//!   stops and a hangup ends the explorer — no busy loop on a closed terminal);
-//! - a signal thread turns SIGINT, SIGTERM, SIGHUP, SIGWINCH, SIGTSTP and SIGCONT into events;
+//! - the terminal's bytes arrive as [`Event::Bytes`] — locally from an input thread (end of
+//!   file or a read error is a hangup that ends the explorer: no busy loop on a closed
+//!   terminal), remotely from the SSH connection, with window changes as [`Event::Resize`];
+//! - locally, a signal thread turns SIGINT, SIGTERM, SIGHUP, SIGWINCH, SIGTSTP and SIGCONT
+//!   into events;
 //! - the solver worker computes the keystroke's re-solve, the study worker the charts' data.
 //!
 //! All of them feed one channel, and the loop blocks on it: it draws only when something
@@ -12,9 +16,12 @@
 //! frame and the next request to a worker, so a burst of keys makes one solve of the final
 //! state. Quitting never waits for a worker.
 
-use std::io::{self, Read};
+use std::io::{self, Read, Write};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
 use std::time::{Duration, Instant};
+
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
 
 use super::app::{App, Shown};
 use super::input::{Decoder, ESC_TIMEOUT, Input};
@@ -30,36 +37,83 @@ const TICK: Duration = Duration::from_millis(250);
 const EVENTS_PER_FRAME: usize = 4096;
 
 /// What wakes the loop.
-enum Event {
+pub enum Event {
     /// Bytes from the terminal.
     Bytes(Vec<u8>),
+    /// The terminal has a new size (columns, rows): a remote terminal's window change.
+    Resize(u16, u16),
     /// The terminal's input is gone.
     Hangup,
+    /// A signal (the local terminal only).
     Signal(i32),
     Solved(Box<Result<Shown, String>>),
     Study(StudyResult),
+    /// The presenter's new state (follow mode).
+    Follow(std::sync::Arc<super::follow::Snapshot>),
+    /// Nothing but a new frame (e.g. the number of followers changed).
+    Redraw,
 }
 
-/// Runs the explorer until it quits, a signal ends it, or the terminal hangs up.
+/// Where the loop draws: the local terminal ([`Session`]) or a remote one (an SSH channel).
+/// Nothing here may query the terminal: its answers would arrive on the input the explorer
+/// reads itself, and a remote terminal is known only by what its client said.
+pub trait Screen {
+    type Out: Write;
+    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Self::Out>>;
+    /// The size in cells (columns, rows), as last known.
+    fn size(&mut self) -> io::Result<(u16, u16)>;
+    /// The terminal now has this size: draw the next frame whole at it.
+    fn resize(&mut self, width: u16, height: u16) -> io::Result<()>;
+    /// Ctrl-Z or SIGTSTP: give the terminal back until resumed, then redraw it whole. Returns
+    /// `false` when this screen cannot be suspended (a remote one).
+    fn suspend(&mut self) -> io::Result<bool>;
+    /// Forgets what was drawn, so the next frame is drawn whole.
+    fn redraw_all(&mut self) -> io::Result<()>;
+}
+
+/// Called with the state after every frame (a presenter publishes it).
+pub type AfterFrame = Box<dyn FnMut(&App) + Send>;
+
+/// How a loop behaves beyond its screen.
+#[derive(Default)]
+pub struct LoopOptions {
+    /// End the session after this long without input.
+    pub idle_timeout: Option<Duration>,
+    /// `main` or `worker`: panic there after the first frame (tests of the local terminal).
+    pub inject_panic: String,
+    pub after_frame: Option<AfterFrame>,
+}
+
+/// Runs the explorer in the local terminal until it quits, a signal ends it, or the terminal
+/// hangs up.
 pub fn run(mut app: App) -> Result<Ending, String> {
     let (sender, events) = channel::<Event>();
     start_signal_thread(sender.clone()).map_err(|e| format!("cannot handle signals: {e}"))?;
     let mut session = Session::start().map_err(|e| format!("cannot open the terminal: {e}"))?;
     start_input_thread(sender.clone()).map_err(|e| format!("cannot read the terminal: {e}"))?;
-    let result = event_loop(&mut session, &mut app, &sender, &events);
+    let options = LoopOptions {
+        idle_timeout: None,
+        inject_panic: std::env::var(INJECT_PANIC).unwrap_or_default(),
+        after_frame: None,
+    };
+    let result = event_loop(&mut session, &mut app, &sender, &events, options);
     drop(session);
     result.map_err(|e| format!("terminal error: {e}"))
 }
 
-fn event_loop(
-    session: &mut Session,
+/// Runs the explorer on `screen` with events from `events` (whose sender the workers also
+/// use) until it quits, the input hangs up, or it was idle for too long.
+pub fn event_loop<S: Screen>(
+    screen: &mut S,
     app: &mut App,
     sender: &Sender<Event>,
     events: &Receiver<Event>,
+    mut options: LoopOptions,
 ) -> io::Result<Ending> {
-    let injected = std::env::var(INJECT_PANIC).unwrap_or_default();
-    let size = session.terminal.size()?;
-    update::update(app, Action::Resize(size.width, size.height));
+    let injected = std::mem::take(&mut options.inject_panic);
+    let injected = injected.as_str();
+    let (width, height) = screen.size()?;
+    update::update(app, Action::Resize(width, height));
     let solved = sender.clone();
     let mut solver = SolveWorker::start(move |result| {
         let _ = solved.send(Event::Solved(Box::new(result)));
@@ -69,6 +123,7 @@ fn event_loop(
         let _ = studied.send(Event::Study(result));
     });
     let mut decoder = Decoder::default();
+    let mut last_input = Instant::now();
     loop {
         if let Some(request) = app.pending_solve().cloned() {
             if app.busy_since.is_none() {
@@ -79,12 +134,15 @@ fn event_loop(
         studies.request(app.pending_studies());
         // Something happened (or this is the first frame): draw. A terminal that cannot be
         // written to any more has gone away.
-        if session
-            .terminal
+        if screen
+            .terminal()
             .draw(|frame| view::draw(frame, app))
             .is_err()
         {
             return Ok(Ending::Hangup);
+        }
+        if let Some(after_frame) = &mut options.after_frame {
+            after_frame(app);
         }
         if injected == "main" {
             panic!("injected panic ({INJECT_PANIC}=main)");
@@ -92,13 +150,24 @@ fn event_loop(
         if app.quit {
             return Ok(Ending::Quit);
         }
-        // Block until something happens; wake for a pending lone ESC, or to tick a timer.
+        // Block until something happens; wake for a pending lone ESC, to tick a timer, or
+        // when the session has been idle for too long.
+        let idle_left = options
+            .idle_timeout
+            .map(|limit| limit.saturating_sub(last_input.elapsed()));
+        if idle_left == Some(Duration::ZERO) {
+            return Ok(Ending::Idle);
+        }
         let timeout = if decoder.has_pending() {
             Some(ESC_TIMEOUT)
         } else if !app.is_current() && app.show_timings {
             Some(TICK)
         } else {
             None
+        };
+        let timeout = match (timeout, idle_left) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
         };
         let first = match timeout {
             None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
@@ -121,9 +190,15 @@ fn event_loop(
         {
             match event {
                 Event::Bytes(bytes) => {
+                    last_input = Instant::now();
                     for input in decoder.feed(&bytes) {
                         apply_input(app, input);
                     }
+                }
+                Event::Resize(width, height) => {
+                    last_input = Instant::now();
+                    screen.resize(width, height)?;
+                    update::update(app, Action::Resize(width, height));
                 }
                 Event::Hangup => return Ok(Ending::Hangup),
                 Event::Signal(signal) => match signal {
@@ -132,8 +207,8 @@ fn event_loop(
                             update::update(app, Action::Resize(w, h));
                         }
                     }
-                    signal_hook::consts::SIGTSTP => suspend(session, app)?,
-                    signal_hook::consts::SIGCONT => session.redraw_all()?,
+                    signal_hook::consts::SIGTSTP => suspend(screen, app)?,
+                    signal_hook::consts::SIGCONT => screen.redraw_all()?,
                     other => return Ok(Ending::Signal(other)),
                 },
                 Event::Solved(result) => match *result {
@@ -145,13 +220,19 @@ fn event_loop(
                 Event::Study(result) => {
                     app.accept(result);
                 }
+                Event::Redraw => {}
+                Event::Follow(snapshot) => {
+                    // A student watching the presenter is not idle.
+                    last_input = Instant::now();
+                    super::follow::receive(app, snapshot);
+                }
             }
             if app.quit {
                 return Ok(Ending::Quit);
             }
             if app.suspend_requested {
                 app.suspend_requested = false;
-                suspend(session, app)?;
+                suspend(screen, app)?;
             }
         }
     }
@@ -160,6 +241,9 @@ fn event_loop(
 fn apply_input(app: &mut App, input: Input) {
     match input {
         Input::Key(key) => {
+            if super::follow::intercept(app, key) {
+                return;
+            }
             if let Some(action) = action_for(&app.mode, key) {
                 update::update(app, action);
             }
@@ -174,10 +258,14 @@ fn apply_input(app: &mut App, input: Input) {
     }
 }
 
-/// Ctrl-Z or SIGTSTP: leave the terminal, stop, and on SIGCONT take it back at its new size.
-fn suspend(session: &mut Session, app: &mut App) -> io::Result<()> {
-    session.suspend()?;
-    if let Ok((w, h)) = crossterm::terminal::size() {
+/// Ctrl-Z or SIGTSTP: leave the terminal, stop, and on SIGCONT take it back at its new size
+/// (a remote terminal cannot be left: it says so).
+fn suspend<S: Screen>(screen: &mut S, app: &mut App) -> io::Result<()> {
+    if !screen.suspend()? {
+        app.message = Some("Ctrl-Z does nothing here: q quits".into());
+        return Ok(());
+    }
+    if let Ok((w, h)) = screen.size() {
         update::update(app, Action::Resize(w, h));
     }
     Ok(())

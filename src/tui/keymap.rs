@@ -384,7 +384,7 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
     }
     match mode {
         Mode::Normal => Some(normal_action(key).unwrap_or(Action::Unbound(key))),
-        Mode::Help => Some(Action::Cancel),
+        Mode::Help | Mode::SceneText => Some(Action::Cancel),
         Mode::Editing { .. } | Mode::Save { .. } => match key {
             Key::Char(c) => Some(Action::Type(c)),
             Key::Backspace => Some(Action::DeleteChar),

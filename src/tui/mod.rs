@@ -7,9 +7,11 @@
 
 pub mod app;
 mod event_loop;
+pub mod follow;
 pub mod input;
 pub mod keymap;
 pub mod params;
+pub mod remote;
 pub mod solver;
 pub mod studies;
 mod terminal;
@@ -37,6 +39,8 @@ pub enum Ending {
     Signal(i32),
     /// The terminal went away (end of input or a read error).
     Hangup,
+    /// No input for the idle timeout (served sessions only).
+    Idle,
 }
 
 /// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal

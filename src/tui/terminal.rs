@@ -88,6 +88,33 @@ impl Session {
     }
 }
 
+impl super::event_loop::Screen for Session {
+    type Out = Stdout;
+
+    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Stdout>> {
+        &mut self.terminal
+    }
+
+    fn size(&mut self) -> io::Result<(u16, u16)> {
+        let size = self.terminal.size()?;
+        Ok((size.width, size.height))
+    }
+
+    /// The local terminal follows its size by itself (ratatui resizes on the next draw).
+    fn resize(&mut self, _width: u16, _height: u16) -> io::Result<()> {
+        Ok(())
+    }
+
+    fn suspend(&mut self) -> io::Result<bool> {
+        Session::suspend(self)?;
+        Ok(true)
+    }
+
+    fn redraw_all(&mut self) -> io::Result<()> {
+        Session::redraw_all(self)
+    }
+}
+
 impl Drop for Session {
     fn drop(&mut self) {
         restore();

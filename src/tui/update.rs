@@ -52,7 +52,7 @@ pub fn update(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help => {
+        Mode::Help | Mode::SceneText => {
             if action == Action::Cancel {
                 app.mode = Mode::Normal;
             }
@@ -95,10 +95,11 @@ fn confirm_discard(app: &mut App, action: Action, then: Discard) {
     match action {
         Action::Confirm => discard_and(app, then),
         Action::Save => {
-            // Save first, then do what was asked once the save has succeeded.
-            app.after_save = Some(then);
-            app.mode = Mode::Save {
-                buffer: app.save_path.clone(),
+            // Save first, then do what was asked once the save has succeeded (only where a
+            // save writes a file: a served session shows the text instead).
+            start_save(app);
+            if matches!(app.mode, Mode::Save { .. }) {
+                app.after_save = Some(then);
             }
         }
         _ => app.message = Some("kept the unsaved changes".into()),
@@ -142,9 +143,42 @@ fn undo_redo(app: &mut App, undo: bool) {
     }
 }
 
+/// Asks for the file name to save to, unless saving is off here.
+fn start_save(app: &mut App) {
+    match &app.save_policy {
+        SavePolicy::Refuse(reason) => {
+            app.message = Some(format!("not saved: {reason}"));
+            return;
+        }
+        SavePolicy::ShowText => {
+            app.mode = Mode::SceneText;
+            return;
+        }
+        _ => {}
+    }
+    app.mode = Mode::Save {
+        buffer: app.save_path.clone(),
+    };
+}
+
+/// The reason `scene` is beyond this explorer's limits (a served session's element cap).
+fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
+    let max = app.max_elements?;
+    (scene.mesh.elements > max).then(|| {
+        format!(
+            "rejected: mesh.elements: at most {max} here ({} asked for)",
+            scene.mesh.elements
+        )
+    })
+}
+
 /// Keeps `candidate` if it is a valid scene (and re-solves), else reports the rule it broke.
 fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
     candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
+    if let Some(message) = beyond_limits(app, &candidate) {
+        app.message = Some(message);
+        return false;
+    }
     match candidate.validate(&app.source.to_string()) {
         Ok((problem, settings)) => {
             remember(app);
@@ -183,11 +217,7 @@ fn normal(app: &mut App, action: Action) {
                 .unwrap_or(0);
             app.mode = Mode::Presets { index };
         }
-        Action::Save => {
-            app.mode = Mode::Save {
-                buffer: app.save_path.clone(),
-            }
-        }
+        Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
         Action::ShowHelp => app.mode = Mode::Help,
         Action::Quit => unless_unsaved(app, Discard::Quit),
@@ -389,6 +419,9 @@ fn presets(app: &mut App, action: Action, index: usize) {
 fn load_preset(app: &mut App, index: usize) {
     let preset = &PRESETS[index.min(PRESETS.len() - 1)];
     match LoadedScene::preset(preset) {
+        Ok(loaded) if beyond_limits(app, &loaded.scene).is_some() => {
+            app.message = beyond_limits(app, &loaded.scene);
+        }
         Ok(loaded) => {
             app.save_path = app
                 .save_directory
@@ -456,6 +489,14 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
     let then = app.after_save.take();
     let target = match &app.save_policy {
         SavePolicy::Write => std::path::PathBuf::from(path),
+        SavePolicy::Refuse(reason) => {
+            app.message = Some(format!("not saved: {reason}"));
+            return;
+        }
+        SavePolicy::ShowText => {
+            app.mode = Mode::SceneText;
+            return;
+        }
         SavePolicy::Simulate => {
             app.message = Some(format!(
                 "not saved: a headless render writes no files (it would save to {path}; \

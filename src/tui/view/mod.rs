@@ -290,6 +290,14 @@ fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
             Line::styled(format!("{e}"), theme.error()),
         ),
     };
+    if let Some(follow) = &app.follow {
+        let mut spans = vec![
+            Span::styled(follow.label(), theme.warning()),
+            Span::raw(" · "),
+        ];
+        spans.extend(summary.spans);
+        summary = Line::from(spans);
+    }
     if let Some(busy) = busy_text(app) {
         // The previous result stays, marked as such.
         let mut spans = vec![
@@ -342,6 +350,7 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         }
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
         Mode::Help => "any key closes the help".into(),
+        Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
         Mode::Normal => hint_line(app.look.ascii),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);

@@ -1,4 +1,5 @@
-//! Overlays drawn over the frame: the help (every key) and the preset picker.
+//! Overlays drawn over the frame: the help (every key), the preset picker, and the scene as
+//! TOML to copy (saving in a served session).
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Flex, Layout, Rect};
@@ -23,9 +24,29 @@ fn centered(area: Rect, width: u16, height: u16) -> Rect {
 pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     match &app.mode {
         Mode::Help => help(frame, app, theme, area),
+        Mode::SceneText => scene_text(frame, app, theme, area),
         Mode::Presets { index } => presets(frame, theme, area, *index),
         _ => {}
     }
+}
+
+/// The scene as TOML, without side borders so that it can be copied from the screen as is.
+fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let mut lines = vec![
+        Line::styled(
+            "The scene as TOML (nothing is saved on the server): copy it into a file.",
+            theme.dim(),
+        ),
+        Line::from(""),
+    ];
+    lines.extend(
+        app.scene
+            .to_toml()
+            .lines()
+            .map(|l| Line::from(l.to_string())),
+    );
+    frame.render_widget(Clear, area);
+    frame.render_widget(Paragraph::new(lines), area);
 }
 
 fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {

@@ -1,0 +1,206 @@
+//! One served explorer: its own `App`, workers and UI thread, running the local explorer's
+//! event loop on the SSH channel. What it draws goes through a [`ChannelWriter`] to a task
+//! that sends it to the client; when the explorer ends (quit, idle, hangup) that task closes
+//! the channel. Its look follows what the client sent: ASCII when its locale is not UTF-8,
+//! no colours with `NO_COLOR`.
+
+use std::io::{self, Write};
+use std::sync::Arc;
+use std::time::Duration;
+
+use russh::ChannelId;
+use russh::server::Handle;
+use tokio::sync::mpsc;
+
+use crate::plot::Look;
+use crate::scene::LoadedScene;
+use crate::tui::app::{App, SavePolicy};
+use crate::tui::follow::{self, Follow};
+use crate::tui::remote::{self, AfterFrame, Feed};
+
+use super::Shared;
+use super::limits::SessionSlot;
+
+/// Chunks of output waiting for the client; a client that stops reading holds its explorer
+/// at the next flush (and only its own).
+const OUTPUT_QUEUE: usize = 64;
+/// Environment variables a client may set, and the longest value kept.
+pub const ACCEPTED_ENV: [&str; 4] = ["LANG", "LC_ALL", "LC_CTYPE", "NO_COLOR"];
+pub const ENV_VALUE_LIMIT: usize = 256;
+/// Most environment requests kept per session.
+pub const ENV_COUNT_LIMIT: usize = 16;
+
+/// What every served explorer shares.
+#[derive(Debug, Clone)]
+pub struct ExplorerSettings {
+    pub scene: LoadedScene,
+    pub max_elements: usize,
+    pub idle_timeout: Option<Duration>,
+}
+
+/// The client's terminal as its pty request described it.
+#[derive(Debug, Clone, Default)]
+pub struct ClientTerminal {
+    pub term: String,
+    pub width: u32,
+    pub height: u32,
+    /// Accepted environment variables ([`ACCEPTED_ENV`]), in the order sent.
+    pub env: Vec<(String, String)>,
+}
+
+impl ClientTerminal {
+    fn var(&self, name: &str) -> Option<&str> {
+        self.env
+            .iter()
+            .rev()
+            .find(|(n, v)| n == name && !v.is_empty())
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// ASCII unless the client's locale (LC_ALL, else LC_CTYPE, else LANG) is UTF-8 or
+    /// unknown, or its terminal is `dumb`; colours unless `NO_COLOR` or `dumb`.
+    pub fn look(&self) -> Look {
+        let locale = ["LC_ALL", "LC_CTYPE", "LANG"]
+            .iter()
+            .find_map(|name| self.var(name));
+        let utf8 = locale.is_none_or(|l| {
+            let l = l.to_ascii_lowercase();
+            l.contains("utf-8") || l.contains("utf8")
+        });
+        let dumb = self.term == "dumb";
+        Look {
+            ascii: !utf8 || dumb,
+            color: !dumb && self.var("NO_COLOR").is_none(),
+        }
+    }
+}
+
+/// Collects a frame's bytes and hands them on at each flush. Never fails: a client that went
+/// away is heard of as a hangup, and the explorer must be able to leave its screen anyway.
+struct ChannelWriter {
+    buffer: Vec<u8>,
+    chunks: mpsc::Sender<Vec<u8>>,
+}
+
+impl Write for ChannelWriter {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        self.buffer.extend_from_slice(bytes);
+        Ok(bytes.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        if !self.buffer.is_empty() {
+            let _ = self.chunks.blocking_send(std::mem::take(&mut self.buffer));
+        }
+        Ok(())
+    }
+}
+
+/// Starts an explorer on `channel` (called on the server's runtime), presenting or following
+/// when the server has presenters. Returns the feed for the client's bytes and window changes.
+pub(crate) fn start(
+    shared: &Arc<Shared>,
+    presenter: bool,
+    slot: SessionSlot,
+    handle: Handle,
+    channel: ChannelId,
+    client: &ClientTerminal,
+) -> Result<Feed, String> {
+    let settings = &shared.explorer;
+    let mut app = App::new(settings.scene.clone(), client.look(), true)?;
+    // Nothing is written on the server: `s` shows the scene's TOML to copy.
+    app.save_policy = SavePolicy::ShowText;
+    app.max_elements = Some(settings.max_elements);
+    let (feed, events) = remote::events();
+    // Follow mode: a presenter publishes every frame's state, a student joins the hub.
+    let mut after_frame: Option<AfterFrame> = None;
+    let mut hub_id = None;
+    if let Some(hub) = &shared.hub {
+        if presenter {
+            app.follow = Some(Follow::presenter(&hub.followers));
+            hub_id = Some(hub.join_presenter(feed.clone()));
+            let publishing = Arc::clone(shared);
+            after_frame = Some(Box::new(move |app: &App| {
+                if let Some(hub) = &publishing.hub {
+                    hub.publish(app);
+                }
+            }));
+        } else {
+            app.follow = Some(Follow::student(&hub.followers));
+            let (id, latest) = hub.join(feed.clone());
+            hub_id = Some(id);
+            if let Some(snapshot) = latest {
+                follow::receive(&mut app, snapshot);
+            }
+        }
+    }
+    let (chunks, mut outbox) = mpsc::channel::<Vec<u8>>(OUTPUT_QUEUE);
+    tokio::spawn(async move {
+        while let Some(chunk) = outbox.recv().await {
+            if handle.data(channel, chunk).await.is_err() {
+                return;
+            }
+        }
+        // The explorer ended: so does the channel, and with it the client's `ssh`.
+        let _ = handle.exit_status_request(channel, 0).await;
+        let _ = handle.eof(channel).await;
+        let _ = handle.close(channel).await;
+    });
+    let writer = ChannelWriter {
+        buffer: Vec::new(),
+        chunks,
+    };
+    let size = (client.width, client.height);
+    let idle_timeout = settings.idle_timeout;
+    let leaving = Arc::clone(shared);
+    std::thread::Builder::new()
+        .name("session".into())
+        .spawn(move || {
+            // Held until the explorer and its workers are let go.
+            let _slot = slot;
+            let _ = remote::run(app, writer, size, events, idle_timeout, after_frame);
+            if let (Some(hub), Some(id)) = (&leaving.hub, hub_id) {
+                hub.leave(id);
+            }
+        })
+        .map_err(|e| format!("cannot start a session thread: {e}"))?;
+    Ok(feed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn client(term: &str, env: &[(&str, &str)]) -> ClientTerminal {
+        ClientTerminal {
+            term: term.into(),
+            width: 80,
+            height: 24,
+            env: env
+                .iter()
+                .map(|(n, v)| (n.to_string(), v.to_string()))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_look_follows_locale_term_and_no_color() {
+        let unicode = Look {
+            ascii: false,
+            color: true,
+        };
+        assert_eq!(client("xterm", &[]).look(), unicode);
+        assert_eq!(client("xterm", &[("LANG", "en_GB.UTF-8")]).look(), unicode);
+        assert!(client("xterm", &[("LANG", "C")]).look().ascii);
+        // LC_ALL wins over LANG.
+        assert!(
+            client("xterm", &[("LANG", "de_DE.utf8"), ("LC_ALL", "POSIX")])
+                .look()
+                .ascii
+        );
+        assert!(!client("xterm", &[("NO_COLOR", "1")]).look().color);
+        assert!(client("xterm", &[("NO_COLOR", "")]).look().color);
+        let dumb = client("dumb", &[]).look();
+        assert!(dumb.ascii && !dumb.color);
+    }
+}

@@ -1,0 +1,86 @@
+//! Follow mode, on the server's side: the hub that takes each frame's state of a presenter
+//! (a session logged in with a key of `--presenter-keys`) and hands it to every student's
+//! explorer, which shows it while following. The presenter's solve and studies travel with
+//! the state, so they are computed once, not once per student.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+use crate::tui::app::App;
+use crate::tui::follow::{Followers, Snapshot};
+use crate::tui::remote::Feed;
+
+/// Feeds by id.
+type Feeds = Mutex<Vec<(u64, Feed)>>;
+
+/// The students' and presenters' feeds and the presenter's newest state.
+pub struct Hub {
+    students: Feeds,
+    presenters: Arc<Feeds>,
+    latest: Mutex<Option<Arc<Snapshot>>>,
+    next_id: AtomicU64,
+    /// Students following now; presenters redraw when it changes.
+    pub followers: Arc<Followers>,
+}
+
+impl Default for Hub {
+    fn default() -> Hub {
+        let presenters: Arc<Feeds> = Arc::default();
+        let told = Arc::clone(&presenters);
+        Hub {
+            students: Mutex::default(),
+            presenters,
+            latest: Mutex::default(),
+            next_id: AtomicU64::new(0),
+            followers: Followers::new(move || {
+                for (_, feed) in lock(&told).iter() {
+                    feed.redraw();
+                }
+            }),
+        }
+    }
+}
+
+impl std::fmt::Debug for Hub {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Hub")
+            .field("followers", &self.followers.count())
+            .finish_non_exhaustive()
+    }
+}
+
+impl Hub {
+    /// A student joins: its feed hears every new state from now on. Returns its id (for
+    /// [`Hub::leave`]) and the newest state so far.
+    pub fn join(&self, feed: Feed) -> (u64, Option<Arc<Snapshot>>) {
+        let id = self.next_id.fetch_add(1, Ordering::Relaxed);
+        lock(&self.students).push((id, feed));
+        (id, lock(&self.latest).clone())
+    }
+
+    /// A presenter joins: it hears when the number of followers changes. Returns its id.
+    pub fn join_presenter(&self, feed: Feed) -> u64 {
+        let id = self.next_id.fetch_add(1, Ordering::Relaxed);
+        lock(&self.presenters).push((id, feed));
+        id
+    }
+
+    /// A student or presenter left.
+    pub fn leave(&self, id: u64) {
+        lock(&self.students).retain(|(student, _)| *student != id);
+        lock(&self.presenters).retain(|(presenter, _)| *presenter != id);
+    }
+
+    /// A presenter drew a frame: its state goes to every student.
+    pub fn publish(&self, app: &App) {
+        let snapshot = Arc::new(Snapshot::of(app));
+        *lock(&self.latest) = Some(Arc::clone(&snapshot));
+        for (_, feed) in lock(&self.students).iter() {
+            feed.follow(Arc::clone(&snapshot));
+        }
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|e| e.into_inner())
+}

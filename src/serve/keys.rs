@@ -1,0 +1,161 @@
+//! The server's secrets and who may log in: the host key (generated on first start, stored
+//! with mode 0600, refused when others can read it), the authorized public keys (OpenSSH's
+//! `authorized_keys` format), and the class password (the first line of a file, compared in
+//! constant time, never logged).
+
+use std::io::Write;
+use std::os::unix::fs::{DirBuilderExt, OpenOptionsExt, PermissionsExt};
+use std::path::{Path, PathBuf};
+
+use russh::keys::ssh_key::private::Ed25519Keypair;
+use russh::keys::ssh_key::{AuthorizedKeys, LineEnding};
+use russh::keys::{HashAlg, PrivateKey, PublicKey};
+
+/// The host key at `path`, created (with its directory) when there is none. Returns the key
+/// and whether it was created now.
+pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), String> {
+    let shown = path.display();
+    if path.exists() {
+        refuse_if_others_can_read(path, "host key")?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read the host key {shown}: {e}"))?;
+        let key = PrivateKey::from_openssh(text)
+            .map_err(|e| format!("{shown} is not an OpenSSH private key: {e}"))?;
+        return Ok((key, false));
+    }
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(parent)
+            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+    }
+    let mut seed = [0u8; 32];
+    std::fs::File::open("/dev/urandom")
+        .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut seed))
+        .map_err(|e| format!("cannot read /dev/urandom for a host key: {e}"))?;
+    let key = PrivateKey::from(Ed25519Keypair::from_seed(&seed));
+    let text = key
+        .to_openssh(LineEnding::LF)
+        .map_err(|e| format!("cannot encode the host key: {e}"))?;
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .mode(0o600)
+        .open(path)
+        .map_err(|e| format!("cannot create the host key {shown}: {e}"))?;
+    file.write_all(text.as_bytes())
+        .and_then(|()| file.sync_all())
+        .map_err(|e| format!("cannot write the host key {shown}: {e}"))?;
+    Ok((key, true))
+}
+
+/// Where the host key lives unless `--host-key` says: under `$XDG_CONFIG_HOME/beamfric` (or
+/// `~/.config/beamfric`), else in the current directory.
+pub fn default_host_key_path() -> PathBuf {
+    let config = std::env::var_os("XDG_CONFIG_HOME")
+        .filter(|v| !v.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|home| PathBuf::from(home).join(".config")));
+    match config {
+        Some(dir) => dir.join("beamfric").join("ssh_host_ed25519_key"),
+        None => PathBuf::from("beamfric_ssh_host_ed25519_key"),
+    }
+}
+
+/// The SHA-256 fingerprint as OpenSSH prints it (`SHA256:…`).
+pub fn fingerprint(key: &PublicKey) -> String {
+    key.fingerprint(HashAlg::Sha256).to_string()
+}
+
+/// The public keys of an `authorized_keys` file (options such as `from=` are not supported
+/// and refused, so that nothing is silently ignored).
+pub fn read_authorized_keys(path: &Path) -> Result<Vec<PublicKey>, String> {
+    let shown = path.display();
+    let entries = AuthorizedKeys::read_file(path)
+        .map_err(|e| format!("cannot read the authorized keys {shown}: {e}"))?;
+    let mut keys = Vec::new();
+    for entry in entries {
+        if !entry.config_opts().is_empty() {
+            return Err(format!(
+                "{shown}: options ({}) are not supported",
+                entry.config_opts().as_str()
+            ));
+        }
+        keys.push(entry.public_key().clone());
+    }
+    if keys.is_empty() {
+        return Err(format!("{shown} lists no key"));
+    }
+    Ok(keys)
+}
+
+/// The class password: the first line of the file, which others must not be able to read.
+pub fn read_password(path: &Path) -> Result<String, String> {
+    refuse_if_others_can_read(path, "password file")?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read the password file {}: {e}", path.display()))?;
+    let password = text.lines().next().unwrap_or("").to_string();
+    if password.is_empty() {
+        return Err(format!("{}: the first line is empty", path.display()));
+    }
+    Ok(password)
+}
+
+/// Compares in time that depends only on the lengths, not on where the texts differ.
+pub fn same_secret(given: &str, expected: &str) -> bool {
+    let (a, b) = (given.as_bytes(), expected.as_bytes());
+    let mut difference = a.len() ^ b.len();
+    for (i, byte) in b.iter().enumerate() {
+        difference |= usize::from(a.get(i).copied().unwrap_or(0) ^ byte);
+    }
+    difference == 0
+}
+
+fn refuse_if_others_can_read(path: &Path, what: &str) -> Result<(), String> {
+    let mode = std::fs::metadata(path)
+        .map_err(|e| format!("cannot read the {what} {}: {e}", path.display()))?
+        .permissions()
+        .mode();
+    if mode & 0o077 != 0 {
+        return Err(format!(
+            "the {what} {} can be read by others (mode {:o}): chmod 600 it",
+            path.display(),
+            mode & 0o777
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn secrets_compare_whole() {
+        assert!(same_secret("tiger", "tiger"));
+        assert!(!same_secret("tige", "tiger"));
+        assert!(!same_secret("tigers", "tiger"));
+        assert!(!same_secret("tigeR", "tiger"));
+        assert!(!same_secret("", "tiger"));
+    }
+
+    #[test]
+    fn a_host_key_is_created_private_and_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("keys").join("host");
+        let (created, fresh) = load_or_create_host_key(&path).unwrap();
+        assert!(fresh);
+        let mode = std::fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o600);
+        let (loaded, fresh) = load_or_create_host_key(&path).unwrap();
+        assert!(!fresh);
+        assert_eq!(
+            fingerprint(created.public_key()),
+            fingerprint(loaded.public_key())
+        );
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o644)).unwrap();
+        let refused = load_or_create_host_key(&path).unwrap_err();
+        assert!(refused.contains("chmod 600"), "{refused}");
+    }
+}
