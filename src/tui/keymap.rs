@@ -1,11 +1,9 @@
 //! The one keymap: every key of the explorer, what it means in each mode, and the words the
-//! help overlay and the hint line show for it. Terminal key events and the key names of
+//! help overlay and the hint line show for it. Terminal input (decoded by `tui::input`) and the key names of
 //! `beamfric render --keys` both become [`Key`]s; [`action_for`] turns a key into the
 //! [`Action`] it means in the current mode, from the table [`NORMAL`] in normal mode. The help
 //! ([`help_lines`]) and the hints ([`hint_line`]) are generated from the same table, so they
 //! cannot promise a key that does nothing.
-
-use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::app::Mode;
 
@@ -273,31 +271,6 @@ pub const NORMAL: &[Binding] = &[
 ];
 
 impl Key {
-    /// The key of a terminal event; `None` for releases and keys the explorer does not use.
-    pub fn from_event(event: KeyEvent) -> Option<Key> {
-        if event.kind == KeyEventKind::Release {
-            return None;
-        }
-        let shift = event.modifiers.contains(KeyModifiers::SHIFT);
-        let ctrl = event.modifiers.contains(KeyModifiers::CONTROL);
-        Some(match event.code {
-            KeyCode::Char(c) if ctrl => Key::Ctrl(c.to_ascii_lowercase()),
-            KeyCode::Up => Key::Up,
-            KeyCode::Down => Key::Down,
-            KeyCode::Left if shift => Key::ShiftLeft,
-            KeyCode::Right if shift => Key::ShiftRight,
-            KeyCode::Left => Key::Left,
-            KeyCode::Right => Key::Right,
-            KeyCode::Enter => Key::Enter,
-            KeyCode::Esc => Key::Esc,
-            KeyCode::Backspace => Key::Backspace,
-            KeyCode::Tab => Key::Tab,
-            KeyCode::BackTab => Key::BackTab,
-            KeyCode::Char(c) => Key::Char(c),
-            _ => return None,
-        })
-    }
-
     /// The name of a key in `render --keys` and in the help, or `None` for a plain character.
     fn name(self) -> Option<&'static str> {
         Some(match self {
@@ -522,10 +495,6 @@ mod tests {
                 Key::Ctrl('d'),
             ]
         );
-        let shifted = KeyEvent::new(KeyCode::Right, KeyModifiers::SHIFT);
-        assert_eq!(Key::from_event(shifted), Some(Key::ShiftRight));
-        let ctrl_d = KeyEvent::new(KeyCode::Char('d'), KeyModifiers::CONTROL);
-        assert_eq!(Key::from_event(ctrl_d), Some(Key::Ctrl('d')));
         // Ctrl and a letter is never the letter.
         assert_eq!(
             action_for(&Mode::Normal, Key::Ctrl('d')),
