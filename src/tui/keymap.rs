@@ -1,7 +1,7 @@
 //! The one keymap: every key of the explorer, what it means in each mode, and the words the
-//! help overlay and the hint line show for it. Terminal input (decoded by `tui::input`) and the key names of
-//! `beamfric render --keys` both become [`Key`]s; [`action_for`] turns a key into the
-//! [`Action`] it means in the current mode, from the table [`NORMAL`] in normal mode. The help
+//! help overlay and the hint line show for it. Terminal input (decoded by `tui::input`) and
+//! the key names of `beamfric render --keys` both become [`Key`]s; [`action_for`] turns a key
+//! into the [`Action`] it means in the current mode, from the table [`NORMAL`] in normal mode. The help
 //! ([`help_lines`]) and the hints ([`hint_line`]) are generated from the same table, so they
 //! cannot promise a key that does nothing.
 
