@@ -9,6 +9,8 @@
 
 #![cfg(unix)]
 
+mod common;
+
 use std::io::{Read, Write};
 use std::os::fd::{AsFd, AsRawFd, FromRawFd, IntoRawFd, OwnedFd};
 use std::os::unix::process::{CommandExt, ExitStatusExt};
@@ -365,34 +367,10 @@ fn unsaved_changes_make_q_ask_and_esc_in_the_save_prompt_goes_back() {
 
 // ---- Issue 11: never blocks, never orphans itself, quits at once. ----
 
-/// A scene whose `dual` solve takes seconds: 256 obstacles with thresholds spread over four
-/// decades on 1000 elements (5.5 s in a release build on the 2-core test machine).
+/// The crowded scene of `tests/common`, written to a file: its `dual` solve takes seconds.
 fn slow_scene(dir: &std::path::Path) -> std::path::PathBuf {
-    let mut text = String::from(
-        "title = \"256 obstacles\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\n\
-         section = { shape = \"rectangle\", width = 0.02, height = 0.02 }\n\
-         [load]\nf0 = 5e4\nf1 = -3e4\n",
-    );
-    let mut state = 7u64;
-    let mut uniform = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    for i in 0..256 {
-        let x = (i + 1) as f64 / 257.0;
-        let sliding = 10f64.powf(4.0 * uniform());
-        let swivel = 10f64.powf(4.0 * uniform());
-        text.push_str(&format!(
-            "[[obstacle]]\nx = {x:?}\nsliding = {sliding:?}\nswivel = {swivel:?}\n"
-        ));
-    }
-    text.push_str(
-        "[mesh]\nelements = 1000\n[solver]\nmethod = \"dual\"\n[view]\npanels = [\"deflection\"]\n",
-    );
     let path = dir.join("slow.toml");
-    std::fs::write(&path, text).unwrap();
+    std::fs::write(&path, common::crowded_scene_text()).unwrap();
     path
 }
 

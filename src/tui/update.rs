@@ -143,22 +143,24 @@ fn undo_redo(app: &mut App, undo: bool) {
     }
 }
 
+/// Where saving to a file is off (a served session): says why, or shows the scene as text.
+/// Returns whether it was.
+fn saving_is_off(app: &mut App) -> bool {
+    match &app.save_policy {
+        SavePolicy::Refuse(reason) => app.message = Some(format!("not saved: {reason}")),
+        SavePolicy::ShowText => app.mode = Mode::SceneText,
+        _ => return false,
+    }
+    true
+}
+
 /// Asks for the file name to save to, unless saving is off here.
 fn start_save(app: &mut App) {
-    match &app.save_policy {
-        SavePolicy::Refuse(reason) => {
-            app.message = Some(format!("not saved: {reason}"));
-            return;
-        }
-        SavePolicy::ShowText => {
-            app.mode = Mode::SceneText;
-            return;
-        }
-        _ => {}
+    if !saving_is_off(app) {
+        app.mode = Mode::Save {
+            buffer: app.save_path.clone(),
+        };
     }
-    app.mode = Mode::Save {
-        buffer: app.save_path.clone(),
-    };
 }
 
 /// The reason `scene` is beyond this explorer's limits (a served session's element cap).
@@ -487,16 +489,13 @@ fn confirm_overwrite(app: &mut App, action: Action, path: String) {
 fn save(app: &mut App, path: &str, overwrite: bool) {
     // What to do after a successful save; a failed or refused one drops it.
     let then = app.after_save.take();
+    if saving_is_off(app) {
+        return;
+    }
     let target = match &app.save_policy {
         SavePolicy::Write => std::path::PathBuf::from(path),
-        SavePolicy::Refuse(reason) => {
-            app.message = Some(format!("not saved: {reason}"));
-            return;
-        }
-        SavePolicy::ShowText => {
-            app.mode = Mode::SceneText;
-            return;
-        }
+        // Handled by `saving_is_off`.
+        SavePolicy::Refuse(_) | SavePolicy::ShowText => return,
         SavePolicy::Simulate => {
             app.message = Some(format!(
                 "not saved: a headless render writes no files (it would save to {path}; \

@@ -82,3 +82,33 @@ pub fn reference_values(name: &str) -> ReferenceValues {
     }
     values
 }
+
+/// 256 obstacles on 1000 elements with thresholds spread over four decades (a fixed sequence),
+/// method `dual`, only the deflection panel: its solve takes seconds (5.5 s in a release
+/// build on the 2-core test machine), long work to interrupt.
+pub fn crowded_scene_text() -> String {
+    let mut text = String::from(
+        "title = \"256 obstacles\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\n\
+         section = { shape = \"rectangle\", width = 0.02, height = 0.02 }\n\
+         [load]\nf0 = 5e4\nf1 = -3e4\n",
+    );
+    let mut state = 7u64;
+    let mut uniform = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for i in 0..256 {
+        let x = (i + 1) as f64 / 257.0;
+        let sliding = 10f64.powf(4.0 * uniform());
+        let swivel = 10f64.powf(4.0 * uniform());
+        text.push_str(&format!(
+            "[[obstacle]]\nx = {x:?}\nsliding = {sliding:?}\nswivel = {swivel:?}\n"
+        ));
+    }
+    text.push_str(
+        "[mesh]\nelements = 1000\n[solver]\nmethod = \"dual\"\n[view]\npanels = [\"deflection\"]\n",
+    );
+    text
+}
