@@ -129,6 +129,8 @@ pub struct App {
     pub diagram: Diagram,
     /// The panel shown when only one fits (index into the scene's panels).
     pub focus: usize,
+    /// The focused panel fills the screen below the title.
+    pub zoom: bool,
     /// Show run times (they make frames depend on the clock).
     pub show_timings: bool,
     pub look: Look,
@@ -182,6 +184,7 @@ impl App {
             message: None,
             diagram: Diagram::Deflection,
             focus: 0,
+            zoom: false,
             show_timings,
             look,
             size: (120, 40),
@@ -289,19 +292,13 @@ impl App {
         self.shown.as_ref().map(|s| &s.solution)
     }
 
-    /// The panels on screen: all of them from [`super::view::FULL_SIZE`] on, the focused one
-    /// below it, none when the terminal is too small.
+    /// The panels on screen, as [`super::view::screen_layout`] places them: none when the
+    /// terminal is too small.
     pub fn visible_panels(&self) -> Vec<Panel> {
-        use super::view::{FULL_SIZE, MIN_SIZE};
-        let panels = self.panels();
-        let (w, h) = self.size;
-        if w >= FULL_SIZE.0 && h >= FULL_SIZE.1 {
-            panels
-        } else if w >= MIN_SIZE.0 && h >= MIN_SIZE.1 && !panels.is_empty() {
-            vec![panels[self.focus % panels.len()]]
-        } else {
-            Vec::new()
-        }
+        let area = ratatui::layout::Rect::new(0, 0, self.size.0, self.size.1);
+        super::view::screen_layout(self, area)
+            .map(|layout| layout.panels.into_iter().map(|(panel, _)| panel).collect())
+            .unwrap_or_default()
     }
 
     /// Marks the studies whose inputs changed as pending (or idle when no visible panel needs

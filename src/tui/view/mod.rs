@@ -7,6 +7,7 @@
 //! status (solution summary, warnings, last message) and the key hints.
 
 mod charts;
+mod layout;
 mod overlays;
 
 use ratatui::Frame;
@@ -18,58 +19,29 @@ use super::app::{App, Discard, Mode};
 use super::keymap::hint_line;
 use crate::format::{duration, sci};
 use crate::plot::{Theme, transliterate};
-use crate::scene::Panel;
 use crate::solve::Reference;
 
-/// Smallest terminal the explorer draws into.
-pub const MIN_SIZE: (u16, u16) = (60, 16);
-/// Smallest terminal for every panel at once.
-pub const FULL_SIZE: (u16, u16) = (100, 30);
+pub use layout::{FULL_SIZE, MIN_SIZE, Region, ScreenLayout, screen_layout};
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
     let theme = Theme { look: app.look };
     let area = frame.area();
-    if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
-        too_small(frame, area);
-    } else {
-        let [title, body, status, hints] = Layout::vertical([
-            Constraint::Length(1),
-            Constraint::Min(8),
-            Constraint::Length(3),
-            Constraint::Length(1),
-        ])
-        .areas(area);
-        draw_title(frame, app, &theme, title);
-        let full = area.width >= FULL_SIZE.0 && area.height >= FULL_SIZE.1;
-        let parameters_width = if full { 38 } else { 30 };
-        let [left, right] =
-            Layout::horizontal([Constraint::Length(parameters_width), Constraint::Min(20)])
-                .areas(body);
-        if full {
-            let rows = app.rows().len() as u16 + 2;
-            let [top, bottom] = Layout::vertical([
-                Constraint::Length(rows.min(left.height / 2).max(8)),
-                Constraint::Min(3),
-            ])
-            .areas(left);
-            let top = if rows + 6 <= left.height {
-                let [t, b] =
-                    Layout::vertical([Constraint::Length(rows), Constraint::Min(3)]).areas(left);
-                draw_results(frame, app, &theme, b);
-                t
-            } else {
-                draw_results(frame, app, &theme, bottom);
-                top
-            };
-            draw_parameters(frame, app, &theme, top);
-        } else {
-            draw_parameters(frame, app, &theme, left);
+    match screen_layout(app, area) {
+        None => too_small(frame, area),
+        Some(layout) => {
+            draw_title(frame, app, &theme, layout.title);
+            if layout.parameters.area() > 0 {
+                draw_parameters(frame, app, &theme, layout.parameters);
+            }
+            if let Some(results) = layout.results {
+                draw_results(frame, app, &theme, results);
+            }
+            draw_panels(frame, app, &theme, &layout);
+            draw_status(frame, app, &theme, layout.status);
+            draw_hints(frame, app, &theme, layout.hints);
+            overlays::draw(frame, app, &theme, area);
         }
-        draw_panels(frame, app, &theme, right, full);
-        draw_status(frame, app, &theme, status);
-        draw_hints(frame, app, &theme, hints);
-        overlays::draw(frame, app, &theme, area);
     }
     if app.look.ascii {
         transliterate(frame.buffer_mut());
@@ -176,54 +148,28 @@ fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     frame.render_widget(Paragraph::new(lines), inner);
 }
 
-fn draw_panels(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, full: bool) {
+fn draw_panels(frame: &mut Frame, app: &App, theme: &Theme, layout: &ScreenLayout) {
     let panels = app.panels();
     if panels.is_empty() {
         return;
     }
-    if !full {
-        let index = app.focus % panels.len();
-        let title_suffix = if panels.len() > 1 {
+    let focused = panels[app.focus % panels.len()];
+    for (panel, area) in &layout.panels {
+        let title_suffix = if !layout.all_panels && panels.len() > 1 {
+            let index = app.focus % panels.len();
             format!(" [{}/{} Tab]", index + 1, panels.len())
         } else {
             String::new()
         };
-        charts::draw_panel(frame, app, theme, panels[index], area, &title_suffix, true);
-        return;
-    }
-    let has_deflection = panels.contains(&Panel::Deflection);
-    let others: Vec<Panel> = panels
-        .iter()
-        .copied()
-        .filter(|p| *p != Panel::Deflection)
-        .collect();
-    let focused = panels[app.focus % panels.len()];
-    let (top, bottom) = match (has_deflection, others.is_empty()) {
-        (true, true) => (Some(area), None),
-        (true, false) => {
-            let [t, b] = Layout::vertical([Constraint::Percentage(55), Constraint::Percentage(45)])
-                .areas(area);
-            (Some(t), Some(b))
-        }
-        (false, _) => (None, Some(area)),
-    };
-    if let Some(top) = top {
         charts::draw_panel(
             frame,
             app,
             theme,
-            Panel::Deflection,
-            top,
-            "",
-            focused == Panel::Deflection,
+            *panel,
+            *area,
+            &title_suffix,
+            !layout.all_panels || focused == *panel,
         );
-    }
-    if let Some(bottom) = bottom {
-        let constraints = vec![Constraint::Ratio(1, others.len() as u32); others.len()];
-        let cells = Layout::horizontal(constraints).split(bottom);
-        for (panel, cell) in others.iter().zip(cells.iter()) {
-            charts::draw_panel(frame, app, theme, *panel, *cell, "", focused == *panel);
-        }
     }
 }
 
