@@ -22,6 +22,8 @@ pub enum Mode {
     Editing { row: Row, buffer: String },
     /// The help overlay.
     Help,
+    /// Every warning in full, scrolled down by `offset` lines.
+    Warnings { offset: u16 },
     /// The scene as TOML, to copy from the screen (saving in a served session).
     SceneText,
     /// The preset picker, with the highlighted entry.

@@ -57,6 +57,17 @@ pub fn update(app: &mut App, action: Action) {
                 app.mode = Mode::Normal;
             }
         }
+        Mode::Warnings { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Warnings {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Warnings {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
         Mode::Editing { row, buffer } => editing(app, action, row, buffer),
         Mode::Presets { index } => presets(app, action, index),
         Mode::Save { buffer } => save_prompt(app, action, buffer),
@@ -64,6 +75,9 @@ pub fn update(app: &mut App, action: Action) {
         Mode::ConfirmDiscard { then } => confirm_discard(app, action, then),
     }
 }
+
+/// The warnings view scrolls at most this far (drawing stops at the last line anyway).
+const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 fn unless_unsaved(app: &mut App, then: Discard) {
@@ -222,6 +236,7 @@ fn normal(app: &mut App, action: Action) {
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
         Action::ShowHelp => app.mode = Mode::Help,
+        Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
         Action::Quit => unless_unsaved(app, Discard::Quit),
         Action::Undo => undo_redo(app, true),
         Action::Redo => undo_redo(app, false),
