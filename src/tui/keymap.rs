@@ -468,6 +468,11 @@ pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
         .collect()
 }
 
+/// The up and down arrows as the hints write them: `↑↓`, or `Up/Down` in ASCII.
+pub fn up_down(ascii: bool) -> &'static str {
+    if ascii { "Up/Down" } else { "↑↓" }
+}
+
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {

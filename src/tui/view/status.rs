@@ -14,7 +14,7 @@ use crate::format::{duration, sci};
 use crate::plot::Theme;
 use crate::solve::{Reference, Solution};
 use crate::tui::app::{App, Discard, Mode};
-use crate::tui::keymap::fitted_hint_line;
+use crate::tui::keymap::{fitted_hint_line, up_down};
 
 /// "solving …" while the current state's solve runs (with its run time when the clock may
 /// show), else `None`.
@@ -219,9 +219,14 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                 width,
             )
         }
-        Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
+        Mode::Presets { .. } => format!(
+            "{} choose a preset, Enter loads it, Esc cancels",
+            up_down(app.look.ascii)
+        ),
         Mode::Help => "any key closes the help".into(),
-        Mode::Warnings { .. } => "↑↓ scroll · any other key closes".into(),
+        Mode::Warnings { .. } => {
+            format!("{} scroll · any other key closes", up_down(app.look.ascii))
+        }
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
         Mode::Normal => fitted_hint_line(app.look.ascii, width),
     };

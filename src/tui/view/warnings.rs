@@ -114,14 +114,15 @@ pub(super) fn draw_view(frame: &mut Frame, app: &App, theme: &Theme, area: Rect,
         return;
     };
     let title = format!(
-        " Warnings: {} at n = {}{} (↑↓ scroll, any other key closes) ",
+        " Warnings: {} at n = {}{} ({} scroll, any other key closes) ",
         shown.request.method,
         shown.mesh.elements(),
         if app.is_current() {
             ""
         } else {
             ", previous result"
-        }
+        },
+        crate::tui::keymap::up_down(app.look.ascii)
     );
     let block = theme.block(title, true);
     let inner = block.inner(area);
