@@ -70,8 +70,18 @@ pub enum Action {
     Suspend,
     /// A character typed into a prompt.
     Type(char),
-    /// Delete the last character of a prompt.
+    /// Delete the character before a prompt's cursor.
     DeleteChar,
+    /// Move a prompt's cursor one character left.
+    CursorLeft,
+    /// One character right.
+    CursorRight,
+    /// To the start of the prompt.
+    CursorHome,
+    /// To its end.
+    CursorEnd,
+    /// Erase the prompt's text before the cursor (Ctrl-U).
+    EraseToStart,
     /// Accept a prompt, a list entry or a question.
     Confirm,
     /// Leave a prompt, an overlay or a question without doing anything.
@@ -375,6 +385,11 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
         Mode::Editing { .. } | Mode::Save { .. } => match key {
             Key::Char(c) => Some(Action::Type(c)),
             Key::Backspace => Some(Action::DeleteChar),
+            Key::Left => Some(Action::CursorLeft),
+            Key::Right => Some(Action::CursorRight),
+            Key::Ctrl('a') => Some(Action::CursorHome),
+            Key::Ctrl('e') => Some(Action::CursorEnd),
+            Key::Ctrl('u') => Some(Action::EraseToStart),
             Key::Enter => Some(Action::Confirm),
             Key::Esc => Some(Action::Cancel),
             _ => None,

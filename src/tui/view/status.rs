@@ -191,16 +191,35 @@ fn warning_lines(
 pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let width = area.width as usize;
     let text = match &app.mode {
-        Mode::Editing { row, buffer } => format!(
-            "new {} [{}]: {buffer}_   Enter sets, Esc cancels",
-            row.label().trim(),
-            if row.unit().is_empty() {
-                "-"
-            } else {
-                row.unit()
-            }
-        ),
-        Mode::Save { buffer } => format!("save the scene to: {buffer}_   Enter saves, Esc cancels"),
+        Mode::Editing { row, prompt } => {
+            let label = format!(
+                "new {} [{}]: ",
+                row.label().trim(),
+                if row.unit().is_empty() {
+                    "-"
+                } else {
+                    row.unit()
+                }
+            );
+            return draw_prompt(
+                frame,
+                theme,
+                area,
+                &label,
+                prompt,
+                "Enter sets, Esc cancels",
+            );
+        }
+        Mode::Save { prompt } => {
+            return draw_prompt(
+                frame,
+                theme,
+                area,
+                "save the scene to: ",
+                prompt,
+                "Enter saves, Esc cancels",
+            );
+        }
         Mode::ConfirmOverwrite { path } => format!("{path} exists: overwrite it? y / n"),
         Mode::ConfirmDiscard { then } => {
             let what = match then {
@@ -231,4 +250,38 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
         Mode::Normal => fitted_hint_line(app.look.ascii, width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
+}
+
+/// A prompt line: the label, the text with its cursor (a reversed cell) and what Enter/Esc do,
+/// scrolled so that the cursor stays on screen; a selected pre-filled value is highlighted.
+fn draw_prompt(
+    frame: &mut Frame,
+    theme: &Theme,
+    area: Rect,
+    label: &str,
+    prompt: &crate::tui::prompt::Prompt,
+    keys: &str,
+) {
+    let (before, under, after) = prompt.split();
+    let width = area.width as usize;
+    let label_width = label.chars().count();
+    // Keep the cursor visible: drop characters from the start of the text if needed.
+    let room = width.saturating_sub(label_width + 1);
+    let skip = before.chars().count().saturating_sub(room);
+    let before: String = before.chars().skip(skip).collect();
+    let text_style = if prompt.selected {
+        theme.selected()
+    } else {
+        theme.plain()
+    };
+    let cursor_style =
+        ratatui::style::Style::default().add_modifier(ratatui::style::Modifier::REVERSED);
+    let line = Line::from(vec![
+        Span::styled(label.to_string(), theme.dim()),
+        Span::styled(before, text_style),
+        Span::styled(under, cursor_style),
+        Span::styled(after, text_style),
+        Span::styled(format!("   {keys}"), theme.dim()),
+    ]);
+    frame.render_widget(Paragraph::new(line), area);
 }
