@@ -54,7 +54,18 @@ pub fn update(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help | Mode::SceneText => {
+        Mode::Help { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Help {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Help {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
+        Mode::SceneText => {
             if action == Action::Cancel {
                 app.mode = Mode::Normal;
             }
@@ -78,7 +89,8 @@ pub fn update(app: &mut App, action: Action) {
     }
 }
 
-/// The warnings view scrolls at most this far (drawing stops at the last line anyway).
+/// The warnings view and the help scroll at most this far (drawing stops at the last line
+/// anyway).
 const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
@@ -269,7 +281,7 @@ fn normal(app: &mut App, action: Action) {
         }
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
-        Action::ShowHelp => app.mode = Mode::Help,
+        Action::ShowHelp => app.mode = Mode::Help { offset: 0 },
         Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
         Action::Quit => unless_unsaved(app, Discard::Quit),
         Action::Undo => undo_redo(app, true),

@@ -242,7 +242,10 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             "{} choose a preset, Enter loads it, Esc cancels",
             up_down(app.look.ascii)
         ),
-        Mode::Help => "any key closes the help".into(),
+        Mode::Help { .. } => format!(
+            "{} scroll · any other key closes the help",
+            up_down(app.look.ascii)
+        ),
         Mode::Warnings { .. } => {
             format!("{} scroll · any other key closes", up_down(app.look.ascii))
         }
