@@ -286,35 +286,25 @@ fn the_preset_picker_takes_clicks_and_the_wheel() {
         panic!("still picking")
     };
     assert_eq!(
-        picker.highlighted().map(|i| beamfric::scene::PRESETS[i].name),
+        picker
+            .highlighted()
+            .map(|i| beamfric::scene::PRESETS[i].name),
         Some("lesson-mesh")
     );
-    update(
-        &mut app,
-        Action::Scroll {
-            x,
-            y,
-            up: false,
-        },
-    );
+    update(&mut app, Action::Scroll { x, y, up: false });
     let Mode::Presets(picker) = &app.mode else {
         panic!("still picking")
     };
     assert_eq!(
-        picker.highlighted().map(|i| beamfric::scene::PRESETS[i].name),
+        picker
+            .highlighted()
+            .map(|i| beamfric::scene::PRESETS[i].name),
         Some("fine-mesh")
     );
     // A double click loads the entry under it.
     let frame = screen(&app);
     let (x, y) = find(&frame, "tiny-beam").expect("listed");
-    update(
-        &mut app,
-        Action::Click {
-            x,
-            y,
-            double: true,
-        },
-    );
+    update(&mut app, Action::Click { x, y, double: true });
     app.settle();
     assert_eq!(app.mode, Mode::Normal);
     assert_eq!(app.scene.title, "Tiny beam (l = 1 mm)");
