@@ -652,7 +652,10 @@ fn mouse_clicks_the_wheel_and_an_obstacle_drag_change_the_state() {
     // The mouse is given back to the terminal.
     let text = String::from_utf8_lossy(&output.lock().unwrap()).into_owned();
     let on = text.rfind("\x1b[?1000h").expect("asked for the mouse");
-    assert!(text.rfind("\x1b[?1000l") > Some(on), "never gave the mouse back");
+    assert!(
+        text.rfind("\x1b[?1000l") > Some(on),
+        "never gave the mouse back"
+    );
 }
 
 #[test]

@@ -176,7 +176,9 @@ fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) 
         .take(layout.list.height as usize)
         .map(|(i, &preset)| {
             let info = &infos[preset];
-            let text = format!("{:<name_width$}{}", info.name, info.description);
+            // The highlight is marked in the text too, for terminals without colours.
+            let mark = if i == highlighted { "> " } else { "  " };
+            let text = format!("{mark}{:<name_width$}{}", info.name, info.description);
             let text = truncated(&text, width);
             if i == highlighted {
                 Line::styled(format!("{text:<width$}"), theme.selected())
