@@ -183,7 +183,7 @@ pub const NORMAL: &[Binding] = &[
             (Key::End, Action::SelectLast),
         ],
         aliases: &[],
-        help: "first / last parameter (also in the preset list: Home End)",
+        help: "first / last parameter (Home End in lists too)",
         hint: None,
     },
     Binding {
@@ -192,7 +192,7 @@ pub const NORMAL: &[Binding] = &[
             (Key::PageDown, Action::PageDown),
         ],
         aliases: &[],
-        help: "a page up / down the parameters (and the preset list)",
+        help: "a page up / down (in lists too)",
         hint: None,
     },
     Binding {
@@ -294,7 +294,7 @@ pub const NORMAL: &[Binding] = &[
     bind!(
         Key::Char('z'),
         Action::ToggleZoom,
-        "zoom the focused panel to the whole screen, or back (or double-click it, or click its title)",
+        "zoom the focused panel, or back (or double-click it)",
         "zoom",
         16,
     ),

@@ -53,10 +53,20 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
 }
 
 fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let mut lines: Vec<Line> = help_lines(app.look.ascii)
-        .iter()
-        .map(|(keys, what)| Line::from(format!("{keys:>16}  {what}")))
-        .collect();
+    // The scene's description first, in full: what this scene is for.
+    let mut lines: Vec<Line> = Vec::new();
+    if !app.scene.description.trim().is_empty() {
+        lines.push(Line::styled(
+            format!("{}: {}", app.scene.title, app.scene.description.trim()),
+            theme.title(),
+        ));
+        lines.push(Line::from(""));
+    }
+    lines.extend(
+        help_lines(app.look.ascii)
+            .iter()
+            .map(|(keys, what)| Line::from(format!("{keys:>16}  {what}"))),
+    );
     lines.push(Line::from(""));
     lines.push(Line::styled(
         "Values: loads, modulus, section, thresholds and ε step by ×10^0.1 (coarse ×10);",
@@ -66,9 +76,12 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         "positions by l/200 (coarse l/20); elements by 10 % (coarse ×10). Units: SI.",
         theme.dim(),
     ));
-    if !app.scene.description.is_empty() {
-        lines.push(Line::from(""));
-        lines.push(Line::from(app.scene.description.clone()));
+    if app.mouse {
+        lines.push(Line::styled(
+            "Mouse: click a row (twice to type), wheel steps it, drag an obstacle on the chart, \
+             click a panel's title to zoom; Shift+drag selects text.",
+            theme.dim(),
+        ));
     }
     let width = 84u16.min(area.width);
     let inner = width.saturating_sub(2).max(1) as usize;
