@@ -366,3 +366,28 @@ fn list_keys_move_to_the_ends_and_by_pages() {
     let frame = screen(&app);
     assert!(find(&frame, "│method").is_some());
 }
+
+#[test]
+fn a_drag_of_an_obstacle_deleted_meanwhile_does_nothing() {
+    // Found in review: the drag kept the index of an obstacle that `d` had deleted.
+    let mut app = app("benchmark-3", 120, 40);
+    let frame = screen(&app);
+    let mut markers: Vec<(u16, u16)> = "↕●↻✱"
+        .chars()
+        .flat_map(|glyph| cells_of(&frame, glyph))
+        .filter(|&(x, y)| matches!(target(&app, x, y), Target::Obstacle(_)))
+        .collect();
+    markers.sort();
+    let (mx, my) = *markers.last().unwrap();
+    assert_eq!(target(&app, mx, my), Target::Obstacle(3));
+    click(&mut app, (mx, my));
+    // Delete it and the one before it: the drag's index is now two past the last.
+    for key in parse_keys("d Up Up Up d") {
+        press(&mut app, key);
+    }
+    assert_eq!(app.scene.obstacles.len(), 2);
+    let scene = app.scene.clone();
+    update(&mut app, Action::Drag { x: mx - 5, y: my });
+    update(&mut app, Action::Release { x: mx - 5, y: my });
+    assert_eq!(app.scene, scene);
+}

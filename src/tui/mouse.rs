@@ -113,11 +113,11 @@ pub fn target(app: &App, x: u16, y: u16) -> Target {
     };
     match layout.region_at(x, y) {
         Some(Region::Parameters) => {
-            let box_ = layout.parameters;
-            let inner_top = box_.y + 1;
-            let inner_height = box_.height.saturating_sub(2);
+            let parameters = layout.parameters;
+            let inner_top = parameters.y + 1;
+            let inner_height = parameters.height.saturating_sub(2);
             let inside_rows = y >= inner_top && y < inner_top + inner_height;
-            let inside_columns = x > box_.x && x + 1 < box_.right();
+            let inside_columns = x > parameters.x && x + 1 < parameters.right();
             if !(inside_rows && inside_columns) {
                 return Target::Parameters;
             }
@@ -192,6 +192,10 @@ pub fn dragged_position(app: &App, index: usize, x: u16) -> Option<f64> {
     let raw = columns.x_at(x);
     let snapped = (raw / step).round() * step;
     let obstacles = &app.scene.obstacles;
+    // The obstacle may be gone (deleted or undone during the drag).
+    if index >= obstacles.len() {
+        return None;
+    }
     let gap = l / 1000.0;
     let lower = index.checked_sub(1).map_or(0.0, |i| obstacles[i].x) + gap;
     let upper = obstacles.get(index + 1).map_or(l, |o| o.x) - gap;

@@ -1,5 +1,6 @@
 //! The one place that changes the explorer's state: [`update`] takes an [`Action`] (what a
-//! key means in the current mode, from [`super::keymap`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
+//! key means in the current mode, from [`super::keymap`], or a mouse event, placed on what is
+//! drawn under it by [`super::mouse::target`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
 //! leaves the state as it was and says why.
 
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
@@ -23,11 +24,15 @@ pub fn update(app: &mut App, action: Action) {
     keep_selection_in_view(app);
 }
 
-/// Scrolls the parameters only as far as needed to show the selected row (after any change of
-/// the selection, the rows or the size).
+/// Scrolls the parameters (and the preset list) only as far as needed to show the selected
+/// row (after any change of the selection, the rows or the size).
 fn keep_selection_in_view(app: &mut App) {
     let height = parameter_rows_shown(app);
     app.parameters_offset = app.parameters_offset(height);
+    let visible = picker_rows_shown(app);
+    if let Mode::Presets(picker) = &mut app.mode {
+        picker.scroll_to_highlight(visible);
+    }
 }
 
 /// How many parameter rows the frame shows now (at least one).
