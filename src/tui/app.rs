@@ -7,6 +7,7 @@ use crate::scene::{LoadedScene, Panel, Scene, SceneSource, Settings};
 use crate::solve::{ConditionLevel, Method, Solution, SolveError, SolveOptions};
 
 use super::params::{Row, rows};
+use super::prompt::Prompt;
 use super::studies::{
     STUDIES, StudyContext, StudyRequest, StudyResult, StudySlot, StudyState, StudyView, study_of,
 };
@@ -18,16 +19,18 @@ pub use crate::plot::Look;
 pub enum Mode {
     /// Selecting and stepping parameters.
     Normal,
-    /// Typing an exact value for a row.
-    Editing { row: Row, buffer: String },
+    /// Typing an exact value for a row (pre-filled with the current one).
+    Editing { row: Row, prompt: Prompt },
     /// The help overlay.
     Help,
+    /// Every warning in full, scrolled down by `offset` lines.
+    Warnings { offset: u16 },
     /// The scene as TOML, to copy from the screen (saving in a served session).
     SceneText,
     /// The preset picker: its search, highlighted entry and scroll.
     Presets(super::picker::PresetPicker),
     /// Typing the file name to save to.
-    Save { buffer: String },
+    Save { prompt: Prompt },
     /// The file exists: overwrite it?
     ConfirmOverwrite { path: String },
     /// The scene has unsaved changes: lose them to do `then`?

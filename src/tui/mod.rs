@@ -13,6 +13,7 @@ pub mod keymap;
 pub mod mouse;
 pub mod params;
 pub mod picker;
+pub mod prompt;
 pub mod remote;
 pub mod solver;
 pub mod studies;

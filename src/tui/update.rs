@@ -1,7 +1,7 @@
 //! The one place that changes the explorer's state: [`update`] takes an [`Action`] (what a
 //! key means in the current mode, from [`super::keymap`], or a mouse event, placed on what is
-//! drawn under it by [`super::mouse::target`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
-//! leaves the state as it was and says why.
+//! drawn under it by [`super::mouse::target`]) and applies it. Every change of the scene goes
+//! through the scene's validation; a rejected value leaves the state as it was and says why.
 
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
 use crate::solve::Method;
@@ -11,7 +11,9 @@ use super::keymap::{Action, Key};
 use super::mouse::{Target, dragged_position, obstacle_row, target};
 use super::params::{Row, set_from_text, step};
 use super::picker::PresetPicker;
+use super::prompt::{Prompt, Typed, editable_number};
 use super::view::{picker_layout, screen_layout};
+use crate::scene::Panel;
 
 /// Longest value a prompt accepts.
 const PROMPT_LIMIT: usize = 200;
@@ -100,13 +102,27 @@ fn apply(app: &mut App, action: Action) {
                 app.mode = Mode::Normal;
             }
         }
-        Mode::Editing { row, buffer } => editing(app, action, row, buffer),
+        Mode::Warnings { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Warnings {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Warnings {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
+        Mode::Editing { row, prompt } => editing(app, action, row, prompt),
         Mode::Presets(picker) => presets(app, action, picker),
-        Mode::Save { buffer } => save_prompt(app, action, buffer),
+        Mode::Save { prompt } => save_prompt(app, action, prompt),
         Mode::ConfirmOverwrite { path } => confirm_overwrite(app, action, path),
         Mode::ConfirmDiscard { then } => confirm_discard(app, action, then),
     }
 }
+
+/// The warnings view scrolls at most this far (drawing stops at the last line anyway).
+const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 fn unless_unsaved(app: &mut App, then: Discard) {
@@ -201,7 +217,7 @@ fn saving_is_off(app: &mut App) -> bool {
 fn start_save(app: &mut App) {
     if !saving_is_off(app) {
         app.mode = Mode::Save {
-            buffer: app.save_path.clone(),
+            prompt: Prompt::new(app.save_path.clone(), false),
         };
     }
 }
@@ -218,6 +234,9 @@ fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
 }
 
 /// Keeps `candidate` if it is a valid scene (and re-solves), else reports the rule it broke.
+/// Errors name obstacles by the numbers the user sees (the candidate is checked before its
+/// obstacles are put in order); once kept, the selection stays on the same obstacle even if
+/// a new position moved it past another.
 fn try_apply(app: &mut App, candidate: Scene) -> bool {
     try_apply_keeping_undo(app, candidate, true)
 }
@@ -225,18 +244,38 @@ fn try_apply(app: &mut App, candidate: Scene) -> bool {
 /// [`try_apply`], keeping the scene before for undo only when `undo_step` (a drag keeps one
 /// undo step for all its moves).
 fn try_apply_keeping_undo(app: &mut App, mut candidate: Scene, undo_step: bool) -> bool {
-    candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
     if let Some(message) = beyond_limits(app, &candidate) {
         app.message = Some(message);
         return false;
     }
+    if let Err(e) = candidate.validate(&app.source.to_string()) {
+        app.message = Some(format!("rejected: {}: {}", e.field, e.rule));
+        return false;
+    }
+    // Where each obstacle goes when sorted by position (stable: ties keep their order).
+    let mut order: Vec<usize> = (0..candidate.obstacles.len()).collect();
+    order.sort_by(|&a, &b| {
+        candidate.obstacles[a]
+            .x
+            .total_cmp(&candidate.obstacles[b].x)
+    });
+    candidate.obstacles = order.iter().map(|&i| candidate.obstacles[i]).collect();
     match candidate.validate(&app.source.to_string()) {
         Ok((problem, settings)) => {
+            let selected = app.selected_row();
             if undo_step {
                 remember(app);
             }
             app.scene = candidate;
             app.message = None;
+            if let Some(old) = selected.obstacle()
+                && let Some(new) = order.iter().position(|&i| i == old)
+                && new != old
+            {
+                let moved = selected.for_obstacle(new);
+                app.selected = app.rows().iter().position(|r| *r == moved).unwrap_or(0);
+            }
+            app.selected = app.selected.min(app.rows().len() - 1);
             app.resolve(problem, settings);
             true
         }
@@ -264,9 +303,18 @@ fn normal(app: &mut App, action: Action) {
         Action::Decrease { coarse } => change(app, -1, coarse),
         Action::Increase { coarse } => change(app, 1, coarse),
         Action::EditValue => {
+            let row = app.selected_row();
+            let current = match row {
+                Row::Method => app.scene.solver.method.name().to_string(),
+                Row::Elements => app.scene.mesh.elements.to_string(),
+                _ => row
+                    .number(&app.scene)
+                    .map(editable_number)
+                    .unwrap_or_default(),
+            };
             app.mode = Mode::Editing {
-                row: app.selected_row(),
-                buffer: String::new(),
+                row,
+                prompt: Prompt::new(current, true),
             }
         }
         Action::AddObstacle => add_obstacle(app),
@@ -284,16 +332,11 @@ fn normal(app: &mut App, action: Action) {
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
         Action::ShowHelp => app.mode = Mode::Help,
+        Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
         Action::Quit => unless_unsaved(app, Discard::Quit),
         Action::Undo => undo_redo(app, true),
         Action::Redo => undo_redo(app, false),
-        Action::NextDiagram => {
-            app.diagram = match app.diagram {
-                Diagram::Deflection => Diagram::Moment,
-                Diagram::Moment => Diagram::Shear,
-                Diagram::Shear => Diagram::Deflection,
-            }
-        }
+        Action::NextDiagram => next_diagram(app),
         Action::ToggleTimings => {
             app.show_timings = !app.show_timings;
             app.refresh_studies();
@@ -316,6 +359,11 @@ fn normal(app: &mut App, action: Action) {
         Action::Unbound(_)
         | Action::Type(_)
         | Action::DeleteChar
+        | Action::CursorLeft
+        | Action::CursorRight
+        | Action::CursorHome
+        | Action::CursorEnd
+        | Action::EraseToStart
         | Action::Confirm
         | Action::Cancel => {}
         Action::Interrupt
@@ -329,6 +377,25 @@ fn normal(app: &mut App, action: Action) {
             unreachable!("handled before the mode")
         }
     }
+}
+
+/// `b`: the deflection panel's next diagram. Where that panel is not on screen it is brought
+/// forward first (the change is then visible); a scene without it says so.
+fn next_diagram(app: &mut App) {
+    let panels = app.panels();
+    let Some(index) = panels.iter().position(|p| *p == Panel::Deflection) else {
+        app.message = Some("this scene shows no deflection panel (b has nothing to switch)".into());
+        return;
+    };
+    if !app.visible_panels().contains(&Panel::Deflection) {
+        app.focus = index;
+        app.refresh_studies();
+    }
+    app.diagram = match app.diagram {
+        Diagram::Deflection => Diagram::Moment,
+        Diagram::Moment => Diagram::Shear,
+        Diagram::Shear => Diagram::Deflection,
+    };
 }
 
 /// `dual-inverse` at its limit (N = 3998 unknowns) takes about 3 s (criterion, release), and
@@ -433,35 +500,41 @@ fn delete_obstacle(app: &mut App) {
     }
 }
 
-fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
+/// The editing keys every prompt shares; returns whether `action` was one of them.
+fn edit_prompt(prompt: &mut Prompt, action: Action, limit: usize) -> Option<Typed> {
     match action {
-        Action::Type(c) => {
-            if buffer.chars().count() < PROMPT_LIMIT {
-                buffer.push(c);
-            }
-            app.mode = Mode::Editing { row, buffer };
-        }
-        Action::DeleteChar => {
-            buffer.pop();
-            app.mode = Mode::Editing { row, buffer };
-        }
+        Action::Type(c) => return Some(prompt.insert(c, limit)),
+        Action::DeleteChar => prompt.delete_before(),
+        Action::CursorLeft => prompt.move_by(-1),
+        Action::CursorRight => prompt.move_by(1),
+        Action::CursorHome => prompt.home(),
+        Action::CursorEnd => prompt.end(),
+        Action::EraseToStart => prompt.erase_to_start(),
+        _ => return None,
+    }
+    Some(Typed::Inserted)
+}
+
+fn editing(app: &mut App, action: Action, row: Row, mut prompt: Prompt) {
+    if edit_prompt(&mut prompt, action, PROMPT_LIMIT).is_some() {
+        app.mode = Mode::Editing { row, prompt };
+        return;
+    }
+    match action {
         Action::Confirm => {
             app.mode = Mode::Normal;
-            if buffer.trim().is_empty() {
+            if prompt.text.trim().is_empty() {
                 return;
             }
-            match set_from_text(&app.scene, row, &buffer) {
+            match set_from_text(&app.scene, row, &prompt.text) {
                 Ok(candidate) => {
-                    if try_apply(app, candidate) && row.obstacle().is_some() {
-                        // A typed position may reorder the obstacles: follow the row's value.
-                        app.selected = app.selected.min(app.rows().len() - 1);
-                    }
+                    try_apply(app, candidate);
                 }
                 Err(message) => app.message = Some(format!("rejected: {message}")),
             }
         }
         Action::Cancel => app.mode = Mode::Normal,
-        _ => app.mode = Mode::Editing { row, buffer },
+        _ => app.mode = Mode::Editing { row, prompt },
     }
 }
 
@@ -527,6 +600,13 @@ fn mouse(app: &mut App, action: Action) {
     match app.mode.clone() {
         Mode::Normal => normal_mouse(app, action),
         Mode::Presets(picker) => picker_mouse(app, action, picker),
+        // The wheel scrolls the warnings view; a click closes it, as a key does.
+        Mode::Warnings { .. } => match action {
+            Action::Scroll { up: true, .. } => apply(app, Action::SelectPrevious),
+            Action::Scroll { up: false, .. } => apply(app, Action::SelectNext),
+            Action::Click { .. } => app.mode = Mode::Normal,
+            _ => {}
+        },
         // A click closes the help, as a key does.
         Mode::Help => {
             if matches!(action, Action::Click { .. }) {
@@ -547,10 +627,7 @@ fn normal_mouse(app: &mut App, action: Action) {
                 Target::Row(row) => {
                     app.selected = row;
                     if double {
-                        app.mode = Mode::Editing {
-                            row: app.selected_row(),
-                            buffer: String::new(),
-                        };
+                        normal(app, Action::EditValue);
                     }
                 }
                 Target::Obstacle(index) => {
@@ -632,18 +709,14 @@ fn focus_panel(app: &mut App, panel: crate::scene::Panel) {
     }
 }
 
-/// A click on the status lines, where the warnings are. Hook for the warnings view: once
-/// `Action::ShowWarnings` is on main, this opens it (`normal(app, Action::ShowWarnings)`);
-/// until then it names the warnings in the message line.
+/// A click on the status lines, where the warnings are: opens the warnings view (as `w`) when
+/// the solution shown has any.
 fn show_warnings(app: &mut App) {
-    let Some(Ok(solution)) = app.solution() else {
-        return;
-    };
-    if solution.warnings.is_empty() {
-        return;
+    if let Some(Ok(solution)) = app.solution()
+        && !solution.warnings.is_empty()
+    {
+        normal(app, Action::ShowWarnings);
     }
-    let codes: Vec<&str> = solution.warnings.iter().map(|w| w.code.name()).collect();
-    app.message = Some(format!("{} warning(s): {}", codes.len(), codes.join(", ")));
 }
 
 fn picker_mouse(app: &mut App, action: Action, mut picker: PresetPicker) {
@@ -681,8 +754,11 @@ fn load_preset(app: &mut App, index: usize) {
                 .join(format!("{}.toml", preset.name))
                 .display()
                 .to_string();
+            // A new scene starts with its own view: nothing of the last one's carries over.
             app.selected = 0;
             app.focus = 0;
+            app.zoom = false;
+            app.diagram = Diagram::Deflection;
             app.load(loaded);
             app.message = Some(format!("loaded {}", preset.name));
         }
@@ -690,22 +766,22 @@ fn load_preset(app: &mut App, index: usize) {
     }
 }
 
-fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
+fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
+    match edit_prompt(&mut prompt, action, PATH_LIMIT) {
+        Some(Typed::Full) => {
+            app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        Some(Typed::Inserted) => {
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        None => {}
+    }
     match action {
-        Action::Type(c) => {
-            if buffer.chars().count() < PATH_LIMIT {
-                buffer.push(c);
-            } else {
-                app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
-            }
-            app.mode = Mode::Save { buffer };
-        }
-        Action::DeleteChar => {
-            buffer.pop();
-            app.mode = Mode::Save { buffer };
-        }
         Action::Confirm => {
-            let path = buffer.trim().to_string();
+            let path = prompt.text.trim().to_string();
             if path.is_empty() {
                 app.mode = Mode::Normal;
                 app.message = Some("not saved: no file name".into());
@@ -722,7 +798,7 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
             app.after_save = None;
             app.message = Some("not saved".into());
         }
-        _ => app.mode = Mode::Save { buffer },
+        _ => app.mode = Mode::Save { prompt },
     }
 }
 

@@ -28,6 +28,7 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     match &app.mode {
         Mode::Help => help(frame, app, theme, area),
         Mode::SceneText => scene_text(frame, app, theme, area),
+        Mode::Warnings { offset } => super::warnings::draw_view(frame, app, theme, area, *offset),
         Mode::Presets(picker) => presets(frame, theme, area, picker),
         _ => {}
     }
