@@ -391,3 +391,37 @@ fn a_drag_of_an_obstacle_deleted_meanwhile_does_nothing() {
     update(&mut app, Action::Release { x: mx - 5, y: my });
     assert_eq!(app.scene, scene);
 }
+
+#[test]
+fn a_click_on_the_warnings_in_the_status_opens_the_warnings_view() {
+    let mut app = app("lesson-mesh", 120, 40);
+    let frame = screen(&app);
+    let (x, y) = find(&frame, "warnings (w: all)").expect("the status counts the warnings");
+    click(&mut app, (x, y));
+    assert!(
+        matches!(app.mode, Mode::Warnings { offset: 0 }),
+        "{:?}",
+        app.mode
+    );
+    // The wheel scrolls it; a click closes it.
+    update(&mut app, Action::Scroll { x, y, up: false });
+    assert!(
+        matches!(app.mode, Mode::Warnings { offset: 1 }),
+        "{:?}",
+        app.mode
+    );
+    update(&mut app, Action::Scroll { x, y, up: true });
+    assert!(
+        matches!(app.mode, Mode::Warnings { offset: 0 }),
+        "{:?}",
+        app.mode
+    );
+    click(&mut app, (x, y));
+    assert_eq!(app.mode, Mode::Normal);
+    // Without warnings the status line opens nothing.
+    let mut app = self::app("benchmark-1", 120, 40);
+    let frame = screen(&app);
+    let (x, y) = find(&frame, "no warnings").unwrap();
+    click(&mut app, (x, y));
+    assert_eq!(app.mode, Mode::Normal);
+}
