@@ -21,8 +21,8 @@ pub enum Mode {
     Normal,
     /// Typing an exact value for a row (pre-filled with the current one).
     Editing { row: Row, prompt: Prompt },
-    /// The help overlay.
-    Help,
+    /// The help, scrolled down by `offset` lines.
+    Help { offset: u16 },
     /// Every warning in full, scrolled down by `offset` lines.
     Warnings { offset: u16 },
     /// The scene as TOML, to copy from the screen (saving in a served session).

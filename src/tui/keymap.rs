@@ -448,8 +448,8 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
     }
     match mode {
         Mode::Normal => Some(normal_action(key).unwrap_or(Action::Unbound(key))),
-        Mode::Help | Mode::SceneText => Some(Action::Cancel),
-        Mode::Warnings { .. } => match key {
+        Mode::SceneText => Some(Action::Cancel),
+        Mode::Help { .. } | Mode::Warnings { .. } => match key {
             Key::Up | Key::Char('k') => Some(Action::SelectPrevious),
             Key::Down | Key::Char('j') => Some(Action::SelectNext),
             _ => Some(Action::Cancel),

@@ -97,7 +97,18 @@ fn apply(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help | Mode::SceneText => {
+        Mode::Help { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Help {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Help {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
+        Mode::SceneText => {
             if action == Action::Cancel {
                 app.mode = Mode::Normal;
             }
@@ -121,7 +132,8 @@ fn apply(app: &mut App, action: Action) {
     }
 }
 
-/// The warnings view scrolls at most this far (drawing stops at the last line anyway).
+/// The warnings view and the help scroll at most this far (drawing stops at the last line
+/// anyway).
 const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
@@ -331,7 +343,7 @@ fn normal(app: &mut App, action: Action) {
         }
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
-        Action::ShowHelp => app.mode = Mode::Help,
+        Action::ShowHelp => app.mode = Mode::Help { offset: 0 },
         Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
         Action::Quit => unless_unsaved(app, Discard::Quit),
         Action::Undo => undo_redo(app, true),
@@ -600,19 +612,13 @@ fn mouse(app: &mut App, action: Action) {
     match app.mode.clone() {
         Mode::Normal => normal_mouse(app, action),
         Mode::Presets(picker) => picker_mouse(app, action, picker),
-        // The wheel scrolls the warnings view; a click closes it, as a key does.
-        Mode::Warnings { .. } => match action {
+        // The wheel scrolls the warnings view and the help; a click closes them, as a key does.
+        Mode::Warnings { .. } | Mode::Help { .. } => match action {
             Action::Scroll { up: true, .. } => apply(app, Action::SelectPrevious),
             Action::Scroll { up: false, .. } => apply(app, Action::SelectNext),
             Action::Click { .. } => app.mode = Mode::Normal,
             _ => {}
         },
-        // A click closes the help, as a key does.
-        Mode::Help => {
-            if matches!(action, Action::Click { .. }) {
-                app.mode = Mode::Normal;
-            }
-        }
         // Prompts and questions are answered with keys; the scene as text is selected with the
         // mouse (no mouse capture then).
         _ => {}

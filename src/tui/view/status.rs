@@ -249,7 +249,10 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             " · ",
             width,
         ),
-        Mode::Help => "any key closes the help".into(),
+        Mode::Help { .. } => format!(
+            "{} scroll · any other key closes the help",
+            up_down(app.look.ascii)
+        ),
         Mode::Warnings { .. } => {
             format!("{} scroll · any other key closes", up_down(app.look.ascii))
         }
