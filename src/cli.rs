@@ -72,6 +72,7 @@ pub fn run(cli: Cli) -> ExitCode {
             cli.scene.as_deref().unwrap_or("benchmark-1"),
             cli.ascii,
             cli.no_color,
+            cli.no_mouse,
         ),
     };
     match result {
@@ -114,7 +115,7 @@ fn colors_wanted(no_color: bool) -> bool {
     !no_color && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> {
+fn explore(name: &str, ascii: bool, no_color: bool, no_mouse: bool) -> Result<ExitCode, String> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(
@@ -128,7 +129,7 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
         ascii,
         color: colors_wanted(no_color),
     };
-    match crate::tui::run(loaded, look)? {
+    match crate::tui::run(loaded, look, !no_mouse)? {
         crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
         // The conventional status of a process ended by a signal.
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
@@ -152,6 +153,7 @@ fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
         max_elements: args.max_elements,
         idle_timeout: (args.idle_timeout > 0)
             .then(|| std::time::Duration::from_secs(args.idle_timeout)),
+        mouse: !args.no_mouse,
         scene: args.scene.clone(),
     };
     crate::serve::run(&options)?;

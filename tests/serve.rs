@@ -785,3 +785,54 @@ fn a_flood_of_input_is_cut_to_the_budget_and_the_session_goes_on() {
         }
     });
 }
+
+/// Where `needle` starts on the client's screen: (column, row), 0-based.
+fn cell_of(screen: &vt100::Screen, needle: &str) -> Option<(u16, u16)> {
+    let (_, width) = screen.size();
+    screen.rows(0, width).enumerate().find_map(|(y, row)| {
+        let at = row.find(needle)?;
+        Some((row[..at].chars().count() as u16, y as u16))
+    })
+}
+
+#[test]
+fn served_sessions_take_the_mouse_unless_the_server_says_no_mouse() {
+    for mouse in [true, false] {
+        let dir = tempfile::tempdir().unwrap();
+        let server = Server::start(&ServeOptions {
+            mouse,
+            ..options(&dir)
+        })
+        .unwrap();
+        runtime().block_on(async {
+            let handle = logged_in(&server).await;
+            let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+            explorer.wait_for("2.15e11").await;
+            let expected = if mouse {
+                vt100::MouseProtocolMode::ButtonMotion
+            } else {
+                vt100::MouseProtocolMode::None
+            };
+            assert_eq!(explorer.screen.screen().mouse_protocol_mode(), expected);
+            // Click the modulus row, then turn the wheel up over it.
+            let (x, y) = cell_of(explorer.screen.screen(), "modulus E").unwrap();
+            let (x, y) = (x + 3, y + 1);
+            explorer
+                .send(format!("\x1b[<0;{x};{y}M\x1b[<0;{x};{y}m\x1b[<64;{x};{y}M").as_bytes())
+                .await;
+            if mouse {
+                // One fine step up: 2.15e11 × 10^0.1.
+                explorer.wait_for("2.71e11").await;
+            } else {
+                // Nothing changed by the time a key after it is answered.
+                explorer.send(b"x").await;
+                explorer.wait_for("no command on 'x'").await;
+                assert!(explorer.text().contains("2.15e11"), "{}", explorer.text());
+            }
+            handle
+                .disconnect(russh::Disconnect::ByApplication, "", "en")
+                .await
+                .unwrap();
+        });
+    }
+}

@@ -55,6 +55,9 @@ pub struct Cli {
     /// No colours (also when the NO_COLOR environment variable is set).
     #[arg(long)]
     pub no_color: bool,
+    /// Leave the mouse to the terminal (no clicks, wheel or drags in the explorer).
+    #[arg(long)]
+    pub no_mouse: bool,
 }
 
 /// The subcommands.
@@ -110,6 +113,9 @@ pub struct ServeArgs {
     /// The scene every session starts with: a preset name or a scene file.
     #[arg(long, default_value = "benchmark-1")]
     pub scene: String,
+    /// Sessions leave the mouse to the student's terminal (no clicks, wheel or drags).
+    #[arg(long)]
+    pub no_mouse: bool,
 }
 
 /// `beamfric sweep …`.

@@ -36,6 +36,8 @@ pub struct ExplorerSettings {
     pub scene: LoadedScene,
     pub max_elements: usize,
     pub idle_timeout: Option<Duration>,
+    /// Ask the client's terminal for mouse reports.
+    pub mouse: bool,
 }
 
 /// The client's terminal as its pty request described it.
@@ -111,6 +113,7 @@ pub(crate) fn start(
     // Nothing is written on the server: `s` shows the scene's TOML to copy.
     app.save_policy = SavePolicy::ShowText;
     app.max_elements = Some(settings.max_elements);
+    app.mouse = settings.mouse;
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.
     let mut after_frame: Option<AfterFrame> = None;

@@ -59,6 +59,8 @@ pub struct ServeOptions {
     pub idle_timeout: Option<Duration>,
     /// The scene every session starts with (a preset name or the lecturer's file).
     pub scene: String,
+    /// Sessions ask the client's terminal for mouse reports (`--no-mouse`: they do not).
+    pub mouse: bool,
 }
 
 impl Default for ServeOptions {
@@ -74,6 +76,7 @@ impl Default for ServeOptions {
             max_elements: DEFAULT_MAX_ELEMENTS,
             idle_timeout: Some(DEFAULT_IDLE_TIMEOUT),
             scene: "benchmark-1".into(),
+            mouse: true,
         }
     }
 }
@@ -174,6 +177,7 @@ impl Server {
                 scene,
                 max_elements: options.max_elements,
                 idle_timeout: options.idle_timeout,
+                mouse: options.mouse,
             },
             slots: SessionSlots::new(options.max_sessions),
             connections: AtomicUsize::new(0),

@@ -26,6 +26,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, Shown};
 use super::input::{Decoder, ESC_TIMEOUT, Input};
 use super::keymap::{Action, action_for, paste_actions};
+use super::mouse::{ClickTracker, MOUSE_OFF, MOUSE_ON};
 use super::solver::SolveWorker;
 use super::studies::{StudyResult, Worker};
 use super::terminal::{SIGNALS, Session};
@@ -102,13 +103,49 @@ pub fn run(mut app: App) -> Result<Ending, String> {
 }
 
 /// Runs the explorer on `screen` with events from `events` (whose sender the workers also
-/// use) until it quits, the input hangs up, or it was idle for too long.
+/// use) until it quits, the input hangs up, or it was idle for too long. Mouse reporting is
+/// switched on while the app wants it, and off again when the loop ends.
 pub fn event_loop<S: Screen>(
     screen: &mut S,
     app: &mut App,
     sender: &Sender<Event>,
     events: &Receiver<Event>,
+    options: LoopOptions,
+) -> io::Result<Ending> {
+    let mut mouse_on = false;
+    let ending = run_loop(screen, app, sender, events, options, &mut mouse_on);
+    if mouse_on {
+        // Best effort: the terminal may be gone.
+        let out = screen.terminal().backend_mut();
+        let _ = out
+            .write_all(MOUSE_OFF.as_bytes())
+            .and_then(|()| out.flush());
+    }
+    ending
+}
+
+/// Asks the terminal for mouse reports, or tells it to stop, when the app's wish changed
+/// (written before the next frame, which flushes it).
+fn sync_mouse<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result<()> {
+    let wanted = app.wants_mouse();
+    if wanted != *mouse_on {
+        let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
+        screen
+            .terminal()
+            .backend_mut()
+            .write_all(sequence.as_bytes())?;
+        *mouse_on = wanted;
+    }
+    Ok(())
+}
+
+fn run_loop<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    sender: &Sender<Event>,
+    events: &Receiver<Event>,
     mut options: LoopOptions,
+    mouse_on: &mut bool,
 ) -> io::Result<Ending> {
     let injected = std::mem::take(&mut options.inject_panic);
     let injected = injected.as_str();
@@ -123,6 +160,7 @@ pub fn event_loop<S: Screen>(
         let _ = studied.send(Event::Study(result));
     });
     let mut decoder = Decoder::default();
+    let mut clicks = ClickTracker::default();
     let mut last_input = Instant::now();
     loop {
         if let Some(request) = app.pending_solve().cloned() {
@@ -134,10 +172,11 @@ pub fn event_loop<S: Screen>(
         studies.request(app.pending_studies());
         // Something happened (or this is the first frame): draw. A terminal that cannot be
         // written to any more has gone away.
-        if screen
-            .terminal()
-            .draw(|frame| view::draw(frame, app))
-            .is_err()
+        if sync_mouse(screen, app, mouse_on).is_err()
+            || screen
+                .terminal()
+                .draw(|frame| view::draw(frame, app))
+                .is_err()
         {
             return Ok(Ending::Hangup);
         }
@@ -180,7 +219,7 @@ pub fn event_loop<S: Screen>(
         };
         if first.is_none() {
             for input in decoder.flush() {
-                apply_input(app, input);
+                apply_input(app, input, &mut clicks);
             }
         }
         // This event and every one already queued, then one frame.
@@ -192,7 +231,7 @@ pub fn event_loop<S: Screen>(
                 Event::Bytes(bytes) => {
                     last_input = Instant::now();
                     for input in decoder.feed(&bytes) {
-                        apply_input(app, input);
+                        apply_input(app, input, &mut clicks);
                     }
                 }
                 Event::Resize(width, height) => {
@@ -207,7 +246,11 @@ pub fn event_loop<S: Screen>(
                             update::update(app, Action::Resize(w, h));
                         }
                     }
-                    signal_hook::consts::SIGTSTP => suspend(screen, app)?,
+                    signal_hook::consts::SIGTSTP => {
+                        suspend(screen, app)?;
+                        // The terminal was given back: ask for the mouse again.
+                        *mouse_on = false;
+                    }
                     signal_hook::consts::SIGCONT => screen.redraw_all()?,
                     other => return Ok(Ending::Signal(other)),
                 },
@@ -233,12 +276,13 @@ pub fn event_loop<S: Screen>(
             if app.suspend_requested {
                 app.suspend_requested = false;
                 suspend(screen, app)?;
+                *mouse_on = false;
             }
         }
     }
 }
 
-fn apply_input(app: &mut App, input: Input) {
+fn apply_input(app: &mut App, input: Input, clicks: &mut ClickTracker) {
     match input {
         Input::Key(key) => {
             if super::follow::intercept(app, key) {
@@ -253,7 +297,14 @@ fn apply_input(app: &mut App, input: Input) {
                 update::update(app, action);
             }
         }
-        Input::Mouse(..) => {}
+        // Without mouse capture (`--no-mouse`) the mouse means nothing, even if a client sends
+        // its sequences.
+        Input::Mouse(x, y, what) => {
+            if app.mouse {
+                let action = super::mouse::action(x, y, what, clicks, Instant::now());
+                update::update(app, action);
+            }
+        }
         Input::Hangup => app.quit = true,
     }
 }

@@ -21,6 +21,10 @@ pub enum Key {
     Tab,
     BackTab,
     Backspace,
+    Home,
+    End,
+    PageUp,
+    PageDown,
     /// A printable character.
     Char(char),
     /// A letter with Ctrl held: never the plain letter.
@@ -34,6 +38,39 @@ pub enum Action {
     SelectPrevious,
     /// Next parameter row, or next entry of a list.
     SelectNext,
+    /// The first row or entry (`g`, Home).
+    SelectFirst,
+    /// The last row or entry (`G`, End).
+    SelectLast,
+    /// A page up (PgUp).
+    PageUp,
+    /// A page down (PgDn).
+    PageDown,
+    /// The focused panel fills the screen, or back.
+    ToggleZoom,
+    /// A mouse button pressed at column `x`, row `y` (0-based); `double` when it is the second
+    /// press at that cell within [`super::mouse::DOUBLE_CLICK`].
+    Click {
+        x: u16,
+        y: u16,
+        double: bool,
+    },
+    /// The mouse moved to `x`, `y` with a button held.
+    Drag {
+        x: u16,
+        y: u16,
+    },
+    /// The mouse button was let go at `x`, `y`.
+    Release {
+        x: u16,
+        y: u16,
+    },
+    /// The wheel turned over `x`, `y`: `up` away from the user.
+    Scroll {
+        x: u16,
+        y: u16,
+        up: bool,
+    },
     /// Change the selected value one step down; `coarse` for a coarse step.
     Decrease {
         coarse: bool,
@@ -152,6 +189,26 @@ pub const NORMAL: &[Binding] = &[
     },
     Binding {
         keys: &[
+            (Key::Char('g'), Action::SelectFirst),
+            (Key::Char('G'), Action::SelectLast),
+            (Key::Home, Action::SelectFirst),
+            (Key::End, Action::SelectLast),
+        ],
+        aliases: &[],
+        help: "first / last parameter (Home End in lists too)",
+        hint: None,
+    },
+    Binding {
+        keys: &[
+            (Key::PageUp, Action::PageUp),
+            (Key::PageDown, Action::PageDown),
+        ],
+        aliases: &[],
+        help: "a page up / down (in lists too)",
+        hint: None,
+    },
+    Binding {
+        keys: &[
             (Key::Left, Action::Decrease { coarse: FINE }),
             (Key::Right, Action::Increase { coarse: FINE }),
             (Key::Char('h'), Action::Decrease { coarse: FINE }),
@@ -247,6 +304,13 @@ pub const NORMAL: &[Binding] = &[
         }),
     },
     bind!(
+        Key::Char('z'),
+        Action::ToggleZoom,
+        "zoom the focused panel, or back (or double-click it)",
+        "zoom",
+        17,
+    ),
+    bind!(
         Key::Char('t'),
         Action::ToggleTimings,
         "show or hide run times",
@@ -304,6 +368,10 @@ impl Key {
             Key::Tab => "Tab",
             Key::BackTab => "BackTab",
             Key::Backspace => "Backspace",
+            Key::Home => "Home",
+            Key::End => "End",
+            Key::PageUp => "PgUp",
+            Key::PageDown => "PgDn",
             Key::Char(' ') => "Space",
             Key::Char(_) | Key::Ctrl(_) => return None,
         })
@@ -336,11 +404,11 @@ impl Key {
 }
 
 /// Parses the key names of `--keys`: space-separated `Up`, `Down`, `Left`, `Right`, `S-Left`,
-/// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Space`, `C-x` (Ctrl and a
-/// letter), single characters, and any other word as the characters typed (e.g. a value after
-/// `Enter`).
+/// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Home`, `End`, `PgUp`, `PgDn`,
+/// `Space`, `C-x` (Ctrl and a letter), single characters, and any other word as the characters
+/// typed (e.g. a value after `Enter`).
 pub fn parse_keys(text: &str) -> Vec<Key> {
-    const NAMED: [Key; 12] = [
+    const NAMED: [Key; 16] = [
         Key::Up,
         Key::Down,
         Key::Left,
@@ -352,6 +420,10 @@ pub fn parse_keys(text: &str) -> Vec<Key> {
         Key::Tab,
         Key::BackTab,
         Key::Backspace,
+        Key::Home,
+        Key::End,
+        Key::PageUp,
+        Key::PageDown,
         Key::Char(' '),
     ];
     let mut keys = Vec::new();
@@ -387,18 +459,25 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
             Key::Backspace => Some(Action::DeleteChar),
             Key::Left => Some(Action::CursorLeft),
             Key::Right => Some(Action::CursorRight),
-            Key::Ctrl('a') => Some(Action::CursorHome),
-            Key::Ctrl('e') => Some(Action::CursorEnd),
+            Key::Ctrl('a') | Key::Home => Some(Action::CursorHome),
+            Key::Ctrl('e') | Key::End => Some(Action::CursorEnd),
             Key::Ctrl('u') => Some(Action::EraseToStart),
             Key::Enter => Some(Action::Confirm),
             Key::Esc => Some(Action::Cancel),
             _ => None,
         },
-        Mode::Presets { .. } => match key {
-            Key::Up | Key::Char('k') => Some(Action::SelectPrevious),
-            Key::Down | Key::Char('j') => Some(Action::SelectNext),
+        // Typing searches, so only keys that are not text move through the list.
+        Mode::Presets(_) => match key {
+            Key::Up => Some(Action::SelectPrevious),
+            Key::Down => Some(Action::SelectNext),
+            Key::Home => Some(Action::SelectFirst),
+            Key::End => Some(Action::SelectLast),
+            Key::PageUp => Some(Action::PageUp),
+            Key::PageDown => Some(Action::PageDown),
+            Key::Char(c) => Some(Action::Type(c)),
+            Key::Backspace => Some(Action::DeleteChar),
             Key::Enter => Some(Action::Confirm),
-            Key::Esc | Key::Char('q') => Some(Action::Cancel),
+            Key::Esc => Some(Action::Cancel),
             _ => None,
         },
         Mode::ConfirmOverwrite { .. } => match key {
@@ -417,7 +496,7 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
 /// (a pasted newline does not submit it), or, anywhere else, nothing but a note.
 pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
     match mode {
-        Mode::Editing { .. } | Mode::Save { .. } => text
+        Mode::Editing { .. } | Mode::Save { .. } | Mode::Presets(_) => text
             .chars()
             .filter(|c| !c.is_control())
             .map(Action::Type)
@@ -537,7 +616,7 @@ mod tests {
     #[test]
     fn key_names_parse() {
         assert_eq!(
-            parse_keys("Down S-Right Enter 5e4 Enter q C-d"),
+            parse_keys("Down S-Right Enter 5e4 Enter q C-d Home End PgUp PgDn"),
             vec![
                 Key::Down,
                 Key::ShiftRight,
@@ -548,6 +627,10 @@ mod tests {
                 Key::Enter,
                 Key::Char('q'),
                 Key::Ctrl('d'),
+                Key::Home,
+                Key::End,
+                Key::PageUp,
+                Key::PageDown,
             ]
         );
         // Ctrl and a letter is never the letter.
@@ -595,13 +678,15 @@ mod tests {
     fn the_help_lists_every_binding_as_before() {
         let lines = help_lines(false);
         assert_eq!(lines[0].0, "↑ ↓  k j");
-        assert_eq!(lines[2].0, "Shift+← →  [ ]");
+        assert_eq!(lines[1].0, "g G  Home  End");
+        assert_eq!(lines[2].0, "PgUp  PgDn");
+        assert_eq!(lines[4].0, "Shift+← →  [ ]");
         assert_eq!(lines.last().unwrap().0, "q  Ctrl-C");
         assert_eq!(help_lines(true)[0].0, "Up Down  k j");
         assert_eq!(
             hint_line(false),
             "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
-             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time"
+             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom"
         );
     }
 

@@ -10,7 +10,9 @@ mod event_loop;
 pub mod follow;
 pub mod input;
 pub mod keymap;
+pub mod mouse;
 pub mod params;
+pub mod picker;
 pub mod prompt;
 pub mod remote;
 pub mod solver;
@@ -46,9 +48,10 @@ pub enum Ending {
 
 /// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal
 /// hangs up. The terminal is restored on return, on a panic, on SIGINT, SIGTERM and SIGHUP,
-/// and around a suspension.
-pub fn run(loaded: LoadedScene, look: Look) -> Result<Ending, String> {
-    let app = App::new(loaded, look, true)?;
+/// and around a suspension. `mouse`: ask the terminal for mouse reports (clicks, wheel, drags).
+pub fn run(loaded: LoadedScene, look: Look, mouse: bool) -> Result<Ending, String> {
+    let mut app = App::new(loaded, look, true)?;
+    app.mouse = mouse;
     event_loop::run(app)
 }
 

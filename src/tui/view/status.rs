@@ -238,9 +238,16 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                 width,
             )
         }
-        Mode::Presets { .. } => format!(
-            "{} choose a preset, Enter loads it, Esc cancels",
-            up_down(app.look.ascii)
+        Mode::Presets(_) => fit_items(
+            &[
+                Item::new(0, "type to search"),
+                Item::new(0, format!("{} choose", up_down(app.look.ascii))),
+                Item::new(1, "PgUp PgDn Home End"),
+                Item::new(0, "Enter loads"),
+                Item::new(0, "Esc cancels"),
+            ],
+            " · ",
+            width,
         ),
         Mode::Help { .. } => format!(
             "{} scroll · any other key closes the help",
