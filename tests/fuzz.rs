@@ -10,7 +10,7 @@ use beamfric::fem::Mesh;
 use beamfric::plot::Look;
 use beamfric::scene::{LoadedScene, PRESETS, Scene, SceneSource};
 use beamfric::solve::{Method, SolveOptions, WarningCode, solve};
-use beamfric::tui::app::{App, Mode};
+use beamfric::tui::app::{App, Mode, SavePolicy};
 use beamfric::tui::draw_to_buffer;
 use beamfric::tui::keymap::{Action, Key};
 use beamfric::tui::update::update;
@@ -134,6 +134,9 @@ fn fresh(name: &str, dir: &Path) -> App {
     let mut app = App::new(loaded, look, false).unwrap();
     app.settle();
     app.set_save_directory(dir.to_path_buf());
+    // Whatever the keys do to the file name (cursor moves, Ctrl-U, pastes), a save lands in
+    // the temporary directory or nowhere: a fuzz run once saved scenes into the repository.
+    app.save_policy = SavePolicy::Within(dir.to_path_buf());
     app
 }
 
