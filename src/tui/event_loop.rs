@@ -82,19 +82,32 @@ pub struct LoopOptions {
     /// `main` or `worker`: panic there after the first frame (tests of the local terminal).
     pub inject_panic: String,
     pub after_frame: Option<AfterFrame>,
+    /// The session's turn on cores shared with other explorers (served sessions).
+    pub cores: Option<super::cores::Share>,
+    /// On return, wait until the workers have ended (a served session: its memory is given
+    /// back before its slot); the local explorer never waits for them.
+    pub wait_for_workers: bool,
 }
 
 /// Runs the explorer in the local terminal until it quits, a signal ends it, or the terminal
-/// hangs up.
-pub fn run(mut app: App) -> Result<Ending, String> {
+/// hangs up. `attach` is given a feed into the loop (for events from elsewhere: the hub of a
+/// server running in the same process, `beamfric present`) and returns what to call after
+/// every frame.
+pub fn run(
+    mut app: App,
+    attach: impl FnOnce(super::remote::Feed) -> Option<AfterFrame>,
+) -> Result<Ending, String> {
     let (sender, events) = channel::<Event>();
     start_signal_thread(sender.clone()).map_err(|e| format!("cannot handle signals: {e}"))?;
+    let after_frame = attach(super::remote::Feed::new(sender.clone()));
     let mut session = Session::start().map_err(|e| format!("cannot open the terminal: {e}"))?;
     start_input_thread(sender.clone()).map_err(|e| format!("cannot read the terminal: {e}"))?;
     let options = LoopOptions {
         idle_timeout: None,
         inject_panic: std::env::var(INJECT_PANIC).unwrap_or_default(),
-        after_frame: None,
+        after_frame,
+        cores: None,
+        wait_for_workers: false,
     };
     let result = event_loop(&mut session, &mut app, &sender, &events, options);
     drop(session);
@@ -111,17 +124,43 @@ pub fn event_loop<S: Screen>(
     mut options: LoopOptions,
 ) -> io::Result<Ending> {
     let injected = std::mem::take(&mut options.inject_panic);
-    let injected = injected.as_str();
     let (width, height) = screen.size()?;
     update::update(app, Action::Resize(width, height));
     let solved = sender.clone();
-    let mut solver = SolveWorker::start(move |result| {
+    let mut solver = SolveWorker::start_sharing(options.cores.clone(), move |result| {
         let _ = solved.send(Event::Solved(Box::new(result)));
     });
     let studied = sender.clone();
-    let mut studies = Worker::start(injected == "worker", move |result| {
-        let _ = studied.send(Event::Study(result));
-    });
+    let mut studies =
+        Worker::start_sharing(injected == "worker", options.cores.clone(), move |result| {
+            let _ = studied.send(Event::Study(result));
+        });
+    let ending = run_loop(
+        screen,
+        app,
+        events,
+        &mut options,
+        &injected,
+        &mut solver,
+        &mut studies,
+    );
+    if options.wait_for_workers {
+        solver.stop_and_wait();
+        studies.stop_and_wait();
+    }
+    ending
+}
+
+/// The loop itself, with its workers.
+fn run_loop<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    events: &Receiver<Event>,
+    options: &mut LoopOptions,
+    injected: &str,
+    solver: &mut SolveWorker,
+    studies: &mut Worker,
+) -> io::Result<Ending> {
     let mut decoder = Decoder::default();
     let mut last_input = Instant::now();
     loop {

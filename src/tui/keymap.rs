@@ -80,6 +80,10 @@ pub enum Action {
     PasteIgnored,
     /// The terminal changed size.
     Resize(u16, u16),
+    /// Follow mode: leave the presenter, exploring on from the current state.
+    Fork,
+    /// Follow mode: follow the presenter again.
+    Rejoin,
 }
 
 /// One line of the help: keys and what each does, the words, and the key hint if any.
@@ -270,6 +274,25 @@ pub const NORMAL: &[Binding] = &[
     },
 ];
 
+/// The keys of a served session that follows a presenter (`tui::follow` takes them before
+/// [`NORMAL`]); its help and hint line list them after and among those of [`NORMAL`].
+pub const FOLLOW: &[Binding] = &[
+    bind!(
+        Key::Char('f'),
+        Action::Fork,
+        "fork: explore on your own from the presenter's state",
+        "fork",
+        1,
+    ),
+    bind!(
+        Key::Char('F'),
+        Action::Rejoin,
+        "follow the presenter again",
+        "rejoin",
+        1,
+    ),
+];
+
 impl Key {
     /// The name of a key in `render --keys` and in the help, or `None` for a plain character.
     fn name(self) -> Option<&'static str> {
@@ -445,8 +468,14 @@ fn help_label(keys: &[Key], ascii: bool) -> String {
 
 /// The help's lines: (keys, what they do), from [`NORMAL`].
 pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
+    help_lines_with(ascii, &[])
+}
+
+/// The help's lines of [`NORMAL`] and then of `extra` (e.g. [`FOLLOW`]).
+pub fn help_lines_with(ascii: bool, extra: &[Binding]) -> Vec<(String, &'static str)> {
     NORMAL
         .iter()
+        .chain(extra)
         .map(|b| {
             let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();
             (help_label(&keys, ascii), b.help)
@@ -457,7 +486,16 @@ pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {
-    let mut hints: Vec<&Hint> = NORMAL.iter().filter_map(|b| b.hint.as_ref()).collect();
+    hint_line_with(ascii, &[])
+}
+
+/// The hint line of [`NORMAL`] and `extra` (e.g. [`FOLLOW`]) together, in the hints' order.
+pub fn hint_line_with(ascii: bool, extra: &[Binding]) -> String {
+    let mut hints: Vec<&Hint> = NORMAL
+        .iter()
+        .chain(extra)
+        .filter_map(|b| b.hint.as_ref())
+        .collect();
     hints.sort_by_key(|h| h.order);
     hints
         .iter()
@@ -520,6 +558,26 @@ mod tests {
             // The hint line names no key the table lacks: in ASCII no arrow glyphs at all.
             if ascii {
                 assert!(hint_line(true).is_ascii(), "{}", hint_line(true));
+            }
+        }
+    }
+
+    #[test]
+    fn the_follow_keys_are_listed_only_where_asked_and_bound_nowhere_else() {
+        assert!(!hint_line(false).contains("fork"));
+        assert!(
+            hint_line_with(false, FOLLOW).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
+            "{}",
+            hint_line_with(false, FOLLOW)
+        );
+        let help = help_lines_with(true, FOLLOW);
+        assert_eq!(help.len(), NORMAL.len() + 2);
+        assert_eq!(help[NORMAL.len()].0, "f");
+        assert_eq!(help[NORMAL.len() + 1].0, "F");
+        // f and F mean nothing in normal mode itself: follow mode takes them first.
+        for binding in FOLLOW {
+            for (key, _) in binding.keys {
+                assert_eq!(normal_action(*key), None, "{key:?}");
             }
         }
     }

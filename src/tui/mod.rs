@@ -6,6 +6,7 @@
 //! and headless rendering ([`render`]).
 
 pub mod app;
+pub mod cores;
 mod event_loop;
 pub mod follow;
 pub mod input;
@@ -48,7 +49,17 @@ pub enum Ending {
 /// and around a suspension.
 pub fn run(loaded: LoadedScene, look: Look) -> Result<Ending, String> {
     let app = App::new(loaded, look, true)?;
-    event_loop::run(app)
+    event_loop::run(app, |_| None)
+}
+
+/// Runs `app` in the terminal as [`run`] does; `attach` is given a feed into its loop (for
+/// events from elsewhere, e.g. a server's follow hub) and returns what to call after every
+/// frame (`beamfric present`: publish the state to the students).
+pub fn run_attached(
+    app: App,
+    attach: impl FnOnce(remote::Feed) -> Option<remote::AfterFrame>,
+) -> Result<Ending, String> {
+    event_loop::run(app, attach)
 }
 
 /// What a headless render needs besides the scene.

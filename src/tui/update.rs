@@ -43,6 +43,14 @@ pub fn update(app: &mut App, action: Action) {
             app.suspend_requested = true;
             return;
         }
+        Action::Fork => {
+            super::follow::fork(app);
+            return;
+        }
+        Action::Rejoin => {
+            super::follow::rejoin(app);
+            return;
+        }
         Action::PasteIgnored => {
             app.message =
                 Some("a paste is typed only into a prompt (Enter opens one); ignored".into());
@@ -256,7 +264,12 @@ fn normal(app: &mut App, action: Action) {
         | Action::DeleteChar
         | Action::Confirm
         | Action::Cancel => {}
-        Action::Interrupt | Action::Resize(..) | Action::Suspend | Action::PasteIgnored => {
+        Action::Interrupt
+        | Action::Resize(..)
+        | Action::Suspend
+        | Action::PasteIgnored
+        | Action::Fork
+        | Action::Rejoin => {
             unreachable!("handled before the mode")
         }
     }
@@ -507,7 +520,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             Some(target) => target,
             None => {
                 app.message = Some(format!(
-                    "not saved: {path} is outside {}, the directory --allow-save names",
+                    "not saved: {path} is outside {}, the only directory saves may go to",
                     dir.display()
                 ));
                 return;

@@ -15,7 +15,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
 use super::app::{App, Discard, Mode};
-use super::keymap::hint_line;
+use super::keymap::hint_line_with;
 use crate::format::{duration, sci};
 use crate::plot::{Theme, transliterate};
 use crate::scene::Panel;
@@ -351,7 +351,7 @@ fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         Mode::Presets { .. } => "↑↓ choose a preset, Enter loads it, Esc cancels".into(),
         Mode::Help => "any key closes the help".into(),
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
-        Mode::Normal => hint_line(app.look.ascii),
+        Mode::Normal => hint_line_with(app.look.ascii, super::follow::keys(app)),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }

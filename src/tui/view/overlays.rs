@@ -9,7 +9,7 @@ use ratatui::widgets::{Clear, Paragraph, Wrap};
 use crate::plot::Theme;
 use crate::scene::{PRESETS, Scene};
 use crate::tui::app::{App, Mode};
-use crate::tui::keymap::help_lines;
+use crate::tui::keymap::help_lines_with;
 
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
     let [row] = Layout::vertical([Constraint::Length(height.min(area.height))])
@@ -50,7 +50,7 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
 }
 
 fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let mut lines: Vec<Line> = help_lines(app.look.ascii)
+    let mut lines: Vec<Line> = help_lines_with(app.look.ascii, crate::tui::follow::keys(app))
         .iter()
         .map(|(keys, what)| Line::from(format!("{keys:>16}  {what}")))
         .collect();
