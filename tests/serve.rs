@@ -612,16 +612,23 @@ fn an_absurd_window_size_is_clamped_and_the_session_goes_on() {
 fn benchmark_forty_sessions_pressing_a_key_every_200_ms() {
     const SESSIONS: usize = 40;
     const KEYS: usize = 40;
-    for heavy in [false, true] {
+    // 0: all at Benchmark 1; 1: one student steps the mesh around n = 1e5 (one panel: a solve
+    // per key); 2: the same with every panel on screen (a solve and both studies per key).
+    for heavy in [0, 1, 2] {
         let test = open_server();
         let before = resident_kib();
         let (mut first, mut last, during) = runtime().block_on(async {
             let mut tasks = Vec::new();
             for index in 0..SESSIONS {
                 let handle = logged_in(&test.server).await;
-                let heavy_one = heavy && index == 0;
+                let heavy_one = heavy > 0 && index == 0;
+                let size = if heavy == 2 && heavy_one {
+                    (130, 42)
+                } else {
+                    (100, 30)
+                };
                 tasks.push(tokio::spawn(async move {
-                    let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+                    let mut explorer = Explorer::open(&handle, size, &[]).await;
                     explorer.wait_for("Parameters").await;
                     if heavy_one {
                         explorer.send(&b"j".repeat(30)).await;
@@ -682,10 +689,10 @@ fn benchmark_forty_sessions_pressing_a_key_every_200_ms() {
             (first, last, during)
         });
         let missed = first.iter().filter(|d| **d == Duration::MAX).count();
-        let label = if heavy {
-            "with one student at n = 1e5"
-        } else {
-            "all at n = 20"
+        let label = match heavy {
+            0 => "all at n = 20",
+            1 => "with one student at n = 1e5",
+            _ => "with one student at n = 1e5 with every panel (studies)",
         };
         println!(
             "{SESSIONS} sessions, {label}: key to first frame p50 {:?} p99 {:?}; to last frame \
@@ -700,6 +707,10 @@ fn benchmark_forty_sessions_pressing_a_key_every_200_ms() {
             before,
             during,
             during.saturating_sub(before) / SESSIONS as u64,
+        );
+        println!(
+            "  at most {} solves and studies ran at once",
+            test.server.peak_parallel_work()
         );
         assert_eq!(missed, 0, "keys without a frame");
     }
@@ -912,7 +923,7 @@ fn the_work_of_all_sessions_never_runs_on_more_than_the_machines_cores() {
                     tokio::time::sleep(Duration::from_millis(20)).await;
                 }
                 explorer.wait_for("cond2 of the cases").await;
-                handle
+                (handle, explorer)
             }));
         }
         for task in tasks {
@@ -1303,4 +1314,34 @@ fn present_the_lecturers_own_explorer_leads_and_quitting_it_stops_the_server() {
     );
     // The port is free again: the server is gone.
     assert!(std::net::TcpStream::connect(address).is_err());
+}
+
+#[test]
+fn an_open_server_warns_and_prints_its_address_and_host_key_fingerprint() {
+    let dir = tempfile::tempdir().unwrap();
+    let host_key = dir.path().join("keys").join("host_key");
+    let mut serve = ServeProcess::start(&[
+        "serve",
+        "--open",
+        "--listen",
+        "127.0.0.1:0",
+        "--host-key",
+        host_key.to_str().unwrap(),
+    ]);
+    let warning = serve.wait_for_line("warning: --open");
+    assert!(warning.contains("anyone"), "{warning}");
+    serve.wait_for_line("created the host key");
+    let listening = serve.wait_for_line("listening on 127.0.0.1:");
+    // The fingerprint printed is the one of the key stored (mode 0600).
+    let text = std::fs::read_to_string(&host_key).unwrap();
+    let key = PrivateKey::from_openssh(text).unwrap();
+    let fingerprint = key.public_key().fingerprint(Default::default()).to_string();
+    assert!(
+        listening.contains(&fingerprint),
+        "{listening} lacks {fingerprint}"
+    );
+    assert!(listening.contains(&format!("ssh -p {}", port_in(&listening))));
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&host_key).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o600);
 }

@@ -61,11 +61,11 @@ impl Queue {
 
     /// `ticket` gets its permit.
     fn grant(&mut self, ticket: u64) {
-        if let Some(at) = self.waiting.iter().position(|(t, _)| *t == ticket) {
-            if let Some((_, session)) = self.waiting.remove(at) {
-                self.running.push(session);
-                self.peak = self.peak.max(self.running.len());
-            }
+        if let Some(at) = self.waiting.iter().position(|(t, _)| *t == ticket)
+            && let Some((_, session)) = self.waiting.remove(at)
+        {
+            self.running.push(session);
+            self.peak = self.peak.max(self.running.len());
         }
     }
 

@@ -299,10 +299,10 @@ mod tests {
 
     /// A key as the event loop applies it.
     fn press(app: &mut App, key: Key) {
-        if !intercept(app, key) {
-            if let Some(action) = action_for(&app.mode, key) {
-                super::super::update::update(app, action);
-            }
+        if !intercept(app, key)
+            && let Some(action) = action_for(&app.mode, key)
+        {
+            super::super::update::update(app, action);
         }
     }
 
