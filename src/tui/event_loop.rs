@@ -33,6 +33,8 @@ use super::{Ending, INJECT_PANIC, update, view};
 
 /// How often the frame is redrawn while work is in flight (for the elapsed time).
 const TICK: Duration = Duration::from_millis(250);
+/// Longest a served session waits for its cancelled workers to end before it lets them go.
+const WORKER_GRACE: Duration = Duration::from_millis(500);
 /// Most events applied before a frame is drawn (a paste of any size still shows progress).
 const EVENTS_PER_FRAME: usize = 4096;
 
@@ -85,7 +87,7 @@ pub struct LoopOptions {
     /// The session's turn on cores shared with other explorers (served sessions).
     pub cores: Option<super::cores::Share>,
     /// On return, wait until the workers have ended (a served session: its memory is given
-    /// back before its slot); the local explorer never waits for them.
+    /// back before its slot), at most [`WORKER_GRACE`]; the local explorer never waits.
     pub wait_for_workers: bool,
 }
 
@@ -145,8 +147,13 @@ pub fn event_loop<S: Screen>(
         &mut studies,
     );
     if options.wait_for_workers {
-        solver.stop_and_wait();
-        studies.stop_and_wait();
+        // Cancelled, they end at their next check; a step that cannot be cancelled (a dense
+        // inverse) is not waited for beyond WORKER_GRACE: it holds its core until it ends.
+        let threads = [solver.stop(), studies.stop()];
+        let deadline = Instant::now() + WORKER_GRACE;
+        while threads.iter().flatten().any(|t| !t.is_finished()) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(2));
+        }
     }
     ending
 }

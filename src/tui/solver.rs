@@ -123,14 +123,12 @@ impl SolveWorker {
         }
     }
 
-    /// Stops the worker (a solve in progress is cancelled) and waits until its thread has
-    /// ended, so that its memory is given back (a served session that ends).
-    pub fn stop_and_wait(mut self) {
+    /// Stops the worker (a solve in progress is cancelled inside its loops) and returns its
+    /// thread, to see when it has ended (a served session that ends).
+    pub fn stop(mut self) -> Option<JoinHandle<()>> {
         let thread = self.thread.take();
         drop(self);
-        if let Some(thread) = thread {
-            let _ = thread.join();
-        }
+        thread
     }
 
     /// Asks for `request` unless it was the last one asked for; replaces a request the worker

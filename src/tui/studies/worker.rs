@@ -108,14 +108,12 @@ impl Worker {
         }
     }
 
-    /// Stops the worker (a study in progress is cancelled) and waits until its thread has
-    /// ended, so that its memory is given back (a served session that ends).
-    pub fn stop_and_wait(mut self) {
+    /// Stops the worker (a study in progress is cancelled inside its loops) and returns its
+    /// thread, to see when it has ended (a served session that ends).
+    pub fn stop(mut self) -> Option<JoinHandle<()>> {
         let thread = self.thread.take();
         drop(self);
-        if let Some(thread) = thread {
-            let _ = thread.join();
-        }
+        thread
     }
 
     /// Sends the requests not sent yet; each cancels the outdated work of its study, and a
