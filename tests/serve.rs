@@ -139,6 +139,11 @@ impl Explorer {
         let deadline = Instant::now() + PATIENCE;
         while !self.text().contains(needle) {
             assert!(
+                Instant::now() < deadline,
+                "{needle:?} never shown; screen:\n{}",
+                self.text()
+            );
+            assert!(
                 self.read_once(deadline).await,
                 "the channel ended before {needle:?} was shown; screen:\n{}",
                 self.text()
@@ -149,7 +154,13 @@ impl Explorer {
     /// Reads until the channel closes.
     async fn wait_for_close(&mut self) {
         let deadline = Instant::now() + PATIENCE;
-        while self.read_once(deadline).await {}
+        while self.read_once(deadline).await {
+            assert!(
+                Instant::now() < deadline,
+                "the channel never closed; screen:\n{}",
+                self.text()
+            );
+        }
     }
 
     /// One message; false once the channel is closed.
@@ -158,9 +169,10 @@ impl Explorer {
             return false;
         }
         let left = deadline.saturating_duration_since(Instant::now());
-        let message = tokio::time::timeout(left, self.channel.wait())
-            .await
-            .unwrap_or_else(|_| panic!("nothing for {PATIENCE:?}; screen:\n{}", self.text()));
+        let Ok(message) = tokio::time::timeout(left, self.channel.wait()).await else {
+            // The caller says what it waited for.
+            return true;
+        };
         match message {
             Some(ChannelMsg::Data { data }) => {
                 self.raw.extend_from_slice(&data);
@@ -763,7 +775,12 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         // The follow keys are in a student's hint line and help, not in the presenter's.
         follower.wait_for("f:fork F:rejoin").await;
         assert!(!presenter.text().contains("f:fork"), "{}", presenter.text());
-        // (The help overlay's follow keys are checked headless in `tui::follow`.)
+        // The student's help lists them too.
+        follower.send(b"?").await;
+        follower.wait_for("any key closes the help").await;
+        follower.wait_for("F  follow the presenter again").await;
+        follower.send(b"\x1b").await;
+        follower.wait_for("f:fork F:rejoin").await;
 
         // The presenter's change, seen by the follower.
         let sent = Instant::now();

@@ -170,6 +170,9 @@ fn run_loop<S: Screen>(
 ) -> io::Result<Ending> {
     let mut decoder = Decoder::default();
     let mut last_input = Instant::now();
+    // When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
+    // however many other events (results, a presenter's states) arrive meanwhile.
+    let mut last_bytes = Instant::now();
     loop {
         if let Some(request) = app.pending_solve().cloned() {
             if app.busy_since.is_none() {
@@ -205,7 +208,7 @@ fn run_loop<S: Screen>(
             return Ok(Ending::Idle);
         }
         let timeout = if decoder.has_pending() {
-            Some(ESC_TIMEOUT)
+            Some(ESC_TIMEOUT.saturating_sub(last_bytes.elapsed()))
         } else if !app.is_current() && app.show_timings {
             Some(TICK)
         } else {
@@ -224,7 +227,7 @@ fn run_loop<S: Screen>(
             Err(RecvTimeoutError::Timeout) => None,
             Err(RecvTimeoutError::Disconnected) => return Ok(Ending::Hangup),
         };
-        if first.is_none() {
+        if decoder.has_pending() && last_bytes.elapsed() >= ESC_TIMEOUT {
             for input in decoder.flush() {
                 apply_input(app, input);
             }
@@ -237,6 +240,7 @@ fn run_loop<S: Screen>(
             match event {
                 Event::Bytes(bytes) => {
                     last_input = Instant::now();
+                    last_bytes = last_input;
                     for input in decoder.feed(&bytes) {
                         apply_input(app, input);
                     }
