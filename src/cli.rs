@@ -156,7 +156,8 @@ fn present_command(args: &PresentArgs) -> Result<ExitCode, String> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(
-            "present draws your explorer on this terminal, and standard output is not one;              `beamfric serve` serves without it"
+            "present draws your explorer on this terminal, and standard output is not one; \
+             `beamfric serve` serves without it"
                 .into(),
         );
     }

@@ -1401,3 +1401,33 @@ fn a_disconnect_during_an_uncancellable_solve_frees_the_session_within_a_second(
     println!("a disconnect during dual-inverse at n = 2000 freed the session in {took:?}");
     assert!(took <= Duration::from_secs(1), "took {took:?}");
 }
+
+#[test]
+fn present_refuses_without_a_terminal_and_without_credentials_or_open() {
+    let dir = tempfile::tempdir().unwrap();
+    let host_key = dir.path().join("host_key");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .args(["present", "--open", "--listen", "127.0.0.1:0", "--host-key"])
+        .arg(&host_key)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("standard output is not one; `beamfric serve`"),
+        "{stderr}"
+    );
+
+    let mut lecturer = PtyProcess::start(&[
+        "present",
+        "--listen",
+        "127.0.0.1:0",
+        "--host-key",
+        host_key.to_str().unwrap(),
+    ]);
+    let status = lecturer.wait();
+    assert_eq!(status.code(), Some(2), "{status:?}");
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(lecturer.raw().contains("--open"), "{}", lecturer.raw());
+    assert!(!host_key.exists(), "a refused start created a host key");
+}
