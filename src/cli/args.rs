@@ -76,6 +76,9 @@ pub enum Command {
     Report(ReportArgs),
     /// Serve the explorer over SSH: every connection gets its own explorer.
     Serve(ServeArgs),
+    /// Serve as `serve` does, with your own explorer in this terminal presenting: every
+    /// student who follows sees its scene and view live. Quitting it stops the server.
+    Present(PresentArgs),
 }
 
 /// `beamfric serve`.
@@ -116,6 +119,23 @@ pub struct ServeArgs {
     /// Sessions leave the mouse to the student's terminal (no clicks, wheel or drags).
     #[arg(long)]
     pub no_mouse: bool,
+    /// The only directory sessions may save scenes to (file names cannot leave it); without
+    /// it, `s` shows the scene's TOML to copy.
+    #[arg(long, value_name = "DIR")]
+    pub save_dir: Option<std::path::PathBuf>,
+}
+
+/// `beamfric present`.
+#[derive(Debug, Args)]
+pub struct PresentArgs {
+    #[command(flatten)]
+    pub serve: ServeArgs,
+    /// Draw your explorer without Unicode (students' look follows their own terminals).
+    #[arg(long)]
+    pub ascii: bool,
+    /// No colours in your explorer (also when NO_COLOR is set).
+    #[arg(long)]
+    pub no_color: bool,
 }
 
 /// `beamfric sweep …`.

@@ -129,6 +129,10 @@ pub enum Action {
     PasteIgnored,
     /// The terminal changed size.
     Resize(u16, u16),
+    /// Follow mode: leave the presenter, exploring on from the current state.
+    Fork,
+    /// Follow mode: follow the presenter again.
+    Rejoin,
 }
 
 /// One line of the help: keys and what each does, the words, and the key hint if any.
@@ -353,6 +357,25 @@ pub const NORMAL: &[Binding] = &[
     },
 ];
 
+/// The keys of a served session that follows a presenter (`tui::follow` takes them before
+/// [`NORMAL`]); its help and hint line list them after and among those of [`NORMAL`].
+pub const FOLLOW: &[Binding] = &[
+    bind!(
+        Key::Char('f'),
+        Action::Fork,
+        "fork: explore on your own from the presenter's state",
+        "fork",
+        1,
+    ),
+    bind!(
+        Key::Char('F'),
+        Action::Rejoin,
+        "follow the presenter again",
+        "rejoin",
+        1,
+    ),
+];
+
 impl Key {
     /// The name of a key in `render --keys` and in the help, or `None` for a plain character.
     fn name(self) -> Option<&'static str> {
@@ -553,8 +576,14 @@ fn help_label(keys: &[Key], ascii: bool) -> String {
 
 /// The help's lines: (keys, what they do), from [`NORMAL`].
 pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
+    help_lines_with(ascii, &[])
+}
+
+/// The help's lines of [`NORMAL`] and then of `extra` (e.g. [`FOLLOW`]).
+pub fn help_lines_with(ascii: bool, extra: &[Binding]) -> Vec<(String, &'static str)> {
     NORMAL
         .iter()
+        .chain(extra)
         .map(|b| {
             let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();
             (help_label(&keys, ascii), b.help)
@@ -570,14 +599,19 @@ pub fn up_down(ascii: bool) -> &'static str {
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {
-    hint_items(ascii).join(" ")
+    hint_items(ascii, &[]).join(" ")
 }
 
-/// The hint line cut to `width` columns: the most useful hints that fit, whole, in their
-/// order (`?:help` first, so the rest is always one key away).
-pub fn fitted_hint_line(ascii: bool, width: usize) -> String {
+/// The hint line of [`NORMAL`] and `extra` (e.g. [`FOLLOW`]) together, in the hints' order.
+pub fn hint_line_with(ascii: bool, extra: &[Binding]) -> String {
+    hint_items(ascii, extra).join(" ")
+}
+
+/// The hint line of [`NORMAL`] and `extra` cut to `width` columns: the most useful hints
+/// that fit, whole, in their order (`?:help` first, so the rest is always one key away).
+pub fn fitted_hint_line(ascii: bool, extra: &[Binding], width: usize) -> String {
     let mut line = String::new();
-    for item in hint_items(ascii) {
+    for item in hint_items(ascii, extra) {
         let needed = if line.is_empty() { 0 } else { 1 } + item.chars().count();
         if line.chars().count() + needed > width {
             break;
@@ -590,9 +624,13 @@ pub fn fitted_hint_line(ascii: bool, width: usize) -> String {
     line
 }
 
-/// The hints, most useful first, each `key:word`.
-fn hint_items(ascii: bool) -> Vec<String> {
-    let mut hints: Vec<&Hint> = NORMAL.iter().filter_map(|b| b.hint.as_ref()).collect();
+/// The hints of [`NORMAL`] and `extra`, most useful first, each `key:word`.
+fn hint_items(ascii: bool, extra: &[Binding]) -> Vec<String> {
+    let mut hints: Vec<&Hint> = NORMAL
+        .iter()
+        .chain(extra)
+        .filter_map(|b| b.hint.as_ref())
+        .collect();
     hints.sort_by_key(|h| h.order);
     hints
         .iter()
@@ -663,6 +701,26 @@ mod tests {
     }
 
     #[test]
+    fn the_follow_keys_are_listed_only_where_asked_and_bound_nowhere_else() {
+        assert!(!hint_line(false).contains("fork"));
+        assert!(
+            hint_line_with(false, FOLLOW).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
+            "{}",
+            hint_line_with(false, FOLLOW)
+        );
+        let help = help_lines_with(true, FOLLOW);
+        assert_eq!(help.len(), NORMAL.len() + 2);
+        assert_eq!(help[NORMAL.len()].0, "f");
+        assert_eq!(help[NORMAL.len() + 1].0, "F");
+        // f and F mean nothing in normal mode itself: follow mode takes them first.
+        for binding in FOLLOW {
+            for (key, _) in binding.keys {
+                assert_eq!(normal_action(*key), None, "{key:?}");
+            }
+        }
+    }
+
+    #[test]
     fn no_key_is_bound_twice_in_normal_mode() {
         let keys: Vec<Key> = NORMAL
             .iter()
@@ -695,7 +753,7 @@ mod tests {
         for ascii in [false, true] {
             let full = hint_line(ascii);
             for width in 0..=full.chars().count() + 5 {
-                let fitted = fitted_hint_line(ascii, width);
+                let fitted = fitted_hint_line(ascii, &[], width);
                 assert!(fitted.chars().count() <= width, "{width}: {fitted}");
                 // A prefix of the full line, ending at a whole hint.
                 assert!(full.starts_with(&fitted), "{width}: {fitted}");
@@ -705,8 +763,8 @@ mod tests {
                     "{width}: {fitted}"
                 );
             }
-            assert!(fitted_hint_line(ascii, 80).starts_with("?:help q:quit"));
-            assert!(fitted_hint_line(ascii, 80).contains(":warnings"));
+            assert!(fitted_hint_line(ascii, &[], 80).starts_with("?:help q:quit"));
+            assert!(fitted_hint_line(ascii, &[], 80).contains(":warnings"));
         }
     }
 }

@@ -6,6 +6,7 @@
 //! and headless rendering ([`render`]).
 
 pub mod app;
+pub mod cores;
 mod event_loop;
 pub mod follow;
 pub mod input;
@@ -52,7 +53,17 @@ pub enum Ending {
 pub fn run(loaded: LoadedScene, look: Look, mouse: bool) -> Result<Ending, String> {
     let mut app = App::new(loaded, look, true)?;
     app.mouse = mouse;
-    event_loop::run(app)
+    event_loop::run(app, |_| None)
+}
+
+/// Runs `app` in the terminal as [`run`] does; `attach` is given a feed into its loop (for
+/// events from elsewhere, e.g. a server's follow hub) and returns what to call after every
+/// frame (`beamfric present`: publish the state to the students).
+pub fn run_attached(
+    app: App,
+    attach: impl FnOnce(remote::Feed) -> Option<remote::AfterFrame>,
+) -> Result<Ending, String> {
+    event_loop::run(app, attach)
 }
 
 /// What a headless render needs besides the scene.

@@ -81,6 +81,14 @@ fn apply(app: &mut App, action: Action) {
             app.suspend_requested = true;
             return;
         }
+        Action::Fork => {
+            super::follow::fork(app);
+            return;
+        }
+        Action::Rejoin => {
+            super::follow::rejoin(app);
+            return;
+        }
         Action::PasteIgnored => {
             app.message =
                 Some("a paste is typed only into a prompt (Enter opens one); ignored".into());
@@ -385,7 +393,9 @@ fn normal(app: &mut App, action: Action) {
         | Action::Click { .. }
         | Action::Drag { .. }
         | Action::Release { .. }
-        | Action::Scroll { .. } => {
+        | Action::Scroll { .. }
+        | Action::Fork
+        | Action::Rejoin => {
             unreachable!("handled before the mode")
         }
     }
@@ -840,7 +850,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             Some(target) => target,
             None => {
                 app.message = Some(format!(
-                    "not saved: {path} is outside {}, the directory --allow-save names",
+                    "not saved: {path} is outside {}, the only directory saves may go to",
                     dir.display()
                 ));
                 return;

@@ -11,7 +11,7 @@ use ratatui::widgets::{Clear, Paragraph, Wrap};
 use crate::plot::Theme;
 use crate::scene::PRESETS;
 use crate::tui::app::{App, Mode};
-use crate::tui::keymap::help_lines;
+use crate::tui::keymap::help_lines_with;
 use crate::tui::picker::{PresetPicker, preset_infos};
 
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
@@ -85,7 +85,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     use super::fit::wrap_words;
     let width = 84u16.min(area.width);
     let inner = width.saturating_sub(2).max(1) as usize;
-    let bindings = help_lines(app.look.ascii);
+    let bindings = help_lines_with(app.look.ascii, crate::tui::follow::keys(app));
     let key_width = bindings
         .iter()
         .map(|(keys, _)| keys.chars().count())

@@ -257,7 +257,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             format!("{} scroll · any other key closes", up_down(app.look.ascii))
         }
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
-        Mode::Normal => fitted_hint_line(app.look.ascii, width),
+        Mode::Normal => fitted_hint_line(app.look.ascii, crate::tui::follow::keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }
