@@ -216,10 +216,6 @@ pub(super) fn regularized_output(
     MethodOutput {
         field,
         lambda: lambda.chunks(2).map(|c| [c[0], c[1]]).collect(),
-        moving: regions
-            .chunks(2)
-            .map(|r| [r[0] != Region::Middle, r[1] != Region::Middle])
-            .collect(),
         timing,
         warnings,
         details,
