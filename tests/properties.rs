@@ -228,6 +228,8 @@ proptest! {
         let exact = dense_condition(&a.to_dense(), n).unwrap().value;
         let exact_scaled = dense_condition(&jacobi_scaled(&a).to_dense(), n).unwrap().value;
         let (bound, scaled) = stiffness_condition_bounds(&mesh);
+        prop_assert!(bound.is_some() && scaled.is_some(), "no bound: {bound:?} {scaled:?}");
+        let (bound, scaled) = (bound.unwrap(), scaled.unwrap());
         // Rounding in the exact eigenvalues and in the energies allows a hair above.
         prop_assert!(bound.value <= exact * (1.0 + 1e-6), "{:e} > {exact:e}", bound.value);
         prop_assert!(scaled.value <= exact_scaled * (1.0 + 1e-6), "{:e} > {exact_scaled:e}", scaled.value);

@@ -144,8 +144,8 @@ fn obstacle_results(
             moment: l[1],
             sliding_state: s[0],
             swivel_state: s[1],
-            sliding: s[0] == FrictionState::Moves,
-            swivel: s[1] == FrictionState::Moves,
+            sliding: s[0] != FrictionState::Stuck,
+            swivel: s[1] != FrictionState::Stuck,
         })
         .collect()
 }

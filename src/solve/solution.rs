@@ -231,9 +231,11 @@ pub struct ObstacleResult {
     pub sliding_state: FrictionState,
     /// The slope DOF: stuck, moving (swivelling) or at its threshold.
     pub swivel_state: FrictionState,
-    /// The point slides: `sliding_state` is [`FrictionState::Moves`].
+    /// The sliding friction is fully mobilised: `sliding_state` is not
+    /// [`FrictionState::Stuck`] (it moves, or sits at its threshold with a motion rounding
+    /// cannot resolve, which is how a real but tiny slide looks in double precision).
     pub sliding: bool,
-    /// The point swivels: `swivel_state` is [`FrictionState::Moves`].
+    /// The swivel friction is fully mobilised: `swivel_state` is not stuck.
     pub swivel: bool,
 }
 
