@@ -375,7 +375,14 @@ pub(super) fn check(
                 None
             };
             if let Some(p) = prescribed {
-                residual = residual.max(relative(l - p, force_scale));
+                // g·c/ε turns the unresolved part of c into a force of (g/ε)·tolerance.
+                let unresolved = if epsilon > 0.0 {
+                    g / epsilon * motion_tolerance
+                } else {
+                    0.0
+                };
+                residual =
+                    residual.max(relative(((l - p).abs() - unresolved).max(0.0), force_scale));
             }
             pair[d] = if moves {
                 FrictionState::Moves

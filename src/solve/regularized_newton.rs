@@ -8,7 +8,7 @@
 //! exponential cost of the paper's method is the enumeration's, not ε's.
 
 use super::options::SolveOptions;
-use super::regularized::{Region, middle_additions, regularized_output};
+use super::regularized::{Region, middle_additions, regularized_forces, regularized_output};
 use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, Timing, Warning, WarningCode};
@@ -149,6 +149,7 @@ pub(super) fn solve(
     }
     let regions: Vec<Region> = c.iter().map(|&c| Region::of(c, epsilon)).collect();
     timing.dual_solve = clock.lap();
+    let lambda = regularized_forces((&regions, &c, &g, epsilon), (k, b));
     let field = condensed.reconstruct(&c);
     timing.reconstruction = clock.lap();
 
@@ -169,7 +170,7 @@ pub(super) fn solve(
     };
     Ok(regularized_output(
         field,
-        (&regions, &c, &g, epsilon),
+        lambda,
         timing,
         warnings,
         details,
