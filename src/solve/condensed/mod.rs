@@ -148,15 +148,9 @@ pub(super) fn solve(
             ),
         ));
     }
-    let moving = solution
-        .states
-        .iter()
-        .map(|s| s.map(|state| state == FrictionState::Moves))
-        .collect();
     Ok(MethodOutput {
         field: solution.field,
         lambda: solution.friction,
-        moving,
         timing,
         warnings,
         details: MethodDetails {
