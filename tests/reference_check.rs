@@ -606,3 +606,33 @@ proptest! {
         prop_assert!(result.is_ok(), "{}", result.unwrap_err());
     }
 }
+
+/// The stable method alone on generated scenes, one line per scene it fails (ignored; run
+/// with `cargo test --release --test reference_check scan -- --ignored --nocapture`):
+/// `BEAMFRIC_HARD_SCENES` scenes from `BEAMFRIC_HARD_SEED`, and as many more of the
+/// property's kind (random 64-bit seeds) when `BEAMFRIC_WIDE_SEEDS` is set.
+#[test]
+#[ignore = "diagnosis: run with --ignored --nocapture"]
+fn scan_stable_method_on_hard_scenes() {
+    let count = env_number("BEAMFRIC_HARD_SCENES", 2000);
+    let first_seed = env_number("BEAMFRIC_HARD_SEED", 0);
+    let wide = std::env::var("BEAMFRIC_WIDE_SEEDS").is_ok();
+    let mut rng = reference::scenes::Rng::new(first_seed);
+    let mut failures = 0;
+    for i in 0..count {
+        let seed = if wide {
+            rng.next_u64()
+        } else {
+            first_seed + i
+        };
+        let scene = hard_scene(seed);
+        if let Err(why) = check_stable(&format!("seed {seed}"), &scene) {
+            failures += 1;
+            println!("{}", why.lines().next().unwrap_or_default());
+            let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("scan");
+            std::fs::create_dir_all(&dir).unwrap();
+            std::fs::write(dir.join(format!("seed-{seed}.toml")), scene.to_toml()).unwrap();
+        }
+    }
+    println!("{failures} of {count} scenes fail");
+}

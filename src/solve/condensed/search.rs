@@ -229,10 +229,10 @@ pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.5, 0.0];
 /// low for this many solves.
 pub(super) const NEWTON_PATIENCE: usize = 6;
 
-/// The band of the multiple-shooting system: a piece's first transfer row and its first
-/// state column differ by 2, which bounds the band by (5, 4).
+/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 reach the columns
+/// 4p − 2 ..= 4p + 5 of its two end points, which bounds the band by (5, 5).
 pub(super) const BAND_LOWER: usize = 5;
-pub(super) const BAND_UPPER: usize = 4;
+pub(super) const BAND_UPPER: usize = 5;
 
 /// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone).
 pub(super) fn solve_with_newton_phases(

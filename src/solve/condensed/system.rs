@@ -91,6 +91,15 @@ impl Condensed {
 
     /// Solves the linear problem of one pattern: stuck DOFs are held at zero with an unknown
     /// reaction, moving DOFs carry the force ±g.
+    ///
+    /// Unknowns: m, m' at the left support (u = u' = 0 there), then per interior special point
+    /// (a, b, m, m') just right of it, where a is u there, or the reaction λ1 when u is stuck
+    /// (u = 0 is then known), and b likewise u' or λ2. A known zero never enters the matrix:
+    /// the transfer rows of a short piece between stuck DOFs keep only the entries that carry
+    /// its flexibility (t u', t² m/2EJ, t³ m'/6EJ), and row equilibration sees them at their
+    /// own scale instead of next to the 1 of a value that is zero anyway.
+    /// Rows: per piece its four transfer rows (two for the last piece: the far end is
+    /// clamped), in the order of the columns, so the band is (5, 5).
     pub(super) fn solve_pattern(
         &self,
         pattern: &[Pattern],
@@ -98,55 +107,38 @@ impl Condensed {
         system: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
-        // Unknown numbering: state of piece p at `state_column[p]`; the reactions of the
-        // stuck DOFs at point p (1 ≤ p < P) just before it.
-        let mut state_column = vec![0; pieces];
-        let mut reaction_column = vec![[None; 2]; pieces + 1];
-        let mut next = 0;
-        for p in 0..pieces {
-            if let Some(j) = self.obstacle_at_point[p] {
-                for d in 0..2 {
-                    if pattern[2 * j + d] == Pattern::Stuck {
-                        reaction_column[p][d] = Some(next);
-                        next += 1;
-                    }
-                }
-            }
-            state_column[p] = next;
-            next += 4;
-        }
-        let size = next;
-        // Rows follow the columns: the two clamping rows, then per piece its four transfer
-        // rows and the rows c = 0 of the stuck DOFs at its end (band: BAND_LOWER, BAND_UPPER).
+        // Column of component c (0..4) of the state at point p; point 0 has only m, m'.
+        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        let size = 4 * pieces - 2;
         system.reset(size);
-        system.add(0, 0, 1.0);
-        system.add(1, 1, 1.0);
-        let mut row = 2;
         for (p, piece) in self.pieces.iter().enumerate() {
             let phi = piece.transfer_matrix();
             let q = piece.load_terms();
-            let own = state_column[p];
+            let row = 4 * p;
             let last = p + 1 == pieces;
             let rows = if last { 2 } else { 4 };
             for r in 0..rows {
                 for (c, &value) in phi[r].iter().enumerate() {
-                    if value != 0.0 {
-                        system.add(row + r, own + c, value);
+                    // u, u' at the left support and stuck DOFs are zero.
+                    let known_zero = c < 2 && (p == 0 || stuck(p, c));
+                    if value != 0.0 && !known_zero {
+                        system.add(row + r, column(p, c), value);
                     }
                 }
                 system.add_rhs(row + r, -q[r]);
-                if !last {
-                    system.add(row + r, state_column[p + 1] + r, -1.0);
+                if !last && !(r < 2 && stuck(p + 1, r)) {
+                    system.add(row + r, column(p + 1, r), -1.0);
                 }
             }
             if !last && let Some(j) = self.obstacle_at_point[p + 1] {
-                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1.
+                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1; a stuck DOF's reaction is the unknown
+                // in the column of its (zero) value.
                 for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
                     match pattern[2 * j + d] {
-                        Pattern::Stuck => {
-                            let column = reaction_column[p + 1][d].expect("stuck DOF");
-                            system.add(row + jump_row, column, sign);
-                        }
+                        Pattern::Stuck => system.add(row + jump_row, column(p + 1, d), sign),
                         Pattern::Positive => {
                             system.add_rhs(row + jump_row, -sign * self.thresholds[j][d])
                         }
@@ -156,17 +148,7 @@ impl Condensed {
                     }
                 }
             }
-            row += rows;
-            if !last {
-                for d in 0..2 {
-                    if reaction_column[p + 1][d].is_some() {
-                        system.add(row, state_column[p + 1] + d, 1.0);
-                        row += 1;
-                    }
-                }
-            }
         }
-        debug_assert_eq!(row, size);
         let x = if refined {
             system.solve()
         } else {
@@ -174,18 +156,18 @@ impl Condensed {
         }
         .map_err(|e| CondensedFailure::Singular { column: e.column })?;
 
-        let mut start: Vec<[f64; 4]> = state_column
-            .iter()
-            .map(|&c| [x[c], x[c + 1], x[c + 2], x[c + 3]])
+        let start: Vec<[f64; 4]> = (0..pieces)
+            .map(|p| {
+                let value = |c: usize| {
+                    if c < 2 && (p == 0 || stuck(p, c)) {
+                        0.0
+                    } else {
+                        x[column(p, c)]
+                    }
+                };
+                [value(0), value(1), value(2), value(3)]
+            })
             .collect();
-        // A stuck DOF is zero by its own equation; do not let a rounding residue through.
-        for (p, reactions) in reaction_column.iter().enumerate() {
-            for d in 0..2 {
-                if reactions[d].is_some() {
-                    start[p][d] = 0.0;
-                }
-            }
-        }
         let end = self
             .pieces
             .iter()
@@ -198,10 +180,7 @@ impl Condensed {
             .map(|(i, state)| {
                 let (j, d) = (i / 2, i % 2);
                 match state {
-                    Pattern::Stuck => {
-                        x[reaction_column[self.point_of_obstacle[j]][d]
-                            .expect("stuck DOF has a reaction")]
-                    }
+                    Pattern::Stuck => x[column(self.point_of_obstacle[j], d)],
                     Pattern::Positive => self.thresholds[j][d],
                     Pattern::Negative => -self.thresholds[j][d],
                 }
