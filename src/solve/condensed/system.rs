@@ -202,16 +202,11 @@ impl Condensed {
         let p = self.point_of_obstacle[j];
         let [left, right] = [p - 1, p].map(|q| {
             let piece = &self.pieces[q];
-            let magnitude = piece.magnitude(
+            piece.magnitude(
                 self.point_values(solution, q),
                 self.point_values(solution, q + 1),
-            );
-            // A slope is resolved to the deflection magnitude over the piece length.
-            if d == 0 {
-                magnitude
-            } else {
-                magnitude / piece.length
-            }
+                d,
+            )
         });
         let motion = ULPS * left.min(right);
         // m' for the force, m for the moment, on both sides of the obstacle.
