@@ -6,7 +6,7 @@ use std::collections::HashSet;
 
 use super::nodes::nodal_field;
 use super::scaling::Scales;
-use super::system::{Condensed, Pattern, PatternSolution};
+use super::system::{Accuracy, Condensed, Pattern, PatternSolution};
 use super::{CondensedFailure, CondensedSolution, FrictionState};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
@@ -214,40 +214,46 @@ pub(super) fn solve_with_newton_phases(
     let mut current: Option<SearchPoint> = None;
     // After adding DOFs at an optimum: the pattern and the single worst DOF to fall back on.
     let mut fallback: Option<(Vec<Pattern>, usize, Pattern)> = None;
-    // The pattern is searched with plain solves; once it is consistent, the refined solve
-    // (each value accurate to its own size) confirms it or the search goes on refined.
-    let mut refined = std::env::var("CONDENSED_UNREFINED").is_err();
+    // Every pattern is solved by elimination alone; when a decision is within what that can
+    // resolve (or the pattern looks consistent), the same system is refined from its factors
+    // (each value to its own last bits) and the decision is taken on the refined values.
     let mut system = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
     let mut newton_phase = !newton_phases.is_empty();
     let (mut phase, mut phase_start) = (0, 0);
     // The fewest inconsistent DOFs seen in this phase, and when.
     let mut fewest_changes = (usize::MAX, 0);
     let mut seen = HashSet::new();
+    let changes_of = |solution: &PatternSolution, pattern: &[Pattern]| -> Vec<(usize, Pattern)> {
+        (0..dofs)
+            .filter_map(|i| {
+                let wanted = condensed.wanted(solution, pattern, i);
+                (wanted != pattern[i]).then_some((i, wanted))
+            })
+            .collect()
+    };
     let (solution, converged) = loop {
         if !keep_going() {
             return Err(CondensedFailure::Stopped);
         }
-        let solution = condensed.solve_pattern(&pattern, refined, &mut system)?;
+        let mut solution = condensed.solve_pattern(&pattern, Accuracy::Plain, &mut system)?;
         solves += 1;
-        let changes: Vec<(usize, Pattern)> = (0..dofs)
-            .filter_map(|i| {
-                let wanted = condensed.wanted(&solution, &pattern, i);
-                (wanted != pattern[i]).then_some((i, wanted))
-            })
-            .collect();
-        if std::env::var("CONDENSED_DEBUG").is_ok() {
-            eprintln!("solve {solves} newton {newton_phase} refined {refined} changes {}", changes.len());
-            for &(i, w) in changes.iter().take(6) {
-                let (mn, fnoise) = condensed.resolution(&solution, i);
-                eprintln!("   dof {i} {:?} -> {:?} lambda {:e} g {:e} c {:e} noise {mn:e} {fnoise:e}", pattern[i], w, solution.lambda[i], condensed.thresholds[i/2][i%2], condensed.friction_value(&solution, i));
-            }
+        let mut changes = changes_of(&solution, &pattern);
+        // Newton steps take the decisions that elimination alone settles first, the others
+        // on refined values once nothing else is left to change; the monotone search (which
+        // must not be misled by a wrong sign) decides on refined values whenever any
+        // decision is uncertain.
+        let uncertain = condensed.uncertain(&solution, &pattern);
+        if newton_phase {
+            changes.retain(|&(i, _)| !uncertain[i]);
+        } else if uncertain.iter().any(|&u| u) {
+            changes.clear();
         }
         if changes.is_empty() {
-            if refined {
+            solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
+            changes = changes_of(&solution, &pattern);
+            if changes.is_empty() {
                 break (solution, true);
             }
-            refined = true;
-            continue;
         }
         if solves >= limit {
             break (solution, false);

@@ -9,6 +9,22 @@ use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
 
+/// What elimination without refinement is trusted to resolve, relative to the largest value
+/// of a kind (generous: a short piece next to long ones makes the system ill-conditioned).
+pub(super) const PLAIN_RESOLUTION: f64 = 1e-6;
+
+/// How accurately a pattern is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Accuracy {
+    /// Elimination alone: each value to rounding of the largest ones.
+    Plain,
+    /// Elimination and iterative refinement: each value to its own last bits.
+    Refined,
+    /// The pattern of the previous solve again (the system is unchanged), refined from its
+    /// factors.
+    RefineLast,
+}
+
 /// How a friction DOF enters the linear system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(super) enum Pattern {
@@ -103,7 +119,7 @@ impl Condensed {
     pub(super) fn solve_pattern(
         &self,
         pattern: &[Pattern],
-        refined: bool,
+        accuracy: Accuracy,
         system: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
@@ -112,8 +128,13 @@ impl Condensed {
         let stuck = |p: usize, d: usize| {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
-        let size = 4 * pieces - 2;
-        system.reset(size);
+        if accuracy == Accuracy::RefineLast {
+            let x = system
+                .solve_again_refined()
+                .ok_or(CondensedFailure::Singular { column: 0 })?;
+            return Ok(self.pattern_solution(pattern, &x));
+        }
+        system.reset(4 * pieces - 2);
         for (p, piece) in self.pieces.iter().enumerate() {
             let phi = piece.transfer_matrix();
             let q = piece.load_terms();
@@ -149,13 +170,22 @@ impl Condensed {
                 }
             }
         }
-        let x = if refined {
+        let x = if accuracy == Accuracy::Refined {
             system.solve()
         } else {
             system.solve_unrefined()
         }
         .map_err(|e| CondensedFailure::Singular { column: e.column })?;
+        Ok(self.pattern_solution(pattern, &x))
+    }
 
+    /// The states and forces of a solution `x` of the system of `pattern`.
+    fn pattern_solution(&self, pattern: &[Pattern], x: &[f64]) -> PatternSolution {
+        let pieces = self.pieces.len();
+        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
         let start: Vec<[f64; 4]> = (0..pieces)
             .map(|p| {
                 let value = |c: usize| {
@@ -186,7 +216,7 @@ impl Condensed {
                 }
             })
             .collect();
-        Ok(PatternSolution { start, end, lambda })
+        PatternSolution { start, end, lambda }
     }
 
     /// (u, u') at special point p (the far support is clamped).
@@ -216,6 +246,36 @@ impl Condensed {
                 .abs()
                 .max(solution.start[p][component].abs());
         (motion, force)
+    }
+
+    /// Which decisions of this solve are within what elimination without refinement resolves:
+    /// a motion within [`PLAIN_RESOLUTION`] of the largest value of its kind, or a stuck force
+    /// that close to its threshold, relative to the largest internal force of its kind.
+    pub(super) fn uncertain(&self, solution: &PatternSolution, pattern: &[Pattern]) -> Vec<bool> {
+        let largest = |c: usize| {
+            solution
+                .start
+                .iter()
+                .chain(&solution.end)
+                .fold(0.0f64, |m, y| m.max(y[c].abs()))
+        };
+        let motion_scale = [largest(0), largest(1)].map(|v| PLAIN_RESOLUTION * v);
+        // λ1 is a jump of m', λ2 a jump of m.
+        let force_scale = [largest(3), largest(2)].map(|v| PLAIN_RESOLUTION * v);
+        pattern
+            .iter()
+            .enumerate()
+            .map(|(i, state)| {
+                let d = i % 2;
+                match state {
+                    Pattern::Stuck => {
+                        let g = self.thresholds[i / 2][d];
+                        (solution.lambda[i].abs() - g).abs() <= force_scale[d]
+                    }
+                    _ => self.friction_value(solution, i).abs() <= motion_scale[d],
+                }
+            })
+            .collect()
     }
 
     /// The value c_i of friction DOF i.

@@ -72,3 +72,4 @@ fn each_newton_variant_first_gives_the_same_solution() {
         assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
     }
 }
+
