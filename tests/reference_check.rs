@@ -636,3 +636,20 @@ fn scan_stable_method_on_hard_scenes() {
     }
     println!("{failures} of {count} scenes fail");
 }
+
+/// Writes the hard scene of every seed in `BEAMFRIC_WRITE_SEEDS` (comma separated) to
+/// `tests/scenes/hard/seed-N.toml`, to keep a failing seed as a regression scene.
+#[test]
+#[ignore = "tool: BEAMFRIC_WRITE_SEEDS=1,2 cargo test --test reference_check write -- --ignored"]
+fn write_hard_scenes_as_regressions() {
+    let seeds = std::env::var("BEAMFRIC_WRITE_SEEDS").unwrap_or_default();
+    for seed in seeds.split(',').filter_map(|s| s.trim().parse::<u64>().ok()) {
+        let mut scene = hard_scene(seed);
+        scene.title = format!("hard scene {seed}");
+        let path = format!(
+            "{}/tests/scenes/hard/seed-{seed}.toml",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        std::fs::write(&path, scene.to_toml()).unwrap();
+    }
+}

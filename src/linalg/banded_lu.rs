@@ -239,7 +239,7 @@ impl Factors {
             let target = &mut entries[row * width..row * width + given];
             let largest = source.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let scale = if largest > 0.0 && largest.is_finite() {
-                power_of_two(-(largest.log2().floor() as i32) - 1)
+                power_of_two(-binary_exponent(largest) - 1)
             } else {
                 None
             };
@@ -334,6 +334,16 @@ impl Factors {
                 .fold(b[i], |sum, (a, x)| sum - a * x);
             b[i] = sum / self.entries[at(i, i)];
         }
+    }
+}
+
+/// ⌊log2 x⌋ for a finite x > 0 (read from the bits of a normal number).
+fn binary_exponent(x: f64) -> i32 {
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        x.log2().floor() as i32
+    } else {
+        biased - 1023
     }
 }
 

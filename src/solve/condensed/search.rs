@@ -181,18 +181,21 @@ impl Condensed {
 /// Most solves of one semismooth Newton phase.
 pub(super) const NEWTON_STEPS: usize = 40;
 /// The Newton phases tried in turn before the monotone search, by σ / diagonal stiffness of
-/// the reversal prediction. Measured on 128–4000 obstacles with random thresholds: 0.5 needs
-/// 9–15 solves where 0 needs up to 300 (a front of reversals moving one obstacle per step),
-/// and 0 needs 13 where 0.5 cycles (neighbours over-react to a jump).
-pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.5, 0.0];
+/// the reversal prediction. Measured on the benchmark scenes (`condensed-many-obstacles`,
+/// 16–4000 obstacles with random thresholds) once uncertain decisions wait for refinement:
+/// σ = 0 converges in 6–16 solves where 0.5 diverges after a few steps at 4000 obstacles;
+/// 0.5 stays as the second variant for scenes where 0 cycles.
+pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 pub(super) const NEWTON_PATIENCE: usize = 6;
 
-/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 reach the columns
-/// 4p − 2 ..= 4p + 5 of its two end points, which bounds the band by (5, 5).
-pub(super) const BAND_LOWER: usize = 5;
-pub(super) const BAND_UPPER: usize = 5;
+/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 (u, u', m, m') reach
+/// the columns 4p − 2 ..= 4p + 1 of its start point (u and u' rows all four, m and m' rows only
+/// m, m') and 4p + 2 ..= 4p + 5 of its end point (u, u' rows only a, b; the m row b and m; the
+/// m' row a and m'), which bounds the band by (3, 3).
+pub(super) const BAND_LOWER: usize = 3;
+pub(super) const BAND_UPPER: usize = 3;
 
 /// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone).
 pub(super) fn solve_with_newton_phases(
@@ -248,6 +251,7 @@ pub(super) fn solve_with_newton_phases(
         } else if uncertain.iter().any(|&u| u) {
             changes.clear();
         }
+        if std::env::var("CONDENSED_DEBUG").is_ok() { eprintln!("solve {solves} newton {newton_phase} changes {} uncertain {}", changes.len(), uncertain.iter().filter(|&&u| u).count()); }
         if changes.is_empty() {
             solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
             changes = changes_of(&solution, &pattern);

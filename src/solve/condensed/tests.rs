@@ -73,3 +73,15 @@ fn each_newton_variant_first_gives_the_same_solution() {
     }
 }
 
+
+#[test]
+#[ignore]
+fn debug_crowded_4000() {
+    let problem = crowded(4000, 4000);
+    let mesh = Mesh::new(&problem, 10_000);
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        let s = solve_condensed(&problem, &mesh).unwrap();
+        eprintln!("solves {} in {:?}", s.solves, t.elapsed());
+    }
+}
