@@ -599,8 +599,10 @@ proptest! {
     })]
 
     #[test]
-    #[ignore = "condensed fails some (warned): hard scene 2272772372855260192, obstacles 1e-9·l \
-                apart, gives qp-not-converged and u off by 0.99 (issue 10, open)"]
+    #[ignore = "condensed still fails 15 of 2000 hard scenes (seeds 0..2000 by the scan test: \
+                3 qp-not-converged, the rest slope 1e-12..1e-9, forces 2e-10..5e-10 or a \
+                flag at a near-tie near a support); seeds 1, 9, 30, 80 and 2272772372855260192 \
+                now pass and are regression scenes (issue 10, open)"]
     fn stable_method_agrees_on_hard_scenes(scene in hard_scenes()) {
         let result = check_stable(&scene.title, &scene);
         prop_assert!(result.is_ok(), "{}", result.unwrap_err());
@@ -620,11 +622,7 @@ fn scan_stable_method_on_hard_scenes() {
     let mut rng = reference::scenes::Rng::new(first_seed);
     let mut failures = 0;
     for i in 0..count {
-        let seed = if wide {
-            rng.next_u64()
-        } else {
-            first_seed + i
-        };
+        let seed = if wide { rng.next_u64() } else { first_seed + i };
         let scene = hard_scene(seed);
         if let Err(why) = check_stable(&format!("seed {seed}"), &scene) {
             failures += 1;
@@ -643,7 +641,10 @@ fn scan_stable_method_on_hard_scenes() {
 #[ignore = "tool: BEAMFRIC_WRITE_SEEDS=1,2 cargo test --test reference_check write -- --ignored"]
 fn write_hard_scenes_as_regressions() {
     let seeds = std::env::var("BEAMFRIC_WRITE_SEEDS").unwrap_or_default();
-    for seed in seeds.split(',').filter_map(|s| s.trim().parse::<u64>().ok()) {
+    for seed in seeds
+        .split(',')
+        .filter_map(|s| s.trim().parse::<u64>().ok())
+    {
         let mut scene = hard_scene(seed);
         scene.title = format!("hard scene {seed}");
         let path = format!(

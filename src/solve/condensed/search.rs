@@ -251,7 +251,13 @@ pub(super) fn solve_with_newton_phases(
         } else if uncertain.iter().any(|&u| u) {
             changes.clear();
         }
-        if std::env::var("CONDENSED_DEBUG").is_ok() { eprintln!("solve {solves} newton {newton_phase} changes {} uncertain {}", changes.len(), uncertain.iter().filter(|&&u| u).count()); }
+        if std::env::var("CONDENSED_DEBUG").is_ok() {
+            eprintln!(
+                "solve {solves} newton {newton_phase} changes {} uncertain {}",
+                changes.len(),
+                uncertain.iter().filter(|&&u| u).count()
+            );
+        }
         if changes.is_empty() {
             solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
             changes = changes_of(&solution, &pattern);

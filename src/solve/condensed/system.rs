@@ -150,7 +150,9 @@ impl Condensed {
                     }
                 }
                 system.add_rhs(row + r, -q[r]);
-                if !last && !(r < 2 && stuck(p + 1, r)) {
+                // The next state (a stuck value is a known zero: nothing to subtract).
+                let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
+                if !last && !next_is_known_zero {
                     system.add(row + r, column(p + 1, r), -1.0);
                 }
             }

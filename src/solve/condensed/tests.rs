@@ -72,16 +72,3 @@ fn each_newton_variant_first_gives_the_same_solution() {
         assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
     }
 }
-
-
-#[test]
-#[ignore]
-fn debug_crowded_4000() {
-    let problem = crowded(4000, 4000);
-    let mesh = Mesh::new(&problem, 10_000);
-    for _ in 0..5 {
-        let t = std::time::Instant::now();
-        let s = solve_condensed(&problem, &mesh).unwrap();
-        eprintln!("solves {} in {:?}", s.solves, t.elapsed());
-    }
-}
