@@ -654,3 +654,4 @@ fn write_hard_scenes_as_regressions() {
         std::fs::write(&path, scene.to_toml()).unwrap();
     }
 }
+

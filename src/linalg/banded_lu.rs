@@ -123,6 +123,9 @@ impl BandedSystem {
     fn refine(&self, factors: &Factors, steps: usize) -> Vec<f64> {
         let mut hi = self.rhs.clone();
         factors.solve_in_place(&mut hi);
+        if steps == 0 {
+            return hi;
+        }
         let mut lo = vec![0.0; self.size];
         let mut previous = f64::INFINITY;
         for _ in 0..steps {
