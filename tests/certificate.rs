@@ -58,10 +58,16 @@ fn every_method_agrees_with_the_reference_or_warns_on_the_hard_scenes() {
                 Err(e)
                     if e.kind == SolveErrorKind::NotApplicable && method == Method::ClosedForm => {}
                 Err(e) => {
+                    // Finite and without warnings; a regularised suggestion may differ from
+                    // the exact solution by what ε causes (its accuracy warning says so).
                     let works = solve(&p, &mesh, e.suggestion, &options)
                         .map(|s| {
                             s.is_finite()
-                                && s.warnings.iter().all(|w| w.code == WarningCode::MeshRaised)
+                                && s.warnings.iter().all(|w| {
+                                    w.code == WarningCode::MeshRaised
+                                        || (e.suggestion.is_regularized()
+                                            && w.code == WarningCode::AccuracyLoss)
+                                })
                         })
                         .unwrap_or(false);
                     if !works {

@@ -36,8 +36,44 @@ pub use solution::{
 };
 
 /// Solves with `method`, then certifies the answer (KKT residual, friction states, optional
-/// condition numbers and reference error, warnings).
+/// condition numbers and reference error, warnings). A method that refuses or fails names a
+/// method that works on this scene: its own suggestion when that one, tried, gives a finite
+/// answer without warnings (see [`works`]), else `condensed`.
 pub fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    method: Method,
+    options: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    certified(problem, mesh, method, options).map_err(|mut error| {
+        if error.kind != SolveErrorKind::Cancelled
+            && error.suggestion != Method::Condensed
+            && !works(problem, mesh, error.suggestion, options)
+        {
+            error.suggestion = Method::Condensed;
+        }
+        error
+    })
+}
+
+/// Does `method` give a finite answer here without warnings — other than a raised mesh and,
+/// for a regularised method, the distance to the exact solution that ε itself causes?
+fn works(problem: &Problem, mesh: &Mesh, method: Method, options: &SolveOptions) -> bool {
+    let quick = SolveOptions {
+        condition: ConditionLevel::Off,
+        ..*options
+    };
+    certified(problem, mesh, method, &quick).is_ok_and(|s| {
+        s.is_finite()
+            && s.warnings.iter().all(|w| {
+                w.code == WarningCode::MeshRaised
+                    || (method.is_regularized() && w.code == WarningCode::AccuracyLoss)
+            })
+    })
+}
+
+/// [`solve`] without checking the suggestion of a failure.
+fn certified(
     problem: &Problem,
     mesh: &Mesh,
     method: Method,

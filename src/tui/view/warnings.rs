@@ -22,13 +22,12 @@ pub fn rank(code: WarningCode) -> u8 {
         WarningCode::StiffnessConditioning => 1,
         WarningCode::NonFinite => 2,
         WarningCode::AccuracyLoss => 3,
+        WarningCode::KktResidual => 3,
         WarningCode::QpNotConverged => 4,
         WarningCode::NewtonNotConverged => 5,
         WarningCode::RegularizationInconsistent => 6,
         WarningCode::UntrustedReference => 7,
         WarningCode::MeshRaised => 9,
-        #[allow(unreachable_patterns)]
-        _ => 8,
     }
 }
 
@@ -39,13 +38,12 @@ pub fn headline(code: WarningCode) -> &'static str {
         WarningCode::StiffnessConditioning => "A is too ill-conditioned for double precision",
         WarningCode::NonFinite => "a value is NaN or infinite",
         WarningCode::AccuracyLoss => "visible error against the reference",
+        WarningCode::KktResidual => "the independent KKT check fails: not a solution",
         WarningCode::QpNotConverged => "the friction QP did not converge",
         WarningCode::NewtonNotConverged => "Newton's iteration did not converge",
         WarningCode::RegularizationInconsistent => "no regularisation case fits exactly",
         WarningCode::UntrustedReference => "no trusted reference: no error shown",
         WarningCode::MeshRaised => "more elements than asked for",
-        #[allow(unreachable_patterns)]
-        _ => code.name(),
     }
 }
 
