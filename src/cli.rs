@@ -72,6 +72,7 @@ pub fn run(cli: Cli) -> ExitCode {
             cli.scene.as_deref().unwrap_or("benchmark-1"),
             cli.ascii,
             cli.no_color,
+            cli.theme,
         ),
     };
     match result {
@@ -114,7 +115,12 @@ fn colors_wanted(no_color: bool) -> bool {
     !no_color && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> {
+fn explore(
+    name: &str,
+    ascii: bool,
+    no_color: bool,
+    palette: crate::plot::Palette,
+) -> Result<ExitCode, String> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(
@@ -125,10 +131,10 @@ fn explore(name: &str, ascii: bool, no_color: bool) -> Result<ExitCode, String> 
     }
     let loaded = scene::load(name).map_err(|e| e.to_string())?;
     let look = crate::plot::Look {
-        ascii,
+        ascii: ascii || !crate::plot::locale_is_utf8(|name| std::env::var(name).ok()),
         color: colors_wanted(no_color),
     };
-    match crate::tui::run(loaded, look)? {
+    match crate::tui::run(loaded, look, palette)? {
         crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
         // The conventional status of a process ended by a signal.
         crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
@@ -173,6 +179,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
             ascii: args.ascii,
             color: args.color,
         },
+        palette: args.theme,
         timings: args.timings,
         allow_save: args.allow_save.clone(),
     };

@@ -18,6 +18,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
             ascii,
             color: false,
         },
+        palette: Default::default(),
         timings: false,
         allow_save: None,
     }

@@ -56,6 +56,10 @@ pub enum Action {
     /// The next panel when one is shown at a time.
     NextPanel,
     ToggleTimings,
+    /// The deflection panel: u and the reference u_ref, or the difference u − u_ref.
+    ToggleDifference,
+    /// The next colour palette (dark, light, high contrast).
+    CycleTheme,
     ShowHelp,
     /// Take back the last change of the scene.
     Undo,
@@ -240,6 +244,20 @@ pub const NORMAL: &[Binding] = &[
         "show or hide run times",
         "time",
         14,
+    ),
+    bind!(
+        Key::Char('c'),
+        Action::ToggleDifference,
+        "deflection panel: the reference curve, or the difference u - u_ref on its own scale",
+        "difference",
+        16,
+    ),
+    bind!(
+        Key::Char('T'),
+        Action::CycleTheme,
+        "next colour theme: dark, light, high-contrast (for projectors)",
+        "theme",
+        17,
     ),
     Binding {
         keys: &[

@@ -23,7 +23,7 @@ use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 
 use crate::scene::LoadedScene;
-use app::{App, Look};
+use app::{App, Look, Palette};
 use keymap::{Action, Key, action_for};
 
 /// Set to `main` or `worker` to make the explorer panic after its first frame (on the main
@@ -46,8 +46,9 @@ pub enum Ending {
 /// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal
 /// hangs up. The terminal is restored on return, on a panic, on SIGINT, SIGTERM and SIGHUP,
 /// and around a suspension.
-pub fn run(loaded: LoadedScene, look: Look) -> Result<Ending, String> {
-    let app = App::new(loaded, look, true)?;
+pub fn run(loaded: LoadedScene, look: Look, palette: Palette) -> Result<Ending, String> {
+    let mut app = App::new(loaded, look, true)?;
+    app.palette = palette;
     event_loop::run(app)
 }
 
@@ -57,6 +58,8 @@ pub struct RenderOptions {
     pub width: u16,
     pub height: u16,
     pub look: Look,
+    /// The colours.
+    pub palette: Palette,
     /// Show run times (frames then depend on the clock).
     pub timings: bool,
     /// The only directory a save in the keys may write to; `None`: saves are only simulated.
@@ -84,6 +87,7 @@ pub fn render(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Resu
 /// panels need run to completion.
 pub fn prepare(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Result<App, String> {
     let mut app = App::new(loaded, options.look, options.timings)?;
+    app.palette = options.palette;
     app.settle();
     // A render is for snapshots: it touches the file system only where it was allowed to.
     app.save_policy = match options.allow_save {

@@ -232,6 +232,15 @@ fn normal(app: &mut App, action: Action) {
                 Diagram::Shear => Diagram::Deflection,
             }
         }
+        Action::ToggleDifference => app.show_difference = !app.show_difference,
+        Action::CycleTheme => {
+            app.palette = app.palette.next();
+            app.message = Some(format!(
+                "theme {}: {}",
+                app.palette.name(),
+                app.palette.description()
+            ));
+        }
         Action::ToggleTimings => {
             app.show_timings = !app.show_timings;
             app.refresh_studies();

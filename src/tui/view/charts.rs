@@ -1,14 +1,17 @@
 //! The chart panels of the explorer: each reads the state it shows from the [`App`] and draws
 //! it with the shared charts of [`crate::plot`] (the deflection here, the study charts there).
+//! The deflection (or moment, or shear) is drawn with the reference solution (`condensed` on
+//! the same mesh, solved on the worker) as a second curve under it, or, with `c`, the
+//! difference from the reference on its own scale; nice linear ticks and a zero line.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
-use ratatui::widgets::{Axis, Chart, Dataset, GraphType};
+use ratatui::widgets::{Dataset, GraphType};
 
-use crate::format::eng;
 use crate::plot::{
-    KeyEntry, PanelFrame, Theme, chart_with_key, curve_marker, eps_condition_chart,
-    eps_error_chart, error_time_chart, linear_axis, marker_char, notice, point_marker, to_unit,
+    AxisKind, AxisSpec, CurrentRun, KeyEntry, PanelFrame, PlotArea, Theme, curve_key,
+    curve_marker, eps_condition_chart, eps_error_chart, error_time_chart, marker_char, notice,
+    panel_with_key, point_marker,
 };
 use crate::scene::Panel;
 use crate::study::{EpsPoint, MeshPoint};
@@ -77,13 +80,21 @@ pub(super) fn draw_panel(
             });
             match view {
                 StudyView::Ready(points) | StudyView::Outdated(points) => {
-                    error_time_chart(frame, theme, panel, points, app.show_timings)
+                    let current = CurrentRun {
+                        elements: app.scene.mesh.elements,
+                        method: app.scene.solver.method,
+                    };
+                    error_time_chart(frame, theme, panel, points, app.show_timings, Some(current))
                 }
                 StudyView::Notice(text) => notice(frame, theme, panel, text),
             }
         }
     }
 }
+
+/// Where the obstacles' state markers and names are, by `sliding + 2·swivel`.
+const STATE_NAMES: [&str; 4] = ["stuck", "slides", "swivels", "slides+swivels"];
+const STATE_MARKERS: [(char, char); 4] = [('●', 'o'), ('↕', 'S'), ('↻', 'W'), ('✱', 'X')];
 
 fn deflection(
     frame: &mut Frame,
@@ -93,144 +104,186 @@ fn deflection(
     suffix: &str,
     focused: bool,
 ) {
-    let (name, unit) = match app.diagram {
-        Diagram::Deflection => ("Deflection u(x)", "m"),
-        Diagram::Moment => ("Bending moment M = -EJu''", "N m"),
-        Diagram::Shear => ("Shear force T = M'", "N"),
+    let (name, symbol, unit) = match app.diagram {
+        Diagram::Deflection => ("Deflection u(x)", "u", "m"),
+        Diagram::Moment => ("Bending moment M = -EJu''", "M", "N m"),
+        Diagram::Shear => ("Shear force T = M'", "T", "N"),
     };
     let outdated = if app.is_current() {
         ""
     } else {
         " · out of date"
     };
-    let title = format!(" {name} [{unit}] (b: next){suffix}{outdated} ");
+    let difference = app.show_difference;
+    let title = if difference {
+        format!(" {symbol} − {symbol}_ref [{unit}] (c: back, b: next){suffix}{outdated} ")
+    } else {
+        format!(" {name} [{unit}] (b: next){suffix}{outdated} ")
+    };
+    let panel = PanelFrame {
+        area,
+        title,
+        focused,
+    };
     let Some(shown) = &app.shown else {
-        let panel = PanelFrame {
-            area,
-            title,
-            focused,
-        };
         let text = format!("solving n = {} …", app.wanted.elements);
-        notice(frame, theme, panel, text);
-        return;
+        return notice(frame, theme, panel, text);
     };
     let solution = match &shown.solution {
         Ok(s) => s,
-        Err(e) => {
-            let panel = PanelFrame {
-                area,
-                title,
-                focused,
-            };
-            notice(frame, theme, panel, format!("no solution: {e}"));
-            return;
-        }
+        Err(e) => return notice(frame, theme, panel, format!("no solution: {e}")),
     };
+    let reference = shown.reference.as_ref();
+    if difference && reference.is_none() {
+        let text = if solution.method == crate::solve::Method::Condensed {
+            "this is the reference method (condensed): nothing to compare with; c goes back"
+        } else {
+            "no reference: the condensed method gave no solution on this mesh; c goes back"
+        };
+        return notice(frame, theme, panel, text.into());
+    }
     let l = shown.request.problem.length;
     let samples = (area.width as usize * 2).clamp(20, 400);
-    let value = |x: f64| {
-        let p = solution.field.at(&shown.mesh, x);
+    let value_of = |s: &crate::solve::Solution, x: f64| {
+        let p = s.field.at(&shown.mesh, x);
         match app.diagram {
             Diagram::Deflection => p.deflection,
             Diagram::Moment => p.moment,
             Diagram::Shear => p.shear,
         }
     };
-    let curve: Vec<(f64, f64)> = (0..samples)
-        .map(|i| {
-            let x = l * i as f64 / (samples - 1) as f64;
-            (x, value(x))
-        })
-        .filter(|(_, y)| y.is_finite())
+    let value = |x: f64| match (difference, reference) {
+        (true, Some(r)) => value_of(solution, x) - value_of(r, x),
+        _ => value_of(solution, x),
+    };
+    let xs: Vec<f64> = (0..samples)
+        .map(|i| l * i as f64 / (samples - 1) as f64)
         .collect();
+    let finite = |points: Vec<(f64, f64)>| -> Vec<(f64, f64)> {
+        points.into_iter().filter(|(_, y)| y.is_finite()).collect()
+    };
+    let curve = finite(xs.iter().map(|&x| (x, value(x))).collect());
+    let reference_curve = match (difference, reference) {
+        (false, Some(r)) => finite(xs.iter().map(|&x| (x, value_of(r, x))).collect()),
+        _ => Vec::new(),
+    };
     if curve.is_empty() {
-        let panel = PanelFrame {
-            area,
-            title,
-            focused,
-        };
-        notice(
-            frame,
-            theme,
-            panel,
-            "no finite values to draw (see the warnings)".into(),
-        );
-        return;
+        let text = "no finite values to draw (see the warnings)".into();
+        return notice(frame, theme, panel, text);
     }
+    // The range covers both curves and zero (the clamped ends, and the u = 0 line).
     let (min, max) = curve
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &(_, y)| {
-            (a.min(y), b.max(y))
+        .chain(&reference_curve)
+        .fold((0.0f64, 0.0f64), |(a, b), &(_, y)| (a.min(y), b.max(y)));
+    let method = solution.method;
+    let mut key = vec![KeyEntry {
+        marker: curve_key(theme),
+        name: if difference {
+            format!("{method} − condensed")
+        } else {
+            method.name().to_string()
+        },
+        style: theme.series(0),
+        short: None,
+    }];
+    let reference_marker = ('·', ':');
+    if !reference_curve.is_empty() {
+        key.push(KeyEntry {
+            marker: marker_char(theme, reference_marker.0, reference_marker.1),
+            name: "condensed = reference (c: difference)".into(),
+            style: theme.series(6),
+            short: None,
         });
-    let (y_bounds, y_labels) = linear_axis(min, max);
-    // Drawn in the unit square (see `to_unit`), labelled in the real values.
-    let x_bounds = [0.0, l];
-    let unit = |(x, y): (f64, f64)| (to_unit(x, x_bounds), to_unit(y, y_bounds));
-    let curve: Vec<(f64, f64)> = curve.into_iter().map(unit).collect();
-    // The clamped ends as walls, and the obstacles by state.
-    let walls = [vec![(0.0, 0.0), (0.0, 1.0)], vec![(1.0, 0.0), (1.0, 1.0)]];
+    }
+    let wall = ('▒', '#');
+    key.push(KeyEntry {
+        marker: marker_char(theme, wall.0, wall.1),
+        name: "clamped".into(),
+        style: theme.faint(),
+        short: None,
+    });
     let mut states: [Vec<(f64, f64)>; 4] = Default::default();
     for o in &solution.obstacles {
         let state = usize::from(o.sliding) + 2 * usize::from(o.swivel);
         let y = value(o.x);
         if y.is_finite() {
-            states[state].push(unit((o.x, y)));
+            states[state].push((o.x, y));
         }
     }
-    let state_names = ["stuck", "slides", "swivels", "slides+swivels"];
-    let state_markers = [('●', 'o'), ('↕', 'S'), ('↻', 'W'), ('✱', 'X')];
-    let wall = ('▒', '#');
-    let mut key = vec![KeyEntry {
-        marker: marker_char(theme, wall.0, wall.1),
-        name: "clamped".into(),
-        style: theme.dim(),
-    }];
-    let mut datasets = vec![
-        Dataset::default()
-            .marker(curve_marker(theme))
-            .graph_type(GraphType::Line)
-            .style(theme.series(0))
-            .data(&curve),
+    for (i, points) in states.iter().enumerate() {
+        if !points.is_empty() {
+            let (u, a) = STATE_MARKERS[i];
+            key.push(KeyEntry {
+                marker: marker_char(theme, u, a),
+                name: format!("obstacle {}", STATE_NAMES[i]),
+                style: theme.series(i + 1),
+                short: None,
+            });
+        }
+    }
+    let plot = panel_with_key(frame, theme, &panel, &[], &[], &key, 5);
+    let x_axis = AxisSpec {
+        kind: AxisKind::Linear,
+        range: [0.0, l],
+        title: "x [m]".into(),
+    };
+    let y_axis = AxisSpec {
+        kind: AxisKind::Linear,
+        range: [min, max],
+        title: String::new(),
+    };
+    let Some(plot) = PlotArea::new(plot, &x_axis, &y_axis) else {
+        return;
+    };
+    let buffer = frame.buffer_mut();
+    let zero = marker_char(theme, '─', '-').to_string();
+    plot.horizontal_line(buffer, 0.0, &zero, theme.faint());
+    let unit = |points: &[(f64, f64)]| -> Vec<(f64, f64)> {
+        points.iter().map(|p| plot.unit(*p)).collect()
+    };
+    let walls = [
+        vec![(0.0, 0.0), (0.0, 1.0)],
+        vec![(1.0, 0.0), (1.0, 1.0)],
     ];
+    let curve = unit(&curve);
+    let reference_curve = unit(&reference_curve);
+    let states: Vec<Vec<(f64, f64)>> = states.iter().map(|s| unit(s)).collect();
+    let mut datasets = Vec::new();
     for wall_points in &walls {
         datasets.push(
             Dataset::default()
                 .marker(point_marker(theme, wall.0, wall.1))
                 .graph_type(GraphType::Line)
-                .style(theme.dim())
+                .style(theme.faint())
                 .data(wall_points),
         );
     }
+    // The reference under the current method's curve.
+    datasets.push(
+        Dataset::default()
+            .marker(point_marker(theme, reference_marker.0, reference_marker.1))
+            .graph_type(GraphType::Line)
+            .style(theme.series(6))
+            .data(&reference_curve),
+    );
+    datasets.push(
+        Dataset::default()
+            .marker(curve_marker(theme))
+            .graph_type(GraphType::Line)
+            .style(theme.series(0))
+            .data(&curve),
+    );
     for (i, points) in states.iter().enumerate() {
-        if !points.is_empty() {
-            let (u, a) = state_markers[i];
-            datasets.push(
-                Dataset::default()
-                    .marker(point_marker(theme, u, a))
-                    .graph_type(GraphType::Scatter)
-                    .style(theme.series(i + 1))
-                    .data(points),
-            );
-            key.push(KeyEntry {
-                marker: marker_char(theme, u, a),
-                name: format!("obstacle {}", state_names[i]),
-                style: theme.series(i + 1),
-            });
-        }
+        let (u, a) = STATE_MARKERS[i];
+        datasets.push(
+            Dataset::default()
+                .marker(point_marker(theme, u, a))
+                .graph_type(GraphType::Scatter)
+                .style(theme.series(i + 1))
+                .data(points),
+        );
     }
-    let chart = Chart::new(datasets)
-        .x_axis(
-            Axis::default()
-                .title("x [m]")
-                .bounds([0.0, 1.0])
-                .labels(vec![eng(0.0), eng(0.5 * l), eng(l)]),
-        )
-        .y_axis(Axis::default().bounds([0.0, 1.0]).labels(y_labels))
-        .legend_position(None);
-    let panel = PanelFrame {
-        area,
-        title,
-        focused,
-    };
-    chart_with_key(frame, theme, panel, chart, &key);
+    plot.draw_datasets(buffer, theme, datasets);
+    plot.draw_axes(buffer, theme);
 }

@@ -28,8 +28,10 @@ pub const FULL_SIZE: (u16, u16) = (100, 30);
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
-    let theme = Theme { look: app.look };
+    let theme = Theme::new(app.look, app.palette);
     let area = frame.area();
+    // The palette's own background, where it has one (high contrast).
+    frame.render_widget(ratatui::widgets::Block::new().style(theme.base()), area);
     if area.width < MIN_SIZE.0 || area.height < MIN_SIZE.1 {
         too_small(frame, area);
     } else {
