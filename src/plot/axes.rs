@@ -84,9 +84,8 @@ pub fn log_scale(min: f64, max: f64, cells: u16, horizontal: bool) -> Scale {
     let bounds = [low as f64, high as f64];
     let at = |k: i64| cell(k as f64, bounds, cells);
     let gap = if cells >= 5 { 2 } else { 1 };
-    let labelled = |step: i64| -> Vec<i64> {
-        (low..=high).filter(|k| k.rem_euclid(step) == 0).collect()
-    };
+    let labelled =
+        |step: i64| -> Vec<i64> { (low..=high).filter(|k| k.rem_euclid(step) == 0).collect() };
     let fits = |decades: &[i64]| {
         let placed: Vec<(u16, usize)> = decades
             .iter()
@@ -283,9 +282,17 @@ mod tests {
         assert!(scale.bounds[0] <= -1.73e-3 && scale.bounds[1] >= 2.146e-2);
         let texts: Vec<&str> = scale.labels.iter().map(|(_, t)| t.as_str()).collect();
         assert!(texts.contains(&"0"), "{texts:?}");
-        assert!(texts.contains(&"0.01") || texts.contains(&"0.02"), "{texts:?}");
+        assert!(
+            texts.contains(&"0.01") || texts.contains(&"0.02"),
+            "{texts:?}"
+        );
         // The extremes of f64 stay finite.
-        for (a, b) in [(-f64::MAX, f64::MAX), (0.0, 0.0), (5e-324, 1e-323), (1e300, 1e300)] {
+        for (a, b) in [
+            (-f64::MAX, f64::MAX),
+            (0.0, 0.0),
+            (5e-324, 1e-323),
+            (1e300, 1e300),
+        ] {
             let s = linear_scale(a, b, 30, true);
             assert!(s.bounds.iter().all(|v| v.is_finite()), "{a} {b}");
             assert!(s.bounds[0] < s.bounds[1], "{a} {b}");

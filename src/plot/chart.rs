@@ -67,7 +67,10 @@ pub fn pack(pieces: &[Piece], width: usize, gap: usize, ascii: bool) -> Vec<Line
                 .push(Span::raw(" ".repeat(gap)));
             used += gap;
         }
-        lines.last_mut().expect("a line").push(Span::styled(text, *style));
+        lines
+            .last_mut()
+            .expect("a line")
+            .push(Span::styled(text, *style));
         used += len;
     }
     lines.into_iter().map(Line::from).collect()
@@ -107,7 +110,11 @@ pub fn panel_with_key(
     let best = |pieces: &[Piece]| {
         let wide = pack(pieces, width, 2, ascii);
         let tight = pack(pieces, width, 1, ascii);
-        if tight.len() < wide.len() { tight } else { wide }
+        if tight.len() < wide.len() {
+            tight
+        } else {
+            wide
+        }
     };
     let readout: Vec<Piece> = readout
         .iter()

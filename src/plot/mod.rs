@@ -65,8 +65,18 @@ mod tests {
         assert!(!locale_is_utf8(env(&[("LANG", "C")])));
         assert!(!locale_is_utf8(env(&[])), "no locale is the C locale");
         // LC_ALL over LC_CTYPE over LANG; empty values do not count.
-        assert!(!locale_is_utf8(env(&[("LC_ALL", "POSIX"), ("LANG", "C.UTF-8")])));
-        assert!(locale_is_utf8(env(&[("LC_ALL", ""), ("LC_CTYPE", "de_DE.UTF-8"), ("LANG", "C")])));
-        assert!(!locale_is_utf8(env(&[("LC_CTYPE", "de_DE.ISO-8859-1"), ("LANG", "C.UTF-8")])));
+        assert!(!locale_is_utf8(env(&[
+            ("LC_ALL", "POSIX"),
+            ("LANG", "C.UTF-8")
+        ])));
+        assert!(locale_is_utf8(env(&[
+            ("LC_ALL", ""),
+            ("LC_CTYPE", "de_DE.UTF-8"),
+            ("LANG", "C")
+        ])));
+        assert!(!locale_is_utf8(env(&[
+            ("LC_CTYPE", "de_DE.ISO-8859-1"),
+            ("LANG", "C.UTF-8")
+        ])));
     }
 }

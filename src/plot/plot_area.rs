@@ -11,7 +11,9 @@ use ratatui::style::Style;
 use ratatui::widgets::{Axis, Chart, Dataset};
 
 use super::Theme;
-use super::axes::{Scale, cell, label_start, linear_scale, log_scale, to_unit, widest_decade_label};
+use super::axes::{
+    Scale, cell, label_start, linear_scale, log_scale, to_unit, widest_decade_label,
+};
 
 /// Log or linear.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,7 +75,9 @@ impl PlotArea {
         // The widest x label: exact for decades, from a first try for linear axes.
         let mut x_width = match x.kind {
             AxisKind::Log => widest_decade_label(x.range[0], x.range[1]),
-            AxisKind::Linear => widest(&x.scale(area.width.saturating_sub(y_width + 2), true).labels),
+            AxisKind::Linear => {
+                widest(&x.scale(area.width.saturating_sub(y_width + 2), true).labels)
+            }
         };
         for _ in 0..3 {
             let left = (y_width + 1).max((x_width - 1) / 2);
@@ -141,7 +145,9 @@ impl PlotArea {
                 .set_symbol(horizontal)
                 .set_style(line);
         }
-        buffer[(axis_x, axis_row)].set_symbol(corner).set_style(line);
+        buffer[(axis_x, axis_row)]
+            .set_symbol(corner)
+            .set_style(line);
         for &t in &self.y.ticks {
             if let Some(row) = self.row(t) {
                 buffer[(axis_x, row)].set_symbol(y_tick).set_style(line);
@@ -149,7 +155,9 @@ impl PlotArea {
         }
         for &t in &self.x.ticks {
             if let Some(column) = self.column(t) {
-                buffer[(column, axis_row)].set_symbol(x_tick).set_style(line);
+                buffer[(column, axis_row)]
+                    .set_symbol(x_tick)
+                    .set_style(line);
             }
         }
         for (value, text) in &self.y.labels {
@@ -182,7 +190,10 @@ impl PlotArea {
         }
         let mut edges = vec![(i32::from(self.area.x) - 1, i32::from(self.area.x))];
         edges.extend_from_slice(taken);
-        edges.push((i32::from(self.area.right()), i32::from(self.area.right()) + 1));
+        edges.push((
+            i32::from(self.area.right()),
+            i32::from(self.area.right()) + 1,
+        ));
         edges.sort();
         let best = edges
             .windows(2)
@@ -198,9 +209,8 @@ impl PlotArea {
             // Inside the graph only over blank cells: a title never hides data.
             None if width < i32::from(self.graph.width) => {
                 let x = self.graph.right() - width as u16;
-                let blank = |row: u16| {
-                    (x..self.graph.right()).all(|c| buffer[(c, row)].symbol() == " ")
-                };
+                let blank =
+                    |row: u16| (x..self.graph.right()).all(|c| buffer[(c, row)].symbol() == " ");
                 let rows = [self.graph.bottom() - 1, self.graph.top()];
                 if let Some(row) = rows.into_iter().find(|r| blank(*r)) {
                     buffer.set_stringn(x, row, title, width as usize, style);
@@ -253,7 +263,10 @@ impl PlotArea {
                 let (Some(column), Some(row)) = (self.column(x), self.row(y)) else {
                     continue;
                 };
-                let (c, r) = ((column - self.graph.x) as usize, (row - self.graph.y) as usize);
+                let (c, r) = (
+                    (column - self.graph.x) as usize,
+                    (row - self.graph.y) as usize,
+                );
                 let free = |c: i64| -> Option<usize> {
                     (0..w as i64).contains(&c).then_some(())?;
                     let index = r * w + c as usize;
@@ -395,8 +408,10 @@ mod tests {
                     // y: each label on the row where the chart draws its value (± 1).
                     let points: Vec<(f64, f64)> =
                         plot.y.labels.iter().map(|(v, _)| (range[0], *v)).collect();
-                    let mut rows: Vec<u16> =
-                        drawn(&plot, &points, Marker::Dot).iter().map(|p| p.1).collect();
+                    let mut rows: Vec<u16> = drawn(&plot, &points, Marker::Dot)
+                        .iter()
+                        .map(|p| p.1)
+                        .collect();
                     rows.reverse(); // reading order is top down, the labels bottom up
                     assert_eq!(rows.len(), points.len(), "{case}");
                     for ((_, text), row) in plot.y.labels.iter().zip(rows) {

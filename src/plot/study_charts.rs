@@ -86,11 +86,13 @@ pub fn eps_error_chart(
         Some(epsilon) => {
             readout.push(epsilon_piece(theme, epsilon));
             let curve = curve_key(theme);
-            readout.push(match current.and_then(|p| p.error.and_then(|e| e.max_rel)) {
-                Some(e) => (format!("{curve} error {}", sci(e, 2)), series_style),
-                None if current.is_none() => ("not in the sweep yet".into(), theme.dim()),
-                None => (format!("{curve} error n/a"), series_style),
-            });
+            readout.push(
+                match current.and_then(|p| p.error.and_then(|e| e.max_rel)) {
+                    Some(e) => (format!("{curve} error {}", sci(e, 2)), series_style),
+                    None if current.is_none() => ("not in the sweep yet".into(), theme.dim()),
+                    None => (format!("{curve} error n/a"), series_style),
+                },
+            );
             readout.push((format!("vs {reference}"), theme.dim()));
         }
         None => key.push(KeyEntry {
@@ -107,7 +109,12 @@ pub fn eps_error_chart(
     };
     let buffer = frame.buffer_mut();
     if let Some(epsilon) = current_epsilon.filter(|e| *e > 0.0) {
-        area.vertical_line(buffer, epsilon.log10(), current_line(theme), theme.current());
+        area.vertical_line(
+            buffer,
+            epsilon.log10(),
+            current_line(theme),
+            theme.current(),
+        );
     }
     let data: Vec<(f64, f64)> = error.iter().map(|p| area.unit(*p)).collect();
     area.draw_datasets(
@@ -211,7 +218,12 @@ pub fn eps_condition_chart(
     };
     let buffer = frame.buffer_mut();
     if let Some(epsilon) = current_epsilon.filter(|e| *e > 0.0) {
-        area.vertical_line(buffer, epsilon.log10(), current_line(theme), theme.current());
+        area.vertical_line(
+            buffer,
+            epsilon.log10(),
+            current_line(theme),
+            theme.current(),
+        );
     }
     let scaled_unit: Vec<(f64, f64)> = scaled.iter().map(|p| area.unit(*p)).collect();
     let plain_unit: Vec<(f64, f64)> = plain.iter().map(|p| area.unit(*p)).collect();
@@ -265,6 +277,10 @@ const METHOD_MARKERS: [(char, char); 7] = [
     ('★', '@'),
 ];
 
+/// A method's series: its index in [`Method::ALL`], the method, and its log10 points, each
+/// with whether it is at the current n.
+type MethodSeries = (usize, Method, Vec<(f64, f64, bool)>);
+
 /// A method's name where the key has little room.
 fn short_name(method: Method) -> &'static str {
     match method {
@@ -314,7 +330,7 @@ pub fn error_time_chart(
         .find_map(|p| p.error.map(|e| e.reference))
         .filter(|r| *r != Reference::ThisSolution);
     // One series per method that has a point to draw, in Method::ALL order.
-    let mut series: Vec<(usize, Method, Vec<(f64, f64, bool)>)> = Vec::new();
+    let mut series: Vec<MethodSeries> = Vec::new();
     for (i, method) in Method::ALL.into_iter().enumerate() {
         let data: Vec<(f64, f64, bool)> = points
             .iter()
@@ -362,7 +378,10 @@ pub fn error_time_chart(
             format!("{} n = {}:", current_line(theme), run.elements),
             theme.current(),
         ));
-        let i = Method::ALL.iter().position(|m| *m == run.method).unwrap_or(0);
+        let i = Method::ALL
+            .iter()
+            .position(|m| *m == run.method)
+            .unwrap_or(0);
         let (u, a) = METHOD_MARKERS[i % METHOD_MARKERS.len()];
         let marker = marker_char(theme, u, a);
         let style = theme.series(i);
@@ -403,7 +422,7 @@ pub fn error_time_chart(
         area.vertical_line(buffer, n, current_line(theme), theme.current());
     }
     // The selected method first: it keeps its exact cells.
-    let mut order: Vec<&(usize, Method, Vec<(f64, f64, bool)>)> = series.iter().collect();
+    let mut order: Vec<&MethodSeries> = series.iter().collect();
     order.sort_by_key(|(_, m, _)| Some(*m) != selected);
     let markers: Vec<Markers> = order
         .iter()

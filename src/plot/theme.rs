@@ -122,8 +122,12 @@ impl Theme {
     }
     /// Secondary text (details, hints): readable in every palette, never dark grey.
     pub fn dim(&self) -> Style {
-        self.colored(Theme::fg(Color::Gray), Style::default(), Theme::fg(Color::White))
-            .unwrap_or_default()
+        self.colored(
+            Theme::fg(Color::Gray),
+            Style::default(),
+            Theme::fg(Color::White),
+        )
+        .unwrap_or_default()
     }
     /// Decoration that carries no information of its own (axis lines, the u = 0 line, the
     /// clamped ends): the one use of dark grey.

@@ -24,7 +24,7 @@ pub fn run_solve(request: &SolveRequest) -> Shown {
         .then(|| {
             let options = SolveOptions {
                 reference: false,
-                ..request.options.clone()
+                ..request.options
             };
             solve(&request.problem, &mesh, Method::Condensed, &options).ok()
         })

@@ -9,9 +9,9 @@ use ratatui::layout::Rect;
 use ratatui::widgets::{Dataset, GraphType};
 
 use crate::plot::{
-    AxisKind, AxisSpec, CurrentRun, KeyEntry, PanelFrame, PlotArea, Theme, curve_key,
-    curve_marker, eps_condition_chart, eps_error_chart, error_time_chart, marker_char, notice,
-    panel_with_key, point_marker,
+    AxisKind, AxisSpec, CurrentRun, KeyEntry, PanelFrame, PlotArea, Theme, curve_key, curve_marker,
+    eps_condition_chart, eps_error_chart, error_time_chart, marker_char, notice, panel_with_key,
+    point_marker,
 };
 use crate::scene::Panel;
 use crate::study::{EpsPoint, MeshPoint};
@@ -242,10 +242,7 @@ fn deflection(
     let unit = |points: &[(f64, f64)]| -> Vec<(f64, f64)> {
         points.iter().map(|p| plot.unit(*p)).collect()
     };
-    let walls = [
-        vec![(0.0, 0.0), (0.0, 1.0)],
-        vec![(1.0, 0.0), (1.0, 1.0)],
-    ];
+    let walls = [vec![(0.0, 0.0), (0.0, 1.0)], vec![(1.0, 0.0), (1.0, 1.0)]];
     let curve = unit(&curve);
     let reference_curve = unit(&reference_curve);
     let states: Vec<Vec<(f64, f64)>> = states.iter().map(|s| unit(s)).collect();
