@@ -248,14 +248,14 @@ pub const NORMAL: &[Binding] = &[
     bind!(
         Key::Char('c'),
         Action::ToggleDifference,
-        "deflection panel: the reference curve, or the difference u - u_ref on its own scale",
+        "deflection: the reference curve, or u - u_ref alone",
         "difference",
         16,
     ),
     bind!(
         Key::Char('T'),
         Action::CycleTheme,
-        "next colour theme: dark, light, high-contrast (for projectors)",
+        "colour theme: dark, light, high-contrast",
         "theme",
         17,
     ),
