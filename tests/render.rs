@@ -501,3 +501,42 @@ fn regularized_deflection_with_its_reference() {
         }
     }
 }
+
+/// Issue 13: in every palette, dark grey draws only decoration (axis lines, the zero line, the
+/// clamped ends), never a letter or a digit; the light palette writes no text in yellow; the
+/// high-contrast palette sets the background of every cell.
+#[test]
+fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
+    use beamfric::plot::Palette;
+    use ratatui::style::Color;
+    let keys = beamfric::tui::keymap::parse_keys("m m m Down Down Down Down Down Down Down Down");
+    for scene in ["benchmark-1", "lesson-mesh"] {
+        for palette in Palette::ALL {
+            for (w, h) in LESSON_SIZES {
+                let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
+                let mut options = options(w, h, false);
+                options.look.color = true;
+                options.palette = palette;
+                let app = prepare(loaded, &keys, options).unwrap();
+                let buffer = draw_to_buffer(&app, w, h).unwrap();
+                for cell in buffer.content.iter() {
+                    let text = cell.symbol().chars().any(|c| c.is_alphanumeric());
+                    let case = format!("{scene} {w}x{h} {}: {:?}", palette.name(), cell);
+                    if cell.fg == Color::DarkGray {
+                        assert!(!text, "dark grey text: {case}");
+                    }
+                    if palette == Palette::Light {
+                        assert!(
+                            !(text && matches!(cell.fg, Color::Yellow | Color::LightYellow)),
+                            "yellow text on the light theme: {case}"
+                        );
+                    }
+                    if palette == Palette::HighContrast {
+                        // Black, or white under the selected row: never the terminal's own.
+                        assert!(matches!(cell.bg, Color::Black | Color::White), "{case}");
+                    }
+                }
+            }
+        }
+    }
+}

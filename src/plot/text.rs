@@ -55,6 +55,7 @@ fn sgr((fg, bg, modifier): (Color, Color, Modifier)) -> String {
             Color::LightMagenta => (5, true),
             Color::LightCyan => (6, true),
             Color::White => (7, true),
+            Color::Indexed(n) => return Some(format!("{};5;{n}", base + 8)),
             _ => return None,
         };
         Some(format!("{}", base + index + if bright { 60 } else { 0 }))

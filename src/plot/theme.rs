@@ -175,14 +175,15 @@ impl Theme {
             Color::Blue,
             Color::White,
         ];
+        // Dark enough on white: no yellow, cyan or grey (256-colour teal and brown).
         const LIGHT: [Color; 7] = [
             Color::Blue,
             Color::Red,
             Color::Magenta,
             Color::Green,
             Color::Black,
-            Color::Cyan,
-            Color::DarkGray,
+            Color::Indexed(30),
+            Color::Indexed(94),
         ];
         const HIGH: [Color; 7] = [
             Color::LightCyan,

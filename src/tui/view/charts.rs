@@ -200,7 +200,8 @@ fn deflection(
     key.push(KeyEntry {
         marker: marker_char(theme, wall.0, wall.1),
         name: "clamped".into(),
-        style: theme.faint(),
+        // Text is never dark grey (the theme's rule): the key in the secondary style.
+        style: theme.dim(),
         short: None,
     });
     let mut states: [Vec<(f64, f64)>; 4] = Default::default();
