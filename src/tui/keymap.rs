@@ -245,20 +245,19 @@ pub const NORMAL: &[Binding] = &[
         "time",
         14,
     ),
-    bind!(
-        Key::Char('c'),
-        Action::ToggleDifference,
-        "deflection: the reference curve, or u - u_ref alone",
-        "difference",
-        16,
-    ),
-    bind!(
-        Key::Char('T'),
-        Action::CycleTheme,
-        "colour theme: dark, light, high-contrast",
-        "theme",
-        17,
-    ),
+    // No hints: the deflection panel's key names `c`, the help names both.
+    Binding {
+        keys: &[(Key::Char('c'), Action::ToggleDifference)],
+        aliases: &[],
+        help: "deflection: the reference curve, or u - u_ref alone",
+        hint: None,
+    },
+    Binding {
+        keys: &[(Key::Char('T'), Action::CycleTheme)],
+        aliases: &[],
+        help: "colour theme: dark, light, high-contrast",
+        hint: None,
+    },
     Binding {
         keys: &[
             (Key::Char('u'), Action::Undo),
