@@ -184,7 +184,8 @@ pub fn linear_scale(min: f64, max: f64, cells: u16, horizontal: bool) -> Scale {
     let gap = if cells >= 5 { 2 } else { 1 };
     // At most one tick per eight columns across, per two rows up: room for the title.
     let most = f64::from(if horizontal { cells / 8 } else { cells / 2 }.max(2));
-    let mut exponent = (span / most).log10().floor() as i32 - 1;
+    // Clamped: span / most can underflow to 0 (log10 = -inf) for subnormal data.
+    let mut exponent = (span / most).log10().floor().clamp(-330.0, 310.0) as i32 - 1;
     for _ in 0..40 {
         for mantissa in [1.0, 2.0, 5.0] {
             let step = mantissa * 10f64.powi(exponent);
@@ -286,13 +287,23 @@ mod tests {
             texts.contains(&"0.01") || texts.contains(&"0.02"),
             "{texts:?}"
         );
-        // The extremes of f64 stay finite.
+        // The extremes of f64 stay finite; a span so small that span / cells underflows to
+        // zero (found by tests/fuzz.rs) does not overflow the exponent.
         for (a, b) in [
             (-f64::MAX, f64::MAX),
             (0.0, 0.0),
             (5e-324, 1e-323),
+            (0.0, 5e-324),
+            (-5e-324, 5e-324),
             (1e300, 1e300),
         ] {
+            for cells in [1, 2, 5, 30, 200] {
+                for horizontal in [true, false] {
+                    let s = linear_scale(a, b, cells, horizontal);
+                    assert!(s.bounds.iter().all(|v| v.is_finite()), "{a} {b}");
+                    assert!(s.bounds[0] < s.bounds[1], "{a} {b}");
+                }
+            }
             let s = linear_scale(a, b, 30, true);
             assert!(s.bounds.iter().all(|v| v.is_finite()), "{a} {b}");
             assert!(s.bounds[0] < s.bounds[1], "{a} {b}");
