@@ -1,7 +1,8 @@
 //! Drawing that the explorer and `beamfric report` share: the [`Look`] of a frame (Unicode or
-//! ASCII, colour or not), its [`Theme`] of styles (three [`Palette`]s), the ASCII stand-ins for every symbol, log–log
-//! charts of plain data with decade axes, the study charts built on them, and a buffer turned
-//! into text. Nothing here knows the explorer's state: every chart takes its data as arguments.
+//! ASCII, colour or not), its [`Theme`] of styles in one of three [`Palette`]s, ASCII spelled
+//! out so that nothing changes meaning, axes whose labels sit at their values (log decades and
+//! nice linear ticks, [`PlotArea`]), the study charts built on them, and a buffer turned into
+//! text. Nothing here knows the explorer's state: every chart takes its data as arguments.
 
 mod ascii;
 mod axes;
