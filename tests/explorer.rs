@@ -267,8 +267,8 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
     press(&mut app, "Right");
     beamfric::tui::press(&mut app, Key::Char('s'));
     // Replace the suggested name with ours.
-    while let Mode::Save { buffer } = &app.mode {
-        if buffer.is_empty() {
+    while let Mode::Save { prompt: buffer } = &app.mode {
+        if buffer.text.is_empty() {
             break;
         }
         beamfric::tui::press(&mut app, Key::Backspace);
@@ -431,8 +431,8 @@ fn a_failed_save_says_why_and_loses_nothing() {
     let scene_before = app.scene.clone();
     let selected_before = app.selected;
     beamfric::tui::press(&mut app, Key::Char('s'));
-    while let Mode::Save { buffer } = &app.mode {
-        if buffer.is_empty() {
+    while let Mode::Save { prompt: buffer } = &app.mode {
+        if buffer.text.is_empty() {
             break;
         }
         beamfric::tui::press(&mut app, Key::Backspace);
@@ -550,8 +550,8 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
     // Issue 12 item 3: the save prompt used to cut names at 200 characters silently.
     let mut app = app("benchmark-1");
     press(&mut app, "s");
-    while let Mode::Save { buffer } = &app.mode {
-        if buffer.is_empty() {
+    while let Mode::Save { prompt: buffer } = &app.mode {
+        if buffer.text.is_empty() {
             break;
         }
         beamfric::tui::press(&mut app, Key::Backspace);
@@ -560,21 +560,98 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
     for c in long.chars() {
         beamfric::tui::press(&mut app, Key::Char(c));
     }
-    let Mode::Save { buffer } = &app.mode else {
+    let Mode::Save { prompt: buffer } = &app.mode else {
         panic!("left the prompt")
     };
-    assert_eq!(buffer, &long, "a 2010-character name is kept whole");
+    assert_eq!(&buffer.text, &long, "a 2010-character name is kept whole");
     for _ in 0..3000 {
         beamfric::tui::press(&mut app, Key::Char('x'));
     }
-    let Mode::Save { buffer } = &app.mode else {
+    let Mode::Save { prompt: buffer } = &app.mode else {
         panic!("left the prompt")
     };
-    assert_eq!(buffer.chars().count(), 4096);
+    assert_eq!(buffer.text.chars().count(), 4096);
     assert!(
         app.message
             .as_deref()
             .unwrap()
             .contains("at most 4096 characters")
+    );
+}
+
+/// Issue 13: typing a position that moves an obstacle past another keeps the selection on
+/// the obstacle that was edited (now with another number), and a rejected value is named by
+/// the number the user sees.
+#[test]
+fn a_typed_position_keeps_the_cursor_on_its_obstacle() {
+    let mut app = app("eight-obstacles");
+    // Row 4 is obstacle 1's position (0.1 m): move it to 0.95 m, past all the others.
+    press(&mut app, "Down Down Down Down Enter 0.95 Enter");
+    app.settle();
+    assert_eq!(app.message, None, "accepted");
+    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    assert_eq!(xs.last(), Some(&0.95), "sorted: {xs:?}");
+    assert_eq!(
+        format!("{:?}", app.selected_row()),
+        "ObstacleX(7)",
+        "the cursor followed the obstacle to its new number"
+    );
+    // Its sliding threshold is the next row: the same obstacle.
+    press(&mut app, "Down Enter 777 Enter");
+    assert_eq!(app.scene.obstacles[7].sliding, 777.0);
+    assert_eq!(app.scene.obstacles[7].x, 0.95);
+    // A position that would make it the first again but is too close to obstacle 1 (0.2 m
+    // after the move) is rejected naming obstacle 8, the number on screen, not the number
+    // it would have had after sorting.
+    press(&mut app, "Up Enter 0.2 Enter");
+    let message = app.message.clone().unwrap_or_default();
+    assert!(message.contains("rejected"), "{message}");
+    assert!(message.contains("obstacle[8]"), "{message}");
+    assert!(!message.contains("obstacle[2]"), "{message}");
+}
+
+/// Issue 13: the value prompt starts with the current value (typing replaces it), the cursor
+/// moves, Ctrl-U erases before it.
+#[test]
+fn the_value_prompt_is_pre_filled_and_editable() {
+    let mut app = app("benchmark-1");
+    press(&mut app, "Enter");
+    let Mode::Editing { prompt, .. } = &app.mode else {
+        panic!("not editing")
+    };
+    assert_eq!(prompt.text, "50000");
+    // ← then typing edits the value in place: 50000 → 500090 … then Enter.
+    press(&mut app, "Left 9 Enter");
+    assert_eq!(app.scene.load.f0, 500090.0);
+    // Typing at once replaces the value, as the keys of earlier lessons expect.
+    press(&mut app, "Enter 7 Enter");
+    assert_eq!(app.scene.load.f0, 7.0);
+    // Ctrl-U erases everything before the cursor.
+    press(&mut app, "Enter Left C-u");
+    let Mode::Editing { prompt, .. } = &app.mode else {
+        panic!("not editing")
+    };
+    assert_eq!(prompt.text, "7");
+    assert_eq!(prompt.cursor, 0);
+    press(&mut app, "Esc");
+    assert_eq!(app.mode, Mode::Normal);
+}
+
+/// Issue 13: `b` where no deflection panel is on screen brings it forward; the diagram does
+/// not leak into the next preset.
+#[test]
+fn the_diagram_key_shows_what_it_changes() {
+    let mut app = app("benchmark-1");
+    app.size = (80, 24);
+    press(&mut app, "Tab");
+    assert!(!app.visible_panels().contains(&Panel::Deflection));
+    press(&mut app, "b");
+    assert!(app.visible_panels().contains(&Panel::Deflection));
+    assert_eq!(format!("{:?}", app.diagram), "Moment");
+    press(&mut app, "p Down Enter");
+    assert_eq!(
+        format!("{:?}", app.diagram),
+        "Deflection",
+        "a new scene starts afresh"
     );
 }

@@ -159,9 +159,9 @@ fn run_script(start: usize, script: Vec<Vec<Input>>) -> Result<usize, TestCaseEr
     let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
     for action in script.into_iter().flatten() {
         // Saves stay inside the temporary directory: never erase into its path.
-        if let Mode::Save { buffer } = &app.mode
+        if let Mode::Save { prompt: buffer } = &app.mode
             && action == Input::Key(Key::Backspace)
-            && buffer.len() <= prefix.len() + 1
+            && buffer.text.len() <= prefix.len() + 1
         {
             continue;
         }

@@ -268,6 +268,23 @@ fn lesson_frames(
     out
 }
 
+/// The frame after `keys` on a preset, at each size and look.
+fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
+    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let mut app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
+    let mut out = Vec::new();
+    for ascii in [false, true] {
+        app.look.ascii = ascii;
+        for &(w, h) in sizes {
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            let label = format!("{w}x{h}{}", if ascii { "-ascii" } else { "" });
+            out.push((label, text, ascii));
+        }
+    }
+    out
+}
+
 /// Every method's marker appears in the chart rows (not only in the key): the key line is the
 /// only place a method's name is written, so a marker seen twice is drawn at least once.
 fn assert_every_series_drawn(text: &str, ascii: bool, label: &str) {
@@ -537,6 +554,60 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
                     }
                 }
             }
+        }
+    }
+}
+
+/// The warnings of a preset's solution after `keys`, from the solver (not from the screen).
+fn warning_messages(name: &str, keys: &str) -> Vec<String> {
+    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
+    match app.solution() {
+        Some(Ok(solution)) => solution
+            .warnings
+            .iter()
+            .map(|w| w.message.clone())
+            .collect(),
+        other => panic!("{name}: no solution: {other:?}"),
+    }
+}
+
+const ALL_SIZES: [(u16, u16); 3] = [(80, 24), (100, 30), (120, 40)];
+/// From the first row to the elements row (the second to last), then the warnings view.
+const LESSON_MESH_200K: &str = "Down Down Down Down Down Down Down Down Down Down Down Down \
+                                Down Down Down Down Down Down Down Up Enter 200000 Enter";
+
+/// Issue 13: the warnings view shows every word of every warning at every size, wrapped,
+/// never cut, the real cause first.
+#[test]
+fn the_warnings_view_shows_every_word() {
+    for (name, keys, snapshot) in [
+        ("fine-mesh", "", "fine-mesh"),
+        ("lesson-mesh", LESSON_MESH_200K, "lesson-mesh-200000"),
+    ] {
+        let messages = warning_messages(name, keys);
+        assert!(!messages.is_empty(), "{name}: the scene has warnings");
+        let keys = format!("{keys} w");
+        for (label, text, ascii) in frames_after(name, &keys, &ALL_SIZES) {
+            if !ascii {
+                // Every word of every message, in order, inside the frame's box.
+                let words: Vec<&str> = text
+                    .lines()
+                    .flat_map(|l| l.trim_matches(|c| c == '┃' || c == ' ').split_whitespace())
+                    .collect();
+                for message in &messages {
+                    let wanted: Vec<&str> = message.split_whitespace().collect();
+                    let found = words.windows(wanted.len()).any(|w| w == wanted.as_slice());
+                    assert!(
+                        found,
+                        "{name} {label}: not all of {message:?} visible:\n{text}"
+                    );
+                }
+            } else {
+                assert!(text.is_ascii(), "{name} {label}");
+            }
+            insta::assert_snapshot!(format!("warnings-{snapshot}-{label}"), text);
         }
     }
 }

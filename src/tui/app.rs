@@ -7,6 +7,7 @@ use crate::scene::{LoadedScene, Panel, Scene, SceneSource, Settings};
 use crate::solve::{ConditionLevel, Method, Solution, SolveError, SolveOptions};
 
 use super::params::{Row, rows};
+use super::prompt::Prompt;
 use super::studies::{
     STUDIES, StudyContext, StudyRequest, StudyResult, StudySlot, StudyState, StudyView, study_of,
 };
@@ -18,16 +19,18 @@ pub use crate::plot::{Look, Palette};
 pub enum Mode {
     /// Selecting and stepping parameters.
     Normal,
-    /// Typing an exact value for a row.
-    Editing { row: Row, buffer: String },
-    /// The help overlay.
-    Help,
+    /// Typing an exact value for a row (pre-filled with the current one).
+    Editing { row: Row, prompt: Prompt },
+    /// The help, scrolled down by `offset` lines.
+    Help { offset: u16 },
+    /// Every warning in full, scrolled down by `offset` lines.
+    Warnings { offset: u16 },
     /// The scene as TOML, to copy from the screen (saving in a served session).
     SceneText,
     /// The preset picker, with the highlighted entry.
     Presets { index: usize },
     /// Typing the file name to save to.
-    Save { buffer: String },
+    Save { prompt: Prompt },
     /// The file exists: overwrite it?
     ConfirmOverwrite { path: String },
     /// The scene has unsaved changes: lose them to do `then`?
@@ -132,6 +135,8 @@ pub struct App {
     pub diagram: Diagram,
     /// The panel shown when only one fits (index into the scene's panels).
     pub focus: usize,
+    /// The focused panel fills the screen below the title.
+    pub zoom: bool,
     /// Show run times (they make frames depend on the clock).
     pub show_timings: bool,
     pub look: Look,
@@ -189,6 +194,7 @@ impl App {
             message: None,
             diagram: Diagram::Deflection,
             focus: 0,
+            zoom: false,
             show_timings,
             look,
             palette: Palette::default(),
@@ -298,19 +304,13 @@ impl App {
         self.shown.as_ref().map(|s| &s.solution)
     }
 
-    /// The panels on screen: all of them from [`super::view::FULL_SIZE`] on, the focused one
-    /// below it, none when the terminal is too small.
+    /// The panels on screen, as [`super::view::screen_layout`] places them: none when the
+    /// terminal is too small.
     pub fn visible_panels(&self) -> Vec<Panel> {
-        use super::view::{FULL_SIZE, MIN_SIZE};
-        let panels = self.panels();
-        let (w, h) = self.size;
-        if w >= FULL_SIZE.0 && h >= FULL_SIZE.1 {
-            panels
-        } else if w >= MIN_SIZE.0 && h >= MIN_SIZE.1 && !panels.is_empty() {
-            vec![panels[self.focus % panels.len()]]
-        } else {
-            Vec::new()
-        }
+        let area = ratatui::layout::Rect::new(0, 0, self.size.0, self.size.1);
+        super::view::screen_layout(self, area)
+            .map(|layout| layout.panels.into_iter().map(|(panel, _)| panel).collect())
+            .unwrap_or_default()
     }
 
     /// Marks the studies whose inputs changed as pending (or idle when no visible panel needs

@@ -61,6 +61,8 @@ pub enum Action {
     /// The next colour palette (dark, light, high contrast).
     CycleTheme,
     ShowHelp,
+    /// Every warning of the solution shown, in full.
+    ShowWarnings,
     /// Take back the last change of the scene.
     Undo,
     /// Do again what was undone.
@@ -72,8 +74,18 @@ pub enum Action {
     Suspend,
     /// A character typed into a prompt.
     Type(char),
-    /// Delete the last character of a prompt.
+    /// Delete the character before a prompt's cursor.
     DeleteChar,
+    /// Move a prompt's cursor one character left.
+    CursorLeft,
+    /// One character right.
+    CursorRight,
+    /// To the start of the prompt.
+    CursorHome,
+    /// To its end.
+    CursorEnd,
+    /// Erase the prompt's text before the cursor (Ctrl-U).
+    EraseToStart,
     /// Accept a prompt, a list entry or a question.
     Confirm,
     /// Leave a prompt, an overlay or a question without doing anything.
@@ -169,7 +181,7 @@ pub const NORMAL: &[Binding] = &[
         hint: Some(Hint {
             keys: &[Key::Char('['), Key::Char(']')],
             word: "coarse",
-            order: 4,
+            order: 10,
         }),
     },
     bind!(
@@ -177,56 +189,56 @@ pub const NORMAL: &[Binding] = &[
         Action::EditValue,
         "type an exact value (Enter sets, Esc cancels)",
         "type",
-        5,
+        4,
     ),
     bind!(
         Key::Char('a'),
         Action::AddObstacle,
         "add an obstacle in the widest gap",
         "add",
-        6,
+        11,
     ),
     bind!(
         Key::Char('d'),
         Action::DeleteObstacle,
         "delete the selected obstacle",
         "delete",
-        7,
+        12,
     ),
     bind!(
         Key::Char('m'),
         Action::NextMethod,
         "cycle the method",
         "method",
-        8
+        5
     ),
     bind!(
         Key::Char('p'),
         Action::PickPreset,
         "pick a preset",
         "preset",
-        9
+        7
     ),
     bind!(
         Key::Char('s'),
         Action::Save,
         "save the scene to a TOML file",
         "save",
-        10,
+        13,
     ),
     bind!(
         Key::Char('r'),
         Action::Reset,
         "reset to the scene as loaded",
         "reset",
-        11,
+        15,
     ),
     bind!(
         Key::Char('b'),
         Action::NextDiagram,
         "deflection, bending moment, shear",
         "diagram",
-        12,
+        9,
     ),
     Binding {
         keys: &[(Key::Tab, Action::NextPanel)],
@@ -235,7 +247,7 @@ pub const NORMAL: &[Binding] = &[
         hint: Some(Hint {
             keys: &[Key::Tab],
             word: "panel",
-            order: 13,
+            order: 8,
         }),
     },
     bind!(
@@ -243,7 +255,7 @@ pub const NORMAL: &[Binding] = &[
         Action::ToggleTimings,
         "show or hide run times",
         "time",
-        14,
+        16,
     ),
     // No hints: the deflection panel's key names `c`, the help names both.
     Binding {
@@ -268,10 +280,17 @@ pub const NORMAL: &[Binding] = &[
         hint: Some(Hint {
             keys: &[Key::Char('u')],
             word: "undo",
-            order: 15,
+            order: 14,
         }),
     },
     bind!(Key::Char('?'), Action::ShowHelp, "this help", "help", 0),
+    bind!(
+        Key::Char('w'),
+        Action::ShowWarnings,
+        "every warning in full, most serious first (↑↓ scroll, any other key closes)",
+        "warnings",
+        6,
+    ),
     Binding {
         keys: &[
             (Key::Char('q'), Action::Quit),
@@ -374,10 +393,20 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
     }
     match mode {
         Mode::Normal => Some(normal_action(key).unwrap_or(Action::Unbound(key))),
-        Mode::Help | Mode::SceneText => Some(Action::Cancel),
+        Mode::SceneText => Some(Action::Cancel),
+        Mode::Help { .. } | Mode::Warnings { .. } => match key {
+            Key::Up | Key::Char('k') => Some(Action::SelectPrevious),
+            Key::Down | Key::Char('j') => Some(Action::SelectNext),
+            _ => Some(Action::Cancel),
+        },
         Mode::Editing { .. } | Mode::Save { .. } => match key {
             Key::Char(c) => Some(Action::Type(c)),
             Key::Backspace => Some(Action::DeleteChar),
+            Key::Left => Some(Action::CursorLeft),
+            Key::Right => Some(Action::CursorRight),
+            Key::Ctrl('a') => Some(Action::CursorHome),
+            Key::Ctrl('e') => Some(Action::CursorEnd),
+            Key::Ctrl('u') => Some(Action::EraseToStart),
             Key::Enter => Some(Action::Confirm),
             Key::Esc => Some(Action::Cancel),
             _ => None,
@@ -471,9 +500,36 @@ pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
         .collect()
 }
 
+/// The up and down arrows as the hints write them: `↑↓`, or `Up/Down` in ASCII.
+pub fn up_down(ascii: bool) -> &'static str {
+    if ascii { "Up/Down" } else { "↑↓" }
+}
+
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {
+    hint_items(ascii).join(" ")
+}
+
+/// The hint line cut to `width` columns: the most useful hints that fit, whole, in their
+/// order (`?:help` first, so the rest is always one key away).
+pub fn fitted_hint_line(ascii: bool, width: usize) -> String {
+    let mut line = String::new();
+    for item in hint_items(ascii) {
+        let needed = if line.is_empty() { 0 } else { 1 } + item.chars().count();
+        if line.chars().count() + needed > width {
+            break;
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(&item);
+    }
+    line
+}
+
+/// The hints, most useful first, each `key:word`.
+fn hint_items(ascii: bool) -> Vec<String> {
     let mut hints: Vec<&Hint> = NORMAL.iter().filter_map(|b| b.hint.as_ref()).collect();
     hints.sort_by_key(|h| h.order);
     hints
@@ -488,8 +544,7 @@ pub fn hint_line(ascii: bool) -> String {
             let keys: Vec<String> = h.keys.iter().map(|k| k.label(ascii)).collect();
             format!("{}:{}", keys.join(separator), h.word)
         })
-        .collect::<Vec<_>>()
-        .join(" ")
+        .collect()
 }
 
 #[cfg(test)]
@@ -562,8 +617,28 @@ mod tests {
         assert_eq!(help_lines(true)[0].0, "Up Down  k j");
         assert_eq!(
             hint_line(false),
-            "?:help q:quit ↑↓:select ←→:change [ ]:coarse Enter:type a:add d:delete \
-             m:method p:preset s:save r:reset b:diagram Tab:panel t:time u:undo"
+            "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
+             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time"
         );
+    }
+
+    #[test]
+    fn the_fitted_hint_line_keeps_whole_hints_in_order() {
+        for ascii in [false, true] {
+            let full = hint_line(ascii);
+            for width in 0..=full.chars().count() + 5 {
+                let fitted = fitted_hint_line(ascii, width);
+                assert!(fitted.chars().count() <= width, "{width}: {fitted}");
+                // A prefix of the full line, ending at a whole hint.
+                assert!(full.starts_with(&fitted), "{width}: {fitted}");
+                let rest = &full[fitted.len()..];
+                assert!(
+                    fitted.is_empty() || rest.is_empty() || rest.starts_with(' '),
+                    "{width}: {fitted}"
+                );
+            }
+            assert!(fitted_hint_line(ascii, 80).starts_with("?:help q:quit"));
+            assert!(fitted_hint_line(ascii, 80).contains(":warnings"));
+        }
     }
 }

@@ -11,6 +11,7 @@ pub mod follow;
 pub mod input;
 pub mod keymap;
 pub mod params;
+pub mod prompt;
 pub mod remote;
 pub mod solver;
 pub mod studies;

@@ -88,6 +88,16 @@ impl Row {
     }
 
     /// The obstacle a row belongs to.
+    /// The same kind of row for obstacle `index` (other rows unchanged).
+    pub fn for_obstacle(self, index: usize) -> Row {
+        match self {
+            Row::ObstacleX(_) => Row::ObstacleX(index),
+            Row::Sliding(_) => Row::Sliding(index),
+            Row::Swivel(_) => Row::Swivel(index),
+            other => other,
+        }
+    }
+
     pub fn obstacle(self) -> Option<usize> {
         match self {
             Row::ObstacleX(i) | Row::Sliding(i) | Row::Swivel(i) => Some(i),

@@ -8,6 +8,8 @@ use crate::solve::Method;
 use super::app::{App, Diagram, Discard, Mode, SavePolicy, UNDO_LIMIT};
 use super::keymap::{Action, Key};
 use super::params::{Row, set_from_text, step};
+use super::prompt::{Prompt, Typed, editable_number};
+use crate::scene::Panel;
 
 /// Longest value a prompt accepts.
 const PROMPT_LIMIT: usize = 200;
@@ -52,18 +54,44 @@ pub fn update(app: &mut App, action: Action) {
     }
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
-        Mode::Help | Mode::SceneText => {
+        Mode::Help { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Help {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Help {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
+        Mode::SceneText => {
             if action == Action::Cancel {
                 app.mode = Mode::Normal;
             }
         }
-        Mode::Editing { row, buffer } => editing(app, action, row, buffer),
+        Mode::Warnings { offset } => {
+            app.mode = match action {
+                Action::SelectPrevious => Mode::Warnings {
+                    offset: offset.saturating_sub(1),
+                },
+                Action::SelectNext => Mode::Warnings {
+                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
+                },
+                _ => Mode::Normal,
+            }
+        }
+        Mode::Editing { row, prompt } => editing(app, action, row, prompt),
         Mode::Presets { index } => presets(app, action, index),
-        Mode::Save { buffer } => save_prompt(app, action, buffer),
+        Mode::Save { prompt } => save_prompt(app, action, prompt),
         Mode::ConfirmOverwrite { path } => confirm_overwrite(app, action, path),
         Mode::ConfirmDiscard { then } => confirm_discard(app, action, then),
     }
 }
+
+/// The warnings view and the help scroll at most this far (drawing stops at the last line
+/// anyway).
+const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 fn unless_unsaved(app: &mut App, then: Discard) {
@@ -158,7 +186,7 @@ fn saving_is_off(app: &mut App) -> bool {
 fn start_save(app: &mut App) {
     if !saving_is_off(app) {
         app.mode = Mode::Save {
-            buffer: app.save_path.clone(),
+            prompt: Prompt::new(app.save_path.clone(), false),
         };
     }
 }
@@ -175,17 +203,40 @@ fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
 }
 
 /// Keeps `candidate` if it is a valid scene (and re-solves), else reports the rule it broke.
+/// Errors name obstacles by the numbers the user sees (the candidate is checked before its
+/// obstacles are put in order); once kept, the selection stays on the same obstacle even if
+/// a new position moved it past another.
 fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
-    candidate.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
     if let Some(message) = beyond_limits(app, &candidate) {
         app.message = Some(message);
         return false;
     }
+    if let Err(e) = candidate.validate(&app.source.to_string()) {
+        app.message = Some(format!("rejected: {}: {}", e.field, e.rule));
+        return false;
+    }
+    // Where each obstacle goes when sorted by position (stable: ties keep their order).
+    let mut order: Vec<usize> = (0..candidate.obstacles.len()).collect();
+    order.sort_by(|&a, &b| {
+        candidate.obstacles[a]
+            .x
+            .total_cmp(&candidate.obstacles[b].x)
+    });
+    candidate.obstacles = order.iter().map(|&i| candidate.obstacles[i]).collect();
     match candidate.validate(&app.source.to_string()) {
         Ok((problem, settings)) => {
+            let selected = app.selected_row();
             remember(app);
             app.scene = candidate;
             app.message = None;
+            if let Some(old) = selected.obstacle()
+                && let Some(new) = order.iter().position(|&i| i == old)
+                && new != old
+            {
+                let moved = selected.for_obstacle(new);
+                app.selected = app.rows().iter().position(|r| *r == moved).unwrap_or(0);
+            }
+            app.selected = app.selected.min(app.rows().len() - 1);
             app.resolve(problem, settings);
             true
         }
@@ -204,9 +255,18 @@ fn normal(app: &mut App, action: Action) {
         Action::Decrease { coarse } => change(app, -1, coarse),
         Action::Increase { coarse } => change(app, 1, coarse),
         Action::EditValue => {
+            let row = app.selected_row();
+            let current = match row {
+                Row::Method => app.scene.solver.method.name().to_string(),
+                Row::Elements => app.scene.mesh.elements.to_string(),
+                _ => row
+                    .number(&app.scene)
+                    .map(editable_number)
+                    .unwrap_or_default(),
+            };
             app.mode = Mode::Editing {
-                row: app.selected_row(),
-                buffer: String::new(),
+                row,
+                prompt: Prompt::new(current, true),
             }
         }
         Action::AddObstacle => add_obstacle(app),
@@ -221,17 +281,12 @@ fn normal(app: &mut App, action: Action) {
         }
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
-        Action::ShowHelp => app.mode = Mode::Help,
+        Action::ShowHelp => app.mode = Mode::Help { offset: 0 },
+        Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
         Action::Quit => unless_unsaved(app, Discard::Quit),
         Action::Undo => undo_redo(app, true),
         Action::Redo => undo_redo(app, false),
-        Action::NextDiagram => {
-            app.diagram = match app.diagram {
-                Diagram::Deflection => Diagram::Moment,
-                Diagram::Moment => Diagram::Shear,
-                Diagram::Shear => Diagram::Deflection,
-            }
-        }
+        Action::NextDiagram => next_diagram(app),
         Action::ToggleDifference => app.show_difference = !app.show_difference,
         Action::CycleTheme => {
             app.palette = app.palette.next();
@@ -263,12 +318,36 @@ fn normal(app: &mut App, action: Action) {
         Action::Unbound(_)
         | Action::Type(_)
         | Action::DeleteChar
+        | Action::CursorLeft
+        | Action::CursorRight
+        | Action::CursorHome
+        | Action::CursorEnd
+        | Action::EraseToStart
         | Action::Confirm
         | Action::Cancel => {}
         Action::Interrupt | Action::Resize(..) | Action::Suspend | Action::PasteIgnored => {
             unreachable!("handled before the mode")
         }
     }
+}
+
+/// `b`: the deflection panel's next diagram. Where that panel is not on screen it is brought
+/// forward first (the change is then visible); a scene without it says so.
+fn next_diagram(app: &mut App) {
+    let panels = app.panels();
+    let Some(index) = panels.iter().position(|p| *p == Panel::Deflection) else {
+        app.message = Some("this scene shows no deflection panel (b has nothing to switch)".into());
+        return;
+    };
+    if !app.visible_panels().contains(&Panel::Deflection) {
+        app.focus = index;
+        app.refresh_studies();
+    }
+    app.diagram = match app.diagram {
+        Diagram::Deflection => Diagram::Moment,
+        Diagram::Moment => Diagram::Shear,
+        Diagram::Shear => Diagram::Deflection,
+    };
 }
 
 /// `dual-inverse` at its limit (N = 3998 unknowns) takes about 3 s (criterion, release), and
@@ -373,35 +452,41 @@ fn delete_obstacle(app: &mut App) {
     }
 }
 
-fn editing(app: &mut App, action: Action, row: Row, mut buffer: String) {
+/// The editing keys every prompt shares; returns whether `action` was one of them.
+fn edit_prompt(prompt: &mut Prompt, action: Action, limit: usize) -> Option<Typed> {
     match action {
-        Action::Type(c) => {
-            if buffer.chars().count() < PROMPT_LIMIT {
-                buffer.push(c);
-            }
-            app.mode = Mode::Editing { row, buffer };
-        }
-        Action::DeleteChar => {
-            buffer.pop();
-            app.mode = Mode::Editing { row, buffer };
-        }
+        Action::Type(c) => return Some(prompt.insert(c, limit)),
+        Action::DeleteChar => prompt.delete_before(),
+        Action::CursorLeft => prompt.move_by(-1),
+        Action::CursorRight => prompt.move_by(1),
+        Action::CursorHome => prompt.home(),
+        Action::CursorEnd => prompt.end(),
+        Action::EraseToStart => prompt.erase_to_start(),
+        _ => return None,
+    }
+    Some(Typed::Inserted)
+}
+
+fn editing(app: &mut App, action: Action, row: Row, mut prompt: Prompt) {
+    if edit_prompt(&mut prompt, action, PROMPT_LIMIT).is_some() {
+        app.mode = Mode::Editing { row, prompt };
+        return;
+    }
+    match action {
         Action::Confirm => {
             app.mode = Mode::Normal;
-            if buffer.trim().is_empty() {
+            if prompt.text.trim().is_empty() {
                 return;
             }
-            match set_from_text(&app.scene, row, &buffer) {
+            match set_from_text(&app.scene, row, &prompt.text) {
                 Ok(candidate) => {
-                    if try_apply(app, candidate) && row.obstacle().is_some() {
-                        // A typed position may reorder the obstacles: follow the row's value.
-                        app.selected = app.selected.min(app.rows().len() - 1);
-                    }
+                    try_apply(app, candidate);
                 }
                 Err(message) => app.message = Some(format!("rejected: {message}")),
             }
         }
         Action::Cancel => app.mode = Mode::Normal,
-        _ => app.mode = Mode::Editing { row, buffer },
+        _ => app.mode = Mode::Editing { row, prompt },
     }
 }
 
@@ -439,8 +524,11 @@ fn load_preset(app: &mut App, index: usize) {
                 .join(format!("{}.toml", preset.name))
                 .display()
                 .to_string();
+            // A new scene starts with its own view: nothing of the last one's carries over.
             app.selected = 0;
             app.focus = 0;
+            app.zoom = false;
+            app.diagram = Diagram::Deflection;
             app.load(loaded);
             app.message = Some(format!("loaded {}", preset.name));
         }
@@ -448,22 +536,22 @@ fn load_preset(app: &mut App, index: usize) {
     }
 }
 
-fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
+fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
+    match edit_prompt(&mut prompt, action, PATH_LIMIT) {
+        Some(Typed::Full) => {
+            app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        Some(Typed::Inserted) => {
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        None => {}
+    }
     match action {
-        Action::Type(c) => {
-            if buffer.chars().count() < PATH_LIMIT {
-                buffer.push(c);
-            } else {
-                app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
-            }
-            app.mode = Mode::Save { buffer };
-        }
-        Action::DeleteChar => {
-            buffer.pop();
-            app.mode = Mode::Save { buffer };
-        }
         Action::Confirm => {
-            let path = buffer.trim().to_string();
+            let path = prompt.text.trim().to_string();
             if path.is_empty() {
                 app.mode = Mode::Normal;
                 app.message = Some("not saved: no file name".into());
@@ -480,7 +568,7 @@ fn save_prompt(app: &mut App, action: Action, mut buffer: String) {
             app.after_save = None;
             app.message = Some("not saved".into());
         }
-        _ => app.mode = Mode::Save { buffer },
+        _ => app.mode = Mode::Save { prompt },
     }
 }
 

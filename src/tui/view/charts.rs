@@ -92,9 +92,17 @@ pub(super) fn draw_panel(
     }
 }
 
-/// Where the obstacles' state markers and names are, by `sliding + 2·swivel`.
-const STATE_NAMES: [&str; 4] = ["stuck", "slides", "swivels", "slides+swivels"];
-const STATE_MARKERS: [(char, char); 4] = [('●', 'o'), ('↕', 'S'), ('↻', 'W'), ('✱', 'X')];
+/// The obstacles' states, in the words of the results panel ([`super::results::state_word`]),
+/// and their markers (Unicode, ASCII).
+const STATE_NAMES: [&str; 6] = ["stuck", "slides", "swivels", "both", "creeps", "unknown"];
+const STATE_MARKERS: [(char, char); 6] = [
+    ('●', 'o'),
+    ('↕', 'S'),
+    ('↻', 'W'),
+    ('✱', 'X'),
+    ('≈', '~'),
+    ('?', '?'),
+];
 
 fn deflection(
     frame: &mut Frame,
@@ -204,9 +212,11 @@ fn deflection(
         style: theme.dim(),
         short: None,
     });
-    let mut states: [Vec<(f64, f64)>; 4] = Default::default();
+    let mut states: [Vec<(f64, f64)>; 6] = Default::default();
+    let regularized = solution.method.is_regularized();
     for o in &solution.obstacles {
-        let state = usize::from(o.sliding) + 2 * usize::from(o.swivel);
+        let word = super::results::state_word(o, regularized, shown.max_deflection);
+        let state = STATE_NAMES.iter().position(|n| *n == word).unwrap_or(5);
         let y = value(o.x);
         if y.is_finite() {
             states[state].push((o.x, y));

@@ -1,0 +1,135 @@
+//! Text made to fit a width without cutting a number or a word in two: word wrapping for the
+//! warnings, and status lines that drop their least important items instead of running off
+//! the edge.
+
+/// `text` wrapped at spaces into lines of at most `width` characters; a word longer than the
+/// width gets a line of its own, broken only then.
+pub fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    for word in text.split_whitespace() {
+        let mut word: Vec<char> = word.chars().collect();
+        let line_width = line.chars().count();
+        if line_width > 0 && line_width + 1 + word.len() <= width {
+            line.push(' ');
+            line.extend(word.iter());
+            continue;
+        }
+        if line_width > 0 {
+            lines.push(std::mem::take(&mut line));
+        }
+        while word.len() > width {
+            lines.push(word.drain(..width).collect());
+        }
+        line = word.into_iter().collect();
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// An item of a status line: its text and its importance (0 most important).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Item {
+    pub text: String,
+    pub importance: u8,
+}
+
+impl Item {
+    pub fn new(importance: u8, text: impl Into<String>) -> Item {
+        Item {
+            text: text.into(),
+            importance,
+        }
+    }
+}
+
+/// The items joined by `separator`, dropping the least important ones (the later first among
+/// equals) until the line fits `width`; the order of the kept items is kept. Never cuts an
+/// item: if even the most important alone is too wide, it is the only one kept.
+pub fn fit_items(items: &[Item], separator: &str, width: usize) -> String {
+    let mut kept: Vec<&Item> = items.iter().collect();
+    loop {
+        let line = kept
+            .iter()
+            .map(|i| i.text.as_str())
+            .collect::<Vec<_>>()
+            .join(separator);
+        if line.chars().count() <= width || kept.len() <= 1 {
+            return line;
+        }
+        // Drop the least important item, the last of them if several (`max_by_key` returns
+        // the last maximum).
+        let (drop, _) = kept
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, item)| item.importance)
+            .expect("at least two items");
+        kept.remove(drop);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrapping_keeps_every_word_whole() {
+        let text = "A is not positive definite in floating point at n = 200000 (first at node \
+                    78137 of 200000): rounding has destroyed the stiffness matrix and this \
+                    result means nothing";
+        for width in 1..=120 {
+            let lines = wrap_words(text, width);
+            assert!(lines.iter().all(|l| l.chars().count() <= width), "{width}");
+            let joined: Vec<&str> = lines.iter().flat_map(|l| l.split(' ')).collect();
+            if width >= 12 {
+                // Every word whole ("positive" is the longest), in order.
+                assert_eq!(
+                    joined,
+                    text.split_whitespace().collect::<Vec<_>>(),
+                    "{width}"
+                );
+            }
+            assert_eq!(
+                lines.concat().replace(' ', ""),
+                text.replace(' ', ""),
+                "{width}"
+            );
+        }
+        assert_eq!(wrap_words("", 10), vec![String::new()]);
+    }
+
+    #[test]
+    fn fitting_drops_the_least_important_items_whole() {
+        let items = [
+            Item::new(0, "dual"),
+            Item::new(1, "n = 20"),
+            Item::new(3, "(N = 38)"),
+            Item::new(2, "error 6.1e-14 vs closed form"),
+            Item::new(2, "KKT 2.0e-16"),
+        ];
+        let full = fit_items(&items, " · ", 200);
+        assert_eq!(
+            full,
+            "dual · n = 20 · (N = 38) · error 6.1e-14 vs closed form · KKT 2.0e-16"
+        );
+        assert_eq!(
+            fit_items(&items, " · ", full.chars().count() - 1),
+            "dual · n = 20 · error 6.1e-14 vs closed form · KKT 2.0e-16"
+        );
+        assert_eq!(
+            fit_items(&items, " · ", 50),
+            "dual · n = 20 · error 6.1e-14 vs closed form"
+        );
+        assert_eq!(fit_items(&items, " · ", 3), "dual");
+        for width in 0..100 {
+            let line = fit_items(&items, " · ", width);
+            // Whole items only.
+            for part in line.split(" · ") {
+                assert!(items.iter().any(|i| i.text == part), "{width}: {part}");
+            }
+        }
+    }
+}

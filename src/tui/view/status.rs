@@ -1,0 +1,290 @@
+//! The status lines and the hint line, built to fit the width: the solution summary drops its
+//! least important items rather than cutting a number; the warnings line gives the count, the
+//! most serious warning (in full when it fits in two lines, else its short form) and the key
+//! that shows them all; the hints keep whole hints, most useful first.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use super::fit::{Item, fit_items, wrap_words};
+use super::warnings::{headline, ordered};
+use crate::format::{duration, sci};
+use crate::plot::Theme;
+use crate::solve::{Reference, Solution};
+use crate::tui::app::{App, Discard, Mode};
+use crate::tui::keymap::{fitted_hint_line, up_down};
+
+/// "solving …" while the current state's solve runs (with its run time when the clock may
+/// show), else `None`.
+fn busy_text(app: &App) -> Option<String> {
+    if app.is_current() {
+        return None;
+    }
+    let elapsed = match app.busy_since {
+        Some(since) if app.show_timings => format!(" {:.1} s", since.elapsed().as_secs_f64()),
+        _ => String::new(),
+    };
+    Some(format!(
+        "solving n = {} with {}…{elapsed}",
+        app.wanted.elements, app.wanted.method
+    ))
+}
+
+/// The summary of a solution, most important first by importance number.
+fn solution_items(app: &App, solution: &Solution, elements: usize, unknowns: usize) -> Vec<Item> {
+    let mut items = vec![
+        Item::new(0, solution.method.to_string()),
+        Item::new(1, format!("n = {elements} (N = {unknowns})")),
+    ];
+    if let Some(e) = solution.epsilon {
+        items.push(Item::new(2, format!("ε = {}", sci(e, 2))));
+    }
+    if app.show_timings {
+        items.push(Item::new(
+            5,
+            format!("solve {}", duration(solution.timing.total())),
+        ));
+    }
+    match solution.error {
+        Some(e) if e.reference == Reference::ThisSolution => {
+            items.push(Item::new(4, "this is the reference"))
+        }
+        Some(e) => items.push(Item::new(
+            2,
+            match e.max_rel {
+                Some(rel) => format!("error {} vs {}", sci(rel, 2), e.reference.label()),
+                None => "error n/a".into(),
+            },
+        )),
+        None => {}
+    }
+    items.push(Item::new(
+        3,
+        format!("KKT {}", sci(solution.kkt_residual, 1)),
+    ));
+    items
+}
+
+pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let width = area.width as usize;
+    let mut items = Vec::new();
+    if let Some(follow) = &app.follow {
+        items.push(Item::new(1, follow.label()));
+    }
+    if let Some(busy) = busy_text(app) {
+        items.push(Item::new(0, busy));
+        if app.shown.is_some() {
+            items.push(Item::new(2, "shown: previous result"));
+        }
+    }
+    let mut detail: Vec<Line> = Vec::new();
+    match app.shown.as_ref().map(|s| (s, &s.solution)) {
+        None => {}
+        Some((shown, Ok(solution))) => {
+            items.extend(solution_items(
+                app,
+                solution,
+                shown.mesh.elements(),
+                shown.mesh.unknowns(),
+            ));
+            detail = warning_lines(solution, theme, width, app.message.is_none());
+        }
+        Some((shown, Err(e))) => {
+            items.push(Item::new(0, e.method.to_string()));
+            items.push(Item::new(1, format!("n = {}", shown.mesh.elements())));
+            let rows = if app.message.is_none() { 2 } else { 1 };
+            detail = fitted_lines(&format!("{e} (w: in full)"), width, rows, theme.error());
+        }
+    }
+    // The first item (the follow mode or the busy note) gets its own style.
+    let summary = fit_items(&items, " · ", width);
+    let [first, second, third] = Layout::vertical([Constraint::Length(1); 3]).areas(area);
+    let emphasised = items
+        .first()
+        .filter(|i| i.importance <= 1 && (app.follow.is_some() || !app.is_current()))
+        .filter(|i| summary.starts_with(&i.text));
+    let summary_line = match emphasised {
+        Some(item) => Line::from(vec![
+            Span::styled(item.text.clone(), theme.warning()),
+            Span::raw(summary[item.text.len()..].to_string()),
+        ]),
+        None => Line::from(summary),
+    };
+    frame.render_widget(Paragraph::new(summary_line), first);
+    let mut rows = detail.into_iter();
+    if let Some(line) = rows.next() {
+        frame.render_widget(Paragraph::new(line), second);
+    }
+    match &app.message {
+        Some(message) => frame.render_widget(
+            Paragraph::new(Line::styled(message.clone(), theme.warning())),
+            third,
+        ),
+        None => {
+            if let Some(line) = rows.next() {
+                frame.render_widget(Paragraph::new(line), third);
+            }
+        }
+    }
+}
+
+/// `text` in at most `rows` lines of `width`; when it needs more, the last line ends with `…`
+/// at a word boundary.
+fn fitted_lines(
+    text: &str,
+    width: usize,
+    rows: usize,
+    style: ratatui::style::Style,
+) -> Vec<Line<'static>> {
+    let mut lines = wrap_words(text, width);
+    if lines.len() > rows {
+        lines.truncate(rows);
+        if let Some(last) = lines.last_mut() {
+            while last.chars().count() + 1 > width {
+                match last.rfind(' ') {
+                    Some(cut) => last.truncate(cut),
+                    None => {
+                        last.clear();
+                        break;
+                    }
+                }
+            }
+            last.push('…');
+        }
+    }
+    lines.into_iter().map(|l| Line::styled(l, style)).collect()
+}
+
+/// The warnings of `solution` in one or two lines: the count and the key that shows them
+/// all, then the most serious one in full if it fits (two rows when `two_rows`), else its
+/// short form.
+fn warning_lines(
+    solution: &Solution,
+    theme: &Theme,
+    width: usize,
+    two_rows: bool,
+) -> Vec<Line<'static>> {
+    let warnings = ordered(solution);
+    let Some(first) = warnings.first() else {
+        return vec![Line::styled("no warnings", theme.dim())];
+    };
+    let count = if warnings.len() == 1 {
+        "1 warning (w: in full)".to_string()
+    } else {
+        format!("{} warnings (w: all)", warnings.len())
+    };
+    let rows = if two_rows { 2 } else { 1 };
+    let full = format!("⚠ {count}: {}", first.message);
+    let lines = wrap_words(&full, width);
+    if lines.len() <= rows {
+        return lines
+            .into_iter()
+            .map(|l| Line::styled(l, theme.warning()))
+            .collect();
+    }
+    let short = format!("⚠ {count}: {}", headline(first.code));
+    fitted_lines(&short, width, rows, theme.warning())
+}
+
+pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let width = area.width as usize;
+    let text = match &app.mode {
+        Mode::Editing { row, prompt } => {
+            let label = format!(
+                "new {} [{}]: ",
+                row.label().trim(),
+                if row.unit().is_empty() {
+                    "-"
+                } else {
+                    row.unit()
+                }
+            );
+            return draw_prompt(
+                frame,
+                theme,
+                area,
+                &label,
+                prompt,
+                "Enter sets, Esc cancels",
+            );
+        }
+        Mode::Save { prompt } => {
+            return draw_prompt(
+                frame,
+                theme,
+                area,
+                "save the scene to: ",
+                prompt,
+                "Enter saves, Esc cancels",
+            );
+        }
+        Mode::ConfirmOverwrite { path } => format!("{path} exists: overwrite it? y / n"),
+        Mode::ConfirmDiscard { then } => {
+            let what = match then {
+                Discard::Quit => "quit",
+                Discard::Reset => "reset to the scene as loaded",
+                Discard::Preset(_) => "load the preset",
+            };
+            fit_items(
+                &[
+                    Item::new(0, format!("unsaved changes: {what} and lose them?")),
+                    Item::new(0, "y: yes"),
+                    Item::new(1, format!("s: save, then {what}")),
+                    Item::new(0, "n/Esc: no"),
+                ],
+                " · ",
+                width,
+            )
+        }
+        Mode::Presets { .. } => format!(
+            "{} choose a preset, Enter loads it, Esc cancels",
+            up_down(app.look.ascii)
+        ),
+        Mode::Help { .. } => format!(
+            "{} scroll · any other key closes the help",
+            up_down(app.look.ascii)
+        ),
+        Mode::Warnings { .. } => {
+            format!("{} scroll · any other key closes", up_down(app.look.ascii))
+        }
+        Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
+        Mode::Normal => fitted_hint_line(app.look.ascii, width),
+    };
+    frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
+}
+
+/// A prompt line: the label, the text with its cursor (a reversed cell) and what Enter/Esc do,
+/// scrolled so that the cursor stays on screen; a selected pre-filled value is highlighted.
+fn draw_prompt(
+    frame: &mut Frame,
+    theme: &Theme,
+    area: Rect,
+    label: &str,
+    prompt: &crate::tui::prompt::Prompt,
+    keys: &str,
+) {
+    let (before, under, after) = prompt.split();
+    let width = area.width as usize;
+    let label_width = label.chars().count();
+    // Keep the cursor visible: drop characters from the start of the text if needed.
+    let room = width.saturating_sub(label_width + 1);
+    let skip = before.chars().count().saturating_sub(room);
+    let before: String = before.chars().skip(skip).collect();
+    let text_style = if prompt.selected {
+        theme.selected()
+    } else {
+        theme.plain()
+    };
+    let cursor_style =
+        ratatui::style::Style::default().add_modifier(ratatui::style::Modifier::REVERSED);
+    let line = Line::from(vec![
+        Span::styled(label.to_string(), theme.dim()),
+        Span::styled(before, text_style),
+        Span::styled(under, cursor_style),
+        Span::styled(after, text_style),
+        Span::styled(format!("   {keys}"), theme.dim()),
+    ]);
+    frame.render_widget(Paragraph::new(line), area);
+}
