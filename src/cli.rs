@@ -68,10 +68,12 @@ pub fn run(cli: Cli) -> ExitCode {
         Some(Command::Sweep(SweepCommand::Elements(args))) => elements_sweep_command(&args),
         Some(Command::Report(args)) => report_command(&args),
         Some(Command::Serve(args)) => serve_command(&args),
+        Some(Command::Present(args)) => present_command(&args),
         None => explore(
             cli.scene.as_deref().unwrap_or("benchmark-1"),
             cli.ascii,
             cli.no_color,
+            cli.no_mouse,
             cli.theme,
         ),
     };
@@ -119,6 +121,7 @@ fn explore(
     name: &str,
     ascii: bool,
     no_color: bool,
+    no_mouse: bool,
     palette: crate::plot::Palette,
 ) -> Result<ExitCode, String> {
     use std::io::IsTerminal;
@@ -134,20 +137,58 @@ fn explore(
         ascii: ascii || !crate::plot::locale_is_utf8(|name| std::env::var(name).ok()),
         color: colors_wanted(no_color),
     };
-    match crate::tui::run(loaded, look, palette)? {
-        crate::tui::Ending::Quit => Ok(ExitCode::SUCCESS),
+    Ok(exit_code(crate::tui::run(
+        loaded, look, !no_mouse, palette,
+    )?))
+}
+
+/// The exit status after the explorer ended.
+fn exit_code(ending: crate::tui::Ending) -> ExitCode {
+    match ending {
+        crate::tui::Ending::Quit => ExitCode::SUCCESS,
         // The conventional status of a process ended by a signal.
-        crate::tui::Ending::Signal(signal) => Ok(ExitCode::from((128 + signal) as u8)),
+        crate::tui::Ending::Signal(signal) => ExitCode::from((128 + signal) as u8),
         // As if by SIGHUP: the terminal went away.
-        crate::tui::Ending::Hangup => Ok(ExitCode::from(128 + 1)),
+        crate::tui::Ending::Hangup => ExitCode::from(128 + 1),
         // Only served sessions have an idle timeout.
-        crate::tui::Ending::Idle => Ok(ExitCode::SUCCESS),
+        crate::tui::Ending::Idle => ExitCode::SUCCESS,
     }
 }
 
 #[cfg(unix)]
 fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
-    let options = crate::serve::ServeOptions {
+    crate::serve::run(&serve_options(args))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(unix)]
+fn present_command(args: &PresentArgs) -> Result<ExitCode, String> {
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() {
+        return Err(
+            "present draws your explorer on this terminal, and standard output is not one; \
+             `beamfric serve` serves without it"
+                .into(),
+        );
+    }
+    let look = crate::plot::Look {
+        ascii: args.ascii,
+        color: colors_wanted(args.no_color),
+    };
+    Ok(exit_code(crate::serve::present(
+        &serve_options(&args.serve),
+        look,
+    )?))
+}
+
+#[cfg(not(unix))]
+fn present_command(_args: &PresentArgs) -> Result<ExitCode, String> {
+    Err("present needs a Unix system".into())
+}
+
+#[cfg(unix)]
+fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
+    crate::serve::ServeOptions {
         listen: args.listen.clone(),
         host_key: args.host_key.clone(),
         authorized_keys: args.authorized_keys.clone(),
@@ -158,10 +199,10 @@ fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
         max_elements: args.max_elements,
         idle_timeout: (args.idle_timeout > 0)
             .then(|| std::time::Duration::from_secs(args.idle_timeout)),
+        mouse: !args.no_mouse,
         scene: args.scene.clone(),
-    };
-    crate::serve::run(&options)?;
-    Ok(ExitCode::SUCCESS)
+        save_dir: args.save_dir.clone(),
+    }
 }
 
 #[cfg(not(unix))]

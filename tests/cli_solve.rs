@@ -215,7 +215,7 @@ fn a_non_finite_solution_is_reported_not_shown() {
     assert!(out.status.success());
     let frame = String::from_utf8_lossy(&out.stdout);
     // Everything above the warning line (which says "NaN or infinite" in words).
-    let (numbers, _) = frame.split_once("\nwarning").expect("a warning line");
+    let (numbers, _) = frame.split_once("\n⚠").expect("a warning line");
     for bad in ["NaN", "nan", "inf", "error 0 "] {
         assert!(!numbers.contains(bad), "{bad:?} in\n{frame}");
     }

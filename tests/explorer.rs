@@ -74,6 +74,12 @@ fn frames_after_key_sequences() {
         ("moment-diagram", "benchmark-1", "b"),
         ("help", "benchmark-1", "?"),
         ("presets", "benchmark-1", "p Down"),
+        // The picker's search: "mesh" keeps the presets about the mesh; PgDn to the last.
+        ("preset-search", "benchmark-1", "p mesh PgDn"),
+        ("preset-search-nothing", "benchmark-1", "p zzz"),
+        // z zooms the focused panel; Tab first focuses the next one.
+        ("zoom", "benchmark-1", "z"),
+        ("zoom-tab", "lesson-mesh", "Tab z"),
         ("tab", "benchmark-3", "Tab Tab"),
     ];
     for (label, name, keys) in cases {

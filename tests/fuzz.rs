@@ -10,7 +10,7 @@ use beamfric::fem::Mesh;
 use beamfric::plot::Look;
 use beamfric::scene::{LoadedScene, PRESETS, Scene, SceneSource};
 use beamfric::solve::{Method, SolveOptions, WarningCode, solve};
-use beamfric::tui::app::{App, Mode};
+use beamfric::tui::app::{App, Mode, SavePolicy};
 use beamfric::tui::draw_to_buffer;
 use beamfric::tui::keymap::{Action, Key};
 use beamfric::tui::update::update;
@@ -21,13 +21,30 @@ use beamfric::tui::view;
 enum Input {
     Key(Key),
     Resize(u16, u16),
+    /// A mouse action (click, drag, release, wheel) at a cell, on screen or off it.
+    Mouse(Action),
 }
 
 fn apply(app: &mut App, input: Input) {
     match input {
         Input::Key(key) => beamfric::tui::press(app, key),
         Input::Resize(w, h) => update(app, Action::Resize(w, h)),
+        Input::Mouse(action) => {
+            update(app, action);
+            app.settle();
+        }
     }
+}
+
+fn mouse() -> impl Strategy<Value = Input> {
+    (0u16..170, 0u16..55, 0u8..5, any::<bool>()).prop_map(|(x, y, kind, flag)| {
+        Input::Mouse(match kind {
+            0 => Action::Click { x, y, double: flag },
+            1 | 2 => Action::Drag { x, y },
+            3 => Action::Release { x, y },
+            _ => Action::Scroll { x, y, up: flag },
+        })
+    })
 }
 use proptest::prelude::*;
 use ratatui::Terminal;
@@ -72,9 +89,12 @@ fn action() -> impl Strategy<Value = Vec<Input>> {
         1 => key(Key::Ctrl('c')),
         1 => prop::sample::select(vec!['d', 'z', 'u', 'r']).prop_map(|c| Input::Key(Key::Ctrl(c))),
         2 => (1u16..=160, 1u16..=50).prop_map(|(w, h)| Input::Resize(w, h)),
+        6 => mouse(),
+        2 => prop::sample::select(vec![Key::Home, Key::End, Key::PageUp, Key::PageDown])
+            .prop_map(Input::Key),
         6 => prop::sample::select(vec![
             'a', 'd', 'm', 'p', 's', 'r', 'b', 't', '?', 'q', 'k', 'j', 'h', 'l', '[', ']',
-            'y', 'n', 'x', '5', 'é',
+            'y', 'n', 'x', '5', 'é', 'g', 'G', 'z',
         ])
         .prop_map(|c| Input::Key(Key::Char(c))),
     ]
@@ -114,6 +134,9 @@ fn fresh(name: &str, dir: &Path) -> App {
     let mut app = App::new(loaded, look, false).unwrap();
     app.settle();
     app.set_save_directory(dir.to_path_buf());
+    // Whatever the keys do to the file name (cursor moves, Ctrl-U, pastes), a save lands in
+    // the temporary directory or nowhere: a fuzz run once saved scenes into the repository.
+    app.save_policy = SavePolicy::Within(dir.to_path_buf());
     app
 }
 

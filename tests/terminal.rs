@@ -505,6 +505,183 @@ fn a_bracketed_paste_is_never_run_as_commands() {
     assert_eq!(status.code(), Some(0));
 }
 
+/// The screen as cells: `cells[row][column]` is what that cell shows, and whether it is in
+/// reverse video (the selected row without colours).
+fn cells(explorer: &Explorer) -> Vec<Vec<(String, bool)>> {
+    let mut parser = vt100::Parser::new(SIZE.0, SIZE.1, 0);
+    parser.process(&explorer.output.lock().unwrap());
+    let screen = parser.screen();
+    (0..SIZE.0)
+        .map(|row| {
+            (0..SIZE.1)
+                .map(|column| {
+                    screen
+                        .cell(row, column)
+                        .map_or((" ".into(), false), |cell| {
+                            (cell.contents().to_string(), cell.inverse())
+                        })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The text of one row of cells.
+fn row_text(row: &[(String, bool)]) -> String {
+    row.iter()
+        .map(|(c, _)| if c.is_empty() { " " } else { c.as_str() })
+        .collect()
+}
+
+/// The cell (column, row) where `needle` starts, the first from the top.
+fn cell_of(cells: &[Vec<(String, bool)>], needle: &str) -> Option<(u16, u16)> {
+    cells.iter().enumerate().find_map(|(y, row)| {
+        let text = row_text(row);
+        let at = text.find(needle)?;
+        Some((text[..at].chars().count() as u16, y as u16))
+    })
+}
+
+/// The number after `label` on its row, e.g. `2.15e11` after `modulus E`.
+fn value_after(cells: &[Vec<(String, bool)>], label: &str) -> Option<f64> {
+    let (x, y) = cell_of(cells, label)?;
+    let text = row_text(&cells[y as usize]);
+    let rest: String = text
+        .chars()
+        .skip(x as usize + label.chars().count())
+        .collect();
+    rest.split_whitespace().next()?.parse().ok()
+}
+
+/// An SGR mouse report of button code `code` at 0-based cell (x, y); `press` or release.
+fn sgr(code: u8, (x, y): (u16, u16), press: bool) -> Vec<u8> {
+    let end = if press { 'M' } else { 'm' };
+    format!("\x1b[<{code};{};{}{end}", x + 1, y + 1).into_bytes()
+}
+
+/// Waits until `condition` holds for the screen's cells.
+fn wait_until(explorer: &Explorer, what: &str, condition: impl Fn(&[Vec<(String, bool)>]) -> bool) {
+    let start = Instant::now();
+    loop {
+        let cells = cells(explorer);
+        if condition(&cells) {
+            return;
+        }
+        assert!(
+            start.elapsed() < PATIENCE,
+            "{what} never happened; the screen:\n{}",
+            explorer.screen()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn mouse_clicks_the_wheel_and_an_obstacle_drag_change_the_state() {
+    let mut explorer = Explorer::start(&[("NO_COLOR", "1")]);
+    explorer.wait_for_screen("Parameters");
+    explorer.wait_for_screen("slides");
+    {
+        // The explorer asked for presses, drags and releases, SGR-encoded.
+        let mut parser = vt100::Parser::new(SIZE.0, SIZE.1, 0);
+        parser.process(&explorer.output.lock().unwrap());
+        assert_eq!(
+            parser.screen().mouse_protocol_mode(),
+            vt100::MouseProtocolMode::ButtonMotion
+        );
+        assert_eq!(
+            parser.screen().mouse_protocol_encoding(),
+            vt100::MouseProtocolEncoding::Sgr
+        );
+    }
+    // A click on the "modulus E" row selects it (drawn in reverse video).
+    let screen = cells(&explorer);
+    let (x, y) = cell_of(&screen, "modulus E").expect("the row is drawn");
+    assert!(!screen[y as usize][x as usize].1, "not selected yet");
+    let young = value_after(&screen, "modulus E").unwrap();
+    explorer.type_bytes(&[sgr(0, (x + 2, y), true), sgr(0, (x + 2, y), false)].concat());
+    wait_until(&explorer, "the row selected", |cells| {
+        cells[y as usize][x as usize].1
+    });
+    // The wheel over the parameters steps the selected value: one fine step, ×10^0.1.
+    explorer.type_bytes(&sgr(64, (x + 2, y + 1), true));
+    wait_until(&explorer, "the modulus stepped up", |cells| {
+        value_after(cells, "modulus E").is_some_and(|v| (v / young - 10f64.powf(0.1)).abs() < 0.01)
+    });
+    explorer.type_bytes(&sgr(65, (x + 2, y + 1), true));
+    wait_until(&explorer, "the modulus stepped back", |cells| {
+        value_after(cells, "modulus E").is_some_and(|v| (v / young - 1.0).abs() < 0.01)
+    });
+    // Drag the sliding obstacle's marker (↕, on the deflection chart) ten columns left.
+    let screen = cells(&explorer);
+    let x0 = value_after(&screen, "obstacle 1 x").unwrap();
+    let (mx, my) = screen
+        .iter()
+        .enumerate()
+        .take(SIZE.0 as usize - 8)
+        .find_map(|(y, row)| {
+            let column = row.iter().position(|(c, _)| c == "↕")?;
+            Some((column as u16, y as u16))
+        })
+        .expect("the marker is drawn");
+    let mut drag = sgr(0, (mx, my), true);
+    for dx in 1..=10 {
+        drag.extend(sgr(32, (mx - dx, my), true));
+    }
+    drag.extend(sgr(0, (mx - 10, my), false));
+    explorer.type_bytes(&drag);
+    wait_until(&explorer, "the obstacle moved left", |cells| {
+        value_after(cells, "obstacle 1 x").is_some_and(|x| x < x0 - 0.05)
+    });
+    // ... and its marker is drawn where the pointer let go, once the new solution is in.
+    wait_until(&explorer, "the marker redrawn", |cells| {
+        cells[..SIZE.0 as usize - 8].iter().any(|row| {
+            row.get(mx as usize - 10)
+                .is_some_and(|(c, _)| "↕●↻✱".contains(c.as_str()) && !c.is_empty())
+        })
+    });
+    explorer.type_bytes(b"u");
+    wait_until(&explorer, "the drag undone", |cells| {
+        value_after(cells, "obstacle 1 x") == Some(x0)
+    });
+    explorer.type_bytes(b"q");
+    explorer.type_bytes(b"y");
+    let output = Arc::clone(&explorer.output);
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+    // The mouse is given back to the terminal.
+    let text = String::from_utf8_lossy(&output.lock().unwrap()).into_owned();
+    let on = text.rfind("\x1b[?1000h").expect("asked for the mouse");
+    assert!(
+        text.rfind("\x1b[?1000l") > Some(on),
+        "never gave the mouse back"
+    );
+}
+
+#[test]
+fn no_mouse_leaves_the_mouse_to_the_terminal() {
+    let mut explorer = Explorer::start_with(&["--no-mouse"], &[("NO_COLOR", "1")]);
+    explorer.wait_for_screen("Parameters");
+    let screen = cells(&explorer);
+    let (x, y) = cell_of(&screen, "modulus E").expect("the row is drawn");
+    // A client that sends mouse reports anyway changes nothing.
+    explorer.type_bytes(&[sgr(0, (x + 2, y), true), sgr(0, (x + 2, y), false)].concat());
+    explorer.type_bytes(b"?");
+    explorer.wait_for_screen("Keys (any key closes)");
+    assert!(
+        !cells(&explorer)[y as usize][x as usize].1,
+        "selected by a click"
+    );
+    assert!(
+        !explorer.text().contains("\x1b[?1000h"),
+        "asked for the mouse"
+    );
+    explorer.type_bytes(b"q");
+    explorer.type_bytes(b"q");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}
+
 /// Issue 13: a locale that is not UTF-8 gets ASCII by itself (LC_ALL, then LC_CTYPE, then
 /// LANG, as tmux decides), a UTF-8 one Unicode; `--ascii` forces ASCII; `T` cycles the theme.
 #[test]

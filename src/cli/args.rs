@@ -70,6 +70,9 @@ pub struct Cli {
     /// Colours for the terminal's background or a projector (`T` cycles them).
     #[arg(long, value_name = "THEME", default_value = "dark")]
     pub theme: Palette,
+    /// Leave the mouse to the terminal (no clicks, wheel or drags in the explorer).
+    #[arg(long)]
+    pub no_mouse: bool,
 }
 
 /// The subcommands.
@@ -88,6 +91,9 @@ pub enum Command {
     Report(ReportArgs),
     /// Serve the explorer over SSH: every connection gets its own explorer.
     Serve(ServeArgs),
+    /// Serve as `serve` does, with your own explorer in this terminal presenting: every
+    /// student who follows sees its scene and view live. Quitting it stops the server.
+    Present(PresentArgs),
 }
 
 /// `beamfric serve`.
@@ -125,6 +131,26 @@ pub struct ServeArgs {
     /// The scene every session starts with: a preset name or a scene file.
     #[arg(long, default_value = "benchmark-1")]
     pub scene: String,
+    /// Sessions leave the mouse to the student's terminal (no clicks, wheel or drags).
+    #[arg(long)]
+    pub no_mouse: bool,
+    /// The only directory sessions may save scenes to (file names cannot leave it); without
+    /// it, `s` shows the scene's TOML to copy.
+    #[arg(long, value_name = "DIR")]
+    pub save_dir: Option<std::path::PathBuf>,
+}
+
+/// `beamfric present`.
+#[derive(Debug, Args)]
+pub struct PresentArgs {
+    #[command(flatten)]
+    pub serve: ServeArgs,
+    /// Draw your explorer without Unicode (students' look follows their own terminals).
+    #[arg(long)]
+    pub ascii: bool,
+    /// No colours in your explorer (also when NO_COLOR is set).
+    #[arg(long)]
+    pub no_color: bool,
 }
 
 /// `beamfric sweep …`.

@@ -93,6 +93,26 @@ pub fn panel_with_key(
     let block = theme.block(theme.text(&panel.title).into_owned(), panel.focused);
     let inner = block.inner(panel.area);
     frame.render_widget(block, panel.area);
+    let (plot, lines) = key_layout(theme, inner, readout, optional, key, plot_rows);
+    let text_area = Rect {
+        y: inner.y + plot.height,
+        height: inner.height - plot.height,
+        ..inner
+    };
+    frame.render_widget(Paragraph::new(lines), text_area);
+    plot
+}
+
+/// Where [`panel_with_key`] puts the chart inside the block (`inner`), and the readout and key
+/// lines under it: the same layout for drawing and for hit-testing.
+pub fn key_layout(
+    theme: &Theme,
+    inner: Rect,
+    readout: &[Piece],
+    optional: &[Piece],
+    key: &[KeyEntry],
+    plot_rows: u16,
+) -> (Rect, Vec<Line<'static>>) {
     let width = inner.width as usize;
     let ascii = theme.look.ascii;
     let key_pieces = |short: bool| -> Vec<Piece> {
@@ -147,15 +167,9 @@ pub fn panel_with_key(
         height: inner.height - below,
         ..inner
     };
-    let text_area = Rect {
-        y: inner.y + plot.height,
-        height: below,
-        ..inner
-    };
     let mut lines = readout_lines;
     lines.extend(key_lines);
-    frame.render_widget(Paragraph::new(lines), text_area);
-    plot
+    (plot, lines)
 }
 
 /// The marker of a curve: Braille dots, or `.` in ASCII.

@@ -15,8 +15,8 @@ mod theme;
 pub use ascii::{ascii_char, spell_ascii, transliterate};
 pub use axes::{Scale, cell, linear_scale, log_scale, tick_label, to_unit};
 pub use chart::{
-    KeyEntry, PanelFrame, Piece, bounds_of, curve_key, curve_marker, log_points, marker_char,
-    notice, pack, panel_with_key, point_marker,
+    KeyEntry, PanelFrame, Piece, bounds_of, curve_key, curve_marker, key_layout, log_points,
+    marker_char, notice, pack, panel_with_key, point_marker,
 };
 pub use plot_area::{AxisKind, AxisSpec, Markers, PlotArea};
 pub use study_charts::{

@@ -193,9 +193,12 @@ impl Handler for Connection {
 
     async fn agent_request(
         &mut self,
-        _channel: ChannelId,
-        _session: &mut Session,
+        channel: ChannelId,
+        session: &mut Session,
     ) -> Result<bool, Self::Error> {
+        // russh answers a refusal with a global REQUEST_FAILURE, which a client waiting on its
+        // channel never sees: say it on the channel too.
+        session.channel_failure(channel)?;
         Ok(false)
     }
 
@@ -382,7 +385,7 @@ impl Drop for Connection {
             .map_or_else(|| "unknown address".to_string(), |p| p.to_string());
         let user = self.user.as_deref().unwrap_or("- (not authenticated)");
         let key = self.key.as_deref().unwrap_or("-");
-        super::log(&format!(
+        self.shared.log(&format!(
             "connection from {peer} user {user} key {key} lasted {:.1} s",
             self.started.elapsed().as_secs_f64()
         ));

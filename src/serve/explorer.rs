@@ -1,11 +1,14 @@
 //! One served explorer: its own `App`, workers and UI thread, running the local explorer's
 //! event loop on the SSH channel. What it draws goes through a [`ChannelWriter`] to a task
 //! that sends it to the client; when the explorer ends (quit, idle, hangup) that task closes
-//! the channel. Its look follows what the client sent: ASCII when its locale is not UTF-8,
-//! no colours with `NO_COLOR`.
+//! the channel, and only then gives back the session's slot (so a slot freed means the
+//! explorer, its workers and its connection's output are gone). Its look follows what the
+//! client sent: ASCII when its locale is not UTF-8, no colours with `NO_COLOR`. It saves only
+//! under the lecturer's `--save-dir`, else `s` shows the TOML to copy.
 
 use std::io::{self, Write};
 use std::sync::Arc;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use russh::ChannelId;
@@ -18,8 +21,8 @@ use crate::tui::app::{App, SavePolicy};
 use crate::tui::follow::{self, Follow};
 use crate::tui::remote::{self, AfterFrame, Feed};
 
-use super::Shared;
 use super::limits::SessionSlot;
+use super::{Shared, lock};
 
 /// Chunks of output waiting for the client; a client that stops reading holds its explorer
 /// at the next flush (and only its own).
@@ -36,6 +39,10 @@ pub struct ExplorerSettings {
     pub scene: LoadedScene,
     pub max_elements: usize,
     pub idle_timeout: Option<Duration>,
+    /// Ask the client's terminal for mouse reports.
+    pub mouse: bool,
+    /// `--save-dir`, resolved: the only directory sessions save to.
+    pub save_dir: Option<std::path::PathBuf>,
 }
 
 /// The client's terminal as its pty request described it.
@@ -108,9 +115,17 @@ pub(crate) fn start(
 ) -> Result<Feed, String> {
     let settings = &shared.explorer;
     let mut app = App::new(settings.scene.clone(), client.look(), true)?;
-    // Nothing is written on the server: `s` shows the scene's TOML to copy.
-    app.save_policy = SavePolicy::ShowText;
+    // Nothing is written on the server but under --save-dir: otherwise `s` shows the scene's
+    // TOML to copy.
+    match &settings.save_dir {
+        Some(dir) => {
+            app.set_save_directory(dir.clone());
+            app.save_policy = SavePolicy::Within(dir.clone());
+        }
+        None => app.save_policy = SavePolicy::ShowText,
+    }
     app.max_elements = Some(settings.max_elements);
+    app.mouse = settings.mouse;
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.
     let mut after_frame: Option<AfterFrame> = None;
@@ -134,8 +149,12 @@ pub(crate) fn start(
             }
         }
     }
+    let explorer_id = shared.next_explorer.fetch_add(1, Ordering::Relaxed);
+    lock(&shared.explorers).push((explorer_id, feed.clone()));
     let (chunks, mut outbox) = mpsc::channel::<Vec<u8>>(OUTPUT_QUEUE);
     tokio::spawn(async move {
+        // Held until the explorer, its workers and this output are gone.
+        let _slot = slot;
         while let Some(chunk) = outbox.recv().await {
             if handle.data(channel, chunk).await.is_err() {
                 return;
@@ -152,16 +171,17 @@ pub(crate) fn start(
     };
     let size = (client.width, client.height);
     let idle_timeout = settings.idle_timeout;
+    let cores = Some(shared.cores.session());
     let leaving = Arc::clone(shared);
     std::thread::Builder::new()
         .name("session".into())
         .spawn(move || {
-            // Held until the explorer and its workers are let go.
-            let _slot = slot;
-            let _ = remote::run(app, writer, size, events, idle_timeout, after_frame);
+            let _ = remote::run(app, writer, size, events, idle_timeout, after_frame, cores);
             if let (Some(hub), Some(id)) = (&leaving.hub, hub_id) {
                 hub.leave(id);
             }
+            lock(&leaving.explorers).retain(|(id, _)| *id != explorer_id);
+            // Dropping the writer here ends the output task, which closes the channel.
         })
         .map_err(|e| format!("cannot start a session thread: {e}"))?;
     Ok(feed)

@@ -2,7 +2,9 @@
 //! its own explorer — the local explorer's state, update, drawing and event loop, on its own
 //! threads — sized to the client's window. [`Server::start`] checks the options, prepares the
 //! host key and the list of who may log in, binds, and runs the server on a runtime thread of
-//! its own; [`run`] is the command line's way in.
+//! its own; [`run`] is the command line's way in (`beamfric serve`), and [`present`] runs the
+//! server behind the lecturer's own explorer, which presents (`beamfric present`). The solves
+//! and studies of all sessions share the machine's cores fairly (`crate::tui::cores`).
 //!
 //! - [`keys`]: host key, authorized keys, password;
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
@@ -16,16 +18,19 @@ pub mod follow;
 pub mod keys;
 pub mod limits;
 
+use std::collections::VecDeque;
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use russh::MethodKind;
 use russh::keys::PublicKey;
 use tokio::sync::oneshot;
 
+use crate::tui::cores::Cores;
+use crate::tui::remote::Feed;
 use explorer::ExplorerSettings;
 use limits::SessionSlots;
 
@@ -40,6 +45,10 @@ pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_secs(30 * 60);
 /// Connections (logged in or not) allowed per allowed explorer, beyond which new ones are
 /// dropped at once.
 const CONNECTIONS_PER_SESSION: usize = 4;
+/// How long a stopping server gives its explorers to leave their clients' screens.
+const STOP_GRACE: Duration = Duration::from_secs(1);
+/// Log lines kept while the lecturer's explorer has the terminal (`present`), the newest.
+const KEPT_LOG_LINES: usize = 10_000;
 
 /// What `beamfric serve` was asked for.
 #[derive(Debug, Clone)]
@@ -59,6 +68,10 @@ pub struct ServeOptions {
     pub idle_timeout: Option<Duration>,
     /// The scene every session starts with (a preset name or the lecturer's file).
     pub scene: String,
+    /// Sessions ask the client's terminal for mouse reports (`--no-mouse`: they do not).
+    pub mouse: bool,
+    /// The only directory served sessions may save to; `None`: `s` shows the TOML to copy.
+    pub save_dir: Option<PathBuf>,
 }
 
 impl Default for ServeOptions {
@@ -74,6 +87,8 @@ impl Default for ServeOptions {
             max_elements: DEFAULT_MAX_ELEMENTS,
             idle_timeout: Some(DEFAULT_IDLE_TIMEOUT),
             scene: "benchmark-1".into(),
+            mouse: true,
+            save_dir: None,
         }
     }
 }
@@ -96,8 +111,43 @@ pub(crate) struct Shared {
     pub connections: AtomicUsize,
     /// Input bytes dropped over the budget, all sessions together.
     pub dropped_input: AtomicU64,
-    /// Follow mode, when there are presenter keys.
+    /// Follow mode, when there are presenter keys or the lecturer presents (`present`).
     pub hub: Option<follow::Hub>,
+    /// The solves and studies of all sessions share these cores.
+    pub cores: Arc<Cores>,
+    /// Every running explorer's feed, to end them when the server stops.
+    pub explorers: Mutex<Vec<(u64, Feed)>>,
+    pub next_explorer: AtomicU64,
+    /// Where log lines go.
+    pub log: Log,
+}
+
+/// Where the server's log lines go: stderr, or kept in memory while the lecturer's explorer
+/// draws on the terminal (`present`), to be printed when it ends.
+#[derive(Debug)]
+pub(crate) enum Log {
+    Stderr,
+    Kept(Mutex<VecDeque<String>>),
+}
+
+impl Shared {
+    /// One log line (never a password: no caller has one to give).
+    pub fn log(&self, line: &str) {
+        match &self.log {
+            Log::Stderr => log(line),
+            Log::Kept(lines) => {
+                let mut lines = lock(lines);
+                if lines.len() >= KEPT_LOG_LINES {
+                    lines.pop_front();
+                }
+                lines.push_back(line.to_string());
+            }
+        }
+    }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Counts a connection while it lives.
@@ -136,6 +186,12 @@ pub struct Server {
 impl Server {
     /// Checks the options, loads or creates the host key, binds, and starts serving.
     pub fn start(options: &ServeOptions) -> Result<Server, String> {
+        Server::start_as(options, false)
+    }
+
+    /// As [`Server::start`]; with `presenting`, there is always a follow hub (the lecturer's
+    /// own explorer presents) and log lines are kept in memory (see [`present`]).
+    fn start_as(options: &ServeOptions, presenting: bool) -> Result<Server, String> {
         let access = access(options)?;
         let mut notes = Vec::new();
         if access.open {
@@ -154,6 +210,10 @@ impl Server {
         if options.max_sessions == 0 {
             return Err("--max-sessions must be at least 1".into());
         }
+        let save_dir = match &options.save_dir {
+            Some(dir) => Some(save_directory(dir)?),
+            None => None,
+        };
         let key_path = options
             .host_key
             .clone()
@@ -174,11 +234,21 @@ impl Server {
                 scene,
                 max_elements: options.max_elements,
                 idle_timeout: options.idle_timeout,
+                mouse: options.mouse,
+                save_dir,
             },
             slots: SessionSlots::new(options.max_sessions),
             connections: AtomicUsize::new(0),
             dropped_input: AtomicU64::new(0),
-            hub: options.presenter_keys.is_some().then(follow::Hub::default),
+            hub: (presenting || options.presenter_keys.is_some()).then(follow::Hub::default),
+            cores: Cores::of_this_machine(),
+            explorers: Mutex::default(),
+            next_explorer: AtomicU64::new(0),
+            log: if presenting {
+                Log::Kept(Mutex::default())
+            } else {
+                Log::Stderr
+            },
         });
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(2)
@@ -234,6 +304,11 @@ impl Server {
             .map_or(0, |hub| hub.followers.count())
     }
 
+    /// The most solves and studies that ever ran at once (at most the machine's cores).
+    pub fn peak_parallel_work(&self) -> usize {
+        self.shared.cores.queue().peak
+    }
+
     /// Input bytes dropped so far because a client typed faster than
     /// [`limits::INPUT_BYTES_PER_SECOND`].
     pub fn dropped_input(&self) -> u64 {
@@ -253,8 +328,23 @@ impl Server {
     }
 }
 
+impl Server {
+    /// Ends every explorer (each leaves its client's screen and closes its channel) and
+    /// waits for that up to [`STOP_GRACE`].
+    fn end_explorers(&self) {
+        for (_, feed) in lock(&self.shared.explorers).iter() {
+            feed.hangup();
+        }
+        let deadline = std::time::Instant::now() + STOP_GRACE;
+        while self.shared.slots.running() > 0 && std::time::Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+}
+
 impl Drop for Server {
     fn drop(&mut self) {
+        self.end_explorers();
         if let Some(stop) = self.stop.take() {
             let _ = stop.send(());
         }
@@ -278,6 +368,74 @@ pub fn run(options: &ServeOptions) -> Result<(), String> {
     ));
     server.wait();
     Ok(())
+}
+
+/// `beamfric present`: the server of [`run`], and the lecturer's own explorer in this
+/// terminal, which presents — its scene and view go to every following session, as a session
+/// logged in with a presenter key does. Log lines are kept while the explorer has the terminal
+/// and printed after it. Quitting the explorer stops the server: every student's explorer
+/// leaves its screen and its connection closes. Returns how the lecturer's explorer ended.
+pub fn present(
+    options: &ServeOptions,
+    look: crate::plot::Look,
+) -> Result<crate::tui::Ending, String> {
+    use crate::tui::follow::Follow;
+    let server = Server::start_as(options, true)?;
+    let listening = format!(
+        "listening on {} (host key {}); students connect with: ssh -p {} HOST",
+        server.address(),
+        server.fingerprint(),
+        server.address().port()
+    );
+    for note in server.notes() {
+        log(note);
+    }
+    log(&listening);
+    let shared = Arc::clone(&server.shared);
+    let Some(hub) = &shared.hub else {
+        return Err("internal error: a presenting server without a follow hub".into());
+    };
+    let mut app = crate::tui::app::App::new(shared.explorer.scene.clone(), look, true)?;
+    app.follow = Some(Follow::presenter(&hub.followers));
+    app.message = Some(format!(
+        "presenting on {}: students connect with ssh -p {} HOST (host key {})",
+        server.address(),
+        server.address().port(),
+        server.fingerprint()
+    ));
+    let publishing = Arc::clone(&shared);
+    let mut presenter_id = None;
+    let ending = crate::tui::run_attached(app, |feed| {
+        presenter_id = Some(hub.join_presenter(feed));
+        Some(Box::new(move |app: &crate::tui::app::App| {
+            if let Some(hub) = &publishing.hub {
+                hub.publish(app);
+            }
+        }))
+    });
+    if let Some(id) = presenter_id {
+        hub.leave(id);
+    }
+    // The terminal is the lecturer's again: stop serving, then say what happened meanwhile.
+    drop(server);
+    if let Log::Kept(lines) = &shared.log {
+        for line in lock(lines).drain(..) {
+            log(&line);
+        }
+    }
+    log("stopped");
+    ending
+}
+
+/// The `--save-dir` directory, resolved; it must exist and be a directory.
+fn save_directory(dir: &std::path::Path) -> Result<PathBuf, String> {
+    let resolved = dir
+        .canonicalize()
+        .map_err(|e| format!("--save-dir {}: {e}", dir.display()))?;
+    if !resolved.is_dir() {
+        return Err(format!("--save-dir {}: not a directory", dir.display()));
+    }
+    Ok(resolved)
 }
 
 /// Who may log in, from the options; refuses an open server unless `--open` says so.
@@ -356,7 +514,7 @@ async fn accept_loop(
     let listener = match tokio::net::TcpListener::from_std(listener) {
         Ok(listener) => listener,
         Err(e) => {
-            log(&format!("cannot listen: {e}"));
+            shared.log(&format!("cannot listen: {e}"));
             return;
         }
     };
@@ -370,13 +528,13 @@ async fn accept_loop(
             Ok(accepted) => accepted,
             Err(e) => {
                 // Out of file descriptors and the like: wait a little rather than spin.
-                log(&format!("accept failed: {e}"));
+                shared.log(&format!("accept failed: {e}"));
                 tokio::time::sleep(Duration::from_millis(100)).await;
                 continue;
             }
         };
         if shared.connections.load(Ordering::Acquire) >= max_connections {
-            log(&format!(
+            shared.log(&format!(
                 "connection from {peer} dropped: too many connections"
             ));
             continue;

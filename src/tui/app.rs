@@ -27,8 +27,8 @@ pub enum Mode {
     Warnings { offset: u16 },
     /// The scene as TOML, to copy from the screen (saving in a served session).
     SceneText,
-    /// The preset picker, with the highlighted entry.
-    Presets { index: usize },
+    /// The preset picker: its search, highlighted entry and scroll.
+    Presets(super::picker::PresetPicker),
     /// Typing the file name to save to.
     Save { prompt: Prompt },
     /// The file exists: overwrite it?
@@ -84,6 +84,14 @@ pub struct Shown {
     pub reference: Option<Solution>,
 }
 
+/// What a mouse drag that started on something is moving.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drag {
+    /// An obstacle's marker on the deflection chart (the obstacle's index); `moved` once the
+    /// first move was applied (the undo step is kept then, once per drag).
+    Obstacle { index: usize, moved: bool },
+}
+
 /// Most undo steps kept.
 pub const UNDO_LIMIT: usize = 1000;
 
@@ -137,6 +145,14 @@ pub struct App {
     pub focus: usize,
     /// The focused panel fills the screen below the title.
     pub zoom: bool,
+    /// Mouse capture is wanted (off with `--no-mouse`); input from the mouse is ignored
+    /// without it.
+    pub mouse: bool,
+    /// A mouse drag in progress.
+    pub drag: Option<Drag>,
+    /// The first parameter row shown (kept by `update` so that the selected row is visible
+    /// and a clicked row stays under the pointer).
+    pub parameters_offset: usize,
     /// Show run times (they make frames depend on the clock).
     pub show_timings: bool,
     pub look: Look,
@@ -195,6 +211,9 @@ impl App {
             diagram: Diagram::Deflection,
             focus: 0,
             zoom: false,
+            mouse: true,
+            drag: None,
+            parameters_offset: 0,
             show_timings,
             look,
             palette: Palette::default(),
@@ -230,6 +249,21 @@ impl App {
     pub fn selected_row(&self) -> Row {
         let rows = self.rows();
         rows[self.selected.min(rows.len() - 1)]
+    }
+
+    /// The first parameter row to show in a box of `height` rows: the kept scroll, moved only
+    /// as far as needed to show the selected row.
+    pub fn parameters_offset(&self, height: usize) -> usize {
+        let selected = self.selected.min(self.rows().len() - 1);
+        self.parameters_offset
+            .min(selected)
+            .max((selected + 1).saturating_sub(height.max(1)))
+    }
+
+    /// Should the terminal report the mouse now? Not with `--no-mouse`, and not while the
+    /// scene is shown as text to copy (plain dragging selects it then).
+    pub fn wants_mouse(&self) -> bool {
+        self.mouse && self.mode != Mode::SceneText
     }
 
     /// The panels the scene asks for, in display order, without repeats.

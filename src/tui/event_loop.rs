@@ -26,6 +26,7 @@ use ratatui::backend::CrosstermBackend;
 use super::app::{App, Shown};
 use super::input::{Decoder, ESC_TIMEOUT, Input};
 use super::keymap::{Action, action_for, paste_actions};
+use super::mouse::{ClickTracker, MOUSE_OFF, MOUSE_ON};
 use super::solver::SolveWorker;
 use super::studies::{StudyResult, Worker};
 use super::terminal::{SIGNALS, Session};
@@ -33,6 +34,8 @@ use super::{Ending, INJECT_PANIC, update, view};
 
 /// How often the frame is redrawn while work is in flight (for the elapsed time).
 const TICK: Duration = Duration::from_millis(250);
+/// Longest a served session waits for its cancelled workers to end before it lets them go.
+const WORKER_GRACE: Duration = Duration::from_millis(500);
 /// Most events applied before a frame is drawn (a paste of any size still shows progress).
 const EVENTS_PER_FRAME: usize = 4096;
 
@@ -82,19 +85,32 @@ pub struct LoopOptions {
     /// `main` or `worker`: panic there after the first frame (tests of the local terminal).
     pub inject_panic: String,
     pub after_frame: Option<AfterFrame>,
+    /// The session's turn on cores shared with other explorers (served sessions).
+    pub cores: Option<super::cores::Share>,
+    /// On return, wait until the workers have ended (a served session: its memory is given
+    /// back before its slot), at most [`WORKER_GRACE`]; the local explorer never waits.
+    pub wait_for_workers: bool,
 }
 
 /// Runs the explorer in the local terminal until it quits, a signal ends it, or the terminal
-/// hangs up.
-pub fn run(mut app: App) -> Result<Ending, String> {
+/// hangs up. `attach` is given a feed into the loop (for events from elsewhere: the hub of a
+/// server running in the same process, `beamfric present`) and returns what to call after
+/// every frame.
+pub fn run(
+    mut app: App,
+    attach: impl FnOnce(super::remote::Feed) -> Option<AfterFrame>,
+) -> Result<Ending, String> {
     let (sender, events) = channel::<Event>();
     start_signal_thread(sender.clone()).map_err(|e| format!("cannot handle signals: {e}"))?;
+    let after_frame = attach(super::remote::Feed::new(sender.clone()));
     let mut session = Session::start().map_err(|e| format!("cannot open the terminal: {e}"))?;
     start_input_thread(sender.clone()).map_err(|e| format!("cannot read the terminal: {e}"))?;
     let options = LoopOptions {
         idle_timeout: None,
         inject_panic: std::env::var(INJECT_PANIC).unwrap_or_default(),
-        after_frame: None,
+        after_frame,
+        cores: None,
+        wait_for_workers: false,
     };
     let result = event_loop(&mut session, &mut app, &sender, &events, options);
     drop(session);
@@ -102,28 +118,111 @@ pub fn run(mut app: App) -> Result<Ending, String> {
 }
 
 /// Runs the explorer on `screen` with events from `events` (whose sender the workers also
-/// use) until it quits, the input hangs up, or it was idle for too long.
+/// use) until it quits, the input hangs up, or it was idle for too long. Mouse reporting is
+/// switched on while the app wants it, and off again when the loop ends.
 pub fn event_loop<S: Screen>(
     screen: &mut S,
     app: &mut App,
     sender: &Sender<Event>,
     events: &Receiver<Event>,
+    options: LoopOptions,
+) -> io::Result<Ending> {
+    let mut mouse_on = false;
+    let ending = run_with_workers(screen, app, sender, events, options, &mut mouse_on);
+    if mouse_on {
+        // Best effort: the terminal may be gone.
+        let out = screen.terminal().backend_mut();
+        let _ = out
+            .write_all(MOUSE_OFF.as_bytes())
+            .and_then(|()| out.flush());
+    }
+    ending
+}
+
+/// Asks the terminal for mouse reports, or tells it to stop, when the app's wish changed
+/// (written before the next frame, which flushes it).
+fn sync_mouse<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result<()> {
+    let wanted = app.wants_mouse();
+    if wanted != *mouse_on {
+        let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
+        screen
+            .terminal()
+            .backend_mut()
+            .write_all(sequence.as_bytes())?;
+        *mouse_on = wanted;
+    }
+    Ok(())
+}
+
+/// Starts the workers, runs the loop, and stops them (waiting a bounded time when asked).
+fn run_with_workers<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    sender: &Sender<Event>,
+    events: &Receiver<Event>,
     mut options: LoopOptions,
+    mouse_on: &mut bool,
 ) -> io::Result<Ending> {
     let injected = std::mem::take(&mut options.inject_panic);
-    let injected = injected.as_str();
     let (width, height) = screen.size()?;
     update::update(app, Action::Resize(width, height));
     let solved = sender.clone();
-    let mut solver = SolveWorker::start(move |result| {
+    let mut solver = SolveWorker::start_sharing(options.cores.clone(), move |result| {
         let _ = solved.send(Event::Solved(Box::new(result)));
     });
     let studied = sender.clone();
-    let mut studies = Worker::start(injected == "worker", move |result| {
-        let _ = studied.send(Event::Study(result));
-    });
+    let mut studies =
+        Worker::start_sharing(injected == "worker", options.cores.clone(), move |result| {
+            let _ = studied.send(Event::Study(result));
+        });
+    let mut workers = Workers {
+        solver: &mut solver,
+        studies: &mut studies,
+    };
+    let ending = run_loop(
+        screen,
+        app,
+        events,
+        &mut options,
+        &injected,
+        &mut workers,
+        mouse_on,
+    );
+    if options.wait_for_workers {
+        // Cancelled, they end at their next check; a step that cannot be cancelled (a dense
+        // inverse) is not waited for beyond WORKER_GRACE: it holds its core until it ends.
+        let threads = [solver.stop(), studies.stop()];
+        let deadline = Instant::now() + WORKER_GRACE;
+        while threads.iter().flatten().any(|t| !t.is_finished()) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+    ending
+}
+
+/// The session's two workers.
+struct Workers<'a> {
+    solver: &'a mut SolveWorker,
+    studies: &'a mut Worker,
+}
+
+/// The loop itself, with its workers.
+fn run_loop<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    events: &Receiver<Event>,
+    options: &mut LoopOptions,
+    injected: &str,
+    workers: &mut Workers,
+    mouse_on: &mut bool,
+) -> io::Result<Ending> {
+    let Workers { solver, studies } = workers;
     let mut decoder = Decoder::default();
+    let mut clicks = ClickTracker::default();
     let mut last_input = Instant::now();
+    // When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
+    // however many other events (results, a presenter's states) arrive meanwhile.
+    let mut last_bytes = Instant::now();
     loop {
         if let Some(request) = app.pending_solve().cloned() {
             if app.busy_since.is_none() {
@@ -134,10 +233,11 @@ pub fn event_loop<S: Screen>(
         studies.request(app.pending_studies());
         // Something happened (or this is the first frame): draw. A terminal that cannot be
         // written to any more has gone away.
-        if screen
-            .terminal()
-            .draw(|frame| view::draw(frame, app))
-            .is_err()
+        if sync_mouse(screen, app, mouse_on).is_err()
+            || screen
+                .terminal()
+                .draw(|frame| view::draw(frame, app))
+                .is_err()
         {
             return Ok(Ending::Hangup);
         }
@@ -159,7 +259,7 @@ pub fn event_loop<S: Screen>(
             return Ok(Ending::Idle);
         }
         let timeout = if decoder.has_pending() {
-            Some(ESC_TIMEOUT)
+            Some(ESC_TIMEOUT.saturating_sub(last_bytes.elapsed()))
         } else if !app.is_current() && app.show_timings {
             Some(TICK)
         } else {
@@ -178,9 +278,9 @@ pub fn event_loop<S: Screen>(
             Err(RecvTimeoutError::Timeout) => None,
             Err(RecvTimeoutError::Disconnected) => return Ok(Ending::Hangup),
         };
-        if first.is_none() {
+        if decoder.has_pending() && last_bytes.elapsed() >= ESC_TIMEOUT {
             for input in decoder.flush() {
-                apply_input(app, input);
+                apply_input(app, input, &mut clicks);
             }
         }
         // This event and every one already queued, then one frame.
@@ -191,8 +291,9 @@ pub fn event_loop<S: Screen>(
             match event {
                 Event::Bytes(bytes) => {
                     last_input = Instant::now();
+                    last_bytes = last_input;
                     for input in decoder.feed(&bytes) {
-                        apply_input(app, input);
+                        apply_input(app, input, &mut clicks);
                     }
                 }
                 Event::Resize(width, height) => {
@@ -207,7 +308,11 @@ pub fn event_loop<S: Screen>(
                             update::update(app, Action::Resize(w, h));
                         }
                     }
-                    signal_hook::consts::SIGTSTP => suspend(screen, app)?,
+                    signal_hook::consts::SIGTSTP => {
+                        suspend(screen, app)?;
+                        // The terminal was given back: ask for the mouse again.
+                        *mouse_on = false;
+                    }
                     signal_hook::consts::SIGCONT => screen.redraw_all()?,
                     other => return Ok(Ending::Signal(other)),
                 },
@@ -233,12 +338,13 @@ pub fn event_loop<S: Screen>(
             if app.suspend_requested {
                 app.suspend_requested = false;
                 suspend(screen, app)?;
+                *mouse_on = false;
             }
         }
     }
 }
 
-fn apply_input(app: &mut App, input: Input) {
+fn apply_input(app: &mut App, input: Input, clicks: &mut ClickTracker) {
     match input {
         Input::Key(key) => {
             if super::follow::intercept(app, key) {
@@ -253,7 +359,14 @@ fn apply_input(app: &mut App, input: Input) {
                 update::update(app, action);
             }
         }
-        Input::Mouse(..) => {}
+        // Without mouse capture (`--no-mouse`) the mouse means nothing, even if a client sends
+        // its sequences.
+        Input::Mouse(x, y, what) => {
+            if app.mouse {
+                let action = super::mouse::action(x, y, what, clicks, Instant::now());
+                update::update(app, action);
+            }
+        }
         Input::Hangup => app.quit = true,
     }
 }

@@ -1,7 +1,8 @@
 //! Follow mode, on the explorer's side: a presenter's state is copied into the explorers that
 //! follow it — scene, solution, studies and view, so the presenter's solve is done once and
-//! shared — and `f` forks the current state into the student's own exploration, `F` rejoins.
-//! Who presents and who follows is decided by the server (`crate::serve`); this module only
+//! shared — and `f` forks the current state into the student's own exploration, `F` rejoins
+//! (keys of [`super::keymap::FOLLOW`], applied by `update` as [`Action::Fork`] and
+//! [`Action::Rejoin`]). Who presents and who follows is decided by the server (`crate::serve`); this module only
 //! keeps an explorer's role, applies what arrives, and says in the status line which mode it
 //! is in and how many follow.
 
@@ -12,7 +13,7 @@ use crate::model::Problem;
 use crate::scene::{Scene, SceneSource, Settings};
 
 use super::app::{App, Diagram, Mode, Shown, SolveRequest};
-use super::keymap::{Action, Key, action_for};
+use super::keymap::{Action, Binding, FOLLOW, Key, action_for};
 use super::studies::StudySlot;
 
 /// How many explorers follow now, shared by the presenter and every student, and who to tell
@@ -189,8 +190,54 @@ pub fn receive(app: &mut App, snapshot: Arc<Snapshot>) {
     }
 }
 
-/// Keys of follow mode: `f` forks, `F` rejoins; while following, only keys that change no
-/// state pass (help, quit, timings). Returns whether the key was taken here.
+/// The keys of follow mode this explorer has, for its help and hint line: those of
+/// [`FOLLOW`] for a student, none for a presenter or an explorer of its own.
+pub fn keys(app: &App) -> &'static [Binding] {
+    match app.follow.as_ref().map(|f| &f.role) {
+        Some(Role::Student(_)) => FOLLOW,
+        _ => &[],
+    }
+}
+
+/// [`Action::Fork`] (called by `update` only): the student explores on from here.
+pub fn fork(app: &mut App) {
+    let Some(Follow {
+        role: Role::Student(following),
+        ..
+    }) = &mut app.follow
+    else {
+        return;
+    };
+    app.message = Some(if following.take().is_some() {
+        "your own exploration from here: F follows the presenter again".into()
+    } else {
+        "exploring on your own already: F follows the presenter".into()
+    });
+}
+
+/// [`Action::Rejoin`] (called by `update` only): the student follows the presenter again, at
+/// its newest state.
+pub fn rejoin(app: &mut App) {
+    let Some(follow) = &mut app.follow else {
+        return;
+    };
+    let Role::Student(following) = &mut follow.role else {
+        return;
+    };
+    if following.is_some() {
+        app.message = Some("following already: f forks".into());
+        return;
+    }
+    *following = Some(Following::new(&follow.followers));
+    let latest = follow.latest.clone();
+    if let Some(snapshot) = latest {
+        snapshot.apply(app);
+    }
+    app.message = Some("following the presenter".into());
+}
+
+/// Keys of follow mode: `f` forks, `F` rejoins (through `update`); while following, only keys
+/// that change no state pass (help, quit, timings). Returns whether the key was taken here.
 pub fn intercept(app: &mut App, key: Key) -> bool {
     let Some(follow) = &mut app.follow else {
         return false;
@@ -201,25 +248,18 @@ pub fn intercept(app: &mut App, key: Key) -> bool {
     if app.mode != Mode::Normal {
         return false;
     }
-    match (key, following.is_some()) {
-        (Key::Char('f'), true) => {
-            *following = None;
-            app.message =
-                Some("your own exploration from here: F follows the presenter again".into());
-        }
-        (Key::Char('F'), false) => {
-            *following = Some(Following::new(&follow.followers));
-            let latest = follow.latest.clone();
-            if let Some(snapshot) = latest {
-                snapshot.apply(app);
-            }
-            app.message = Some("following the presenter".into());
-        }
-        (Key::Char('f'), false) => {
-            app.message = Some("exploring on your own already: F follows the presenter".into());
-        }
-        (Key::Char('F'), true) => app.message = Some("following already: f forks".into()),
-        (_, true) => {
+    let following = following.is_some();
+    let follow_action = FOLLOW
+        .iter()
+        .flat_map(|b| b.keys)
+        .find(|(k, _)| *k == key)
+        .map(|(_, action)| *action);
+    if let Some(action) = follow_action {
+        super::update::update(app, action);
+        return true;
+    }
+    match following {
+        true => {
             let passes = matches!(
                 action_for(&app.mode, key),
                 Some(
@@ -235,7 +275,60 @@ pub fn intercept(app: &mut App, key: Key) -> bool {
             }
             app.message = Some("following the presenter: f to explore on your own".into());
         }
-        (_, false) => return false,
+        false => return false,
     }
     true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tui::{draw_to_buffer, keymap::Key};
+
+    fn student() -> App {
+        let loaded = crate::scene::load("benchmark-1").unwrap();
+        let look = crate::plot::Look {
+            ascii: false,
+            color: false,
+        };
+        let mut app = App::new(loaded, look, false).unwrap();
+        app.settle();
+        app.follow = Some(Follow::student(&Followers::new(|| {})));
+        app
+    }
+
+    /// A key as the event loop applies it.
+    fn press(app: &mut App, key: Key) {
+        if !intercept(app, key)
+            && let Some(action) = action_for(&app.mode, key)
+        {
+            super::super::update::update(app, action);
+        }
+    }
+
+    fn screen(app: &App) -> String {
+        let buffer = draw_to_buffer(app, 120, 40).unwrap();
+        crate::plot::buffer_to_text(&buffer, false)
+    }
+
+    #[test]
+    fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
+        let mut app = student();
+        assert!(screen(&app).contains("f:fork F:rejoin"), "{}", screen(&app));
+        press(&mut app, Key::Char('?'));
+        assert_eq!(app.mode, Mode::Help { offset: 0 });
+        let help = screen(&app);
+        assert!(help.contains("fork: explore on your own"), "{help}");
+        assert!(help.contains("follow the presenter again"), "{help}");
+        press(&mut app, Key::Esc);
+        // Following: a change is refused; forked: it is made; rejoined: following again.
+        press(&mut app, Key::Char(']'));
+        assert!(!app.modified());
+        press(&mut app, Key::Char('f'));
+        assert!(screen(&app).contains("own exploration"));
+        press(&mut app, Key::Char(']'));
+        assert!(app.modified());
+        press(&mut app, Key::Char('F'));
+        assert!(screen(&app).contains("following the presenter"));
+    }
 }

@@ -149,6 +149,10 @@ fn translate(event: Event) -> Option<Input> {
                 KeyCode::Enter => Key::Enter,
                 KeyCode::Esc => Key::Esc,
                 KeyCode::Backspace => Key::Backspace,
+                KeyCode::Home => Key::Home,
+                KeyCode::End => Key::End,
+                KeyCode::PageUp => Key::PageUp,
+                KeyCode::PageDown => Key::PageDown,
                 KeyCode::Tab if shift => Key::BackTab,
                 KeyCode::Tab => Key::Tab,
                 KeyCode::Char(c) => Key::Char(c),
@@ -190,7 +194,9 @@ mod tests {
     #[test]
     fn keys_and_sequences() {
         let mut d = Decoder::default();
-        let got = d.feed(b"jk\x1b[A\x1b[1;2C\r\x7f\x03\x04q\xc3\xa9\t\x1b[Z");
+        let got = d.feed(
+            b"jk\x1b[A\x1b[1;2C\r\x7f\x03\x04q\xc3\xa9\t\x1b[Z\x1b[H\x1b[F\x1b[1~\x1b[4~\x1b[5~\x1b[6~",
+        );
         assert_eq!(
             keys(&got),
             vec![
@@ -206,6 +212,12 @@ mod tests {
                 Key::Char('é'),
                 Key::Tab,
                 Key::BackTab,
+                Key::Home,
+                Key::End,
+                Key::Home,
+                Key::End,
+                Key::PageUp,
+                Key::PageDown,
             ]
         );
         assert!(!d.has_pending());

@@ -21,6 +21,10 @@ pub enum Key {
     Tab,
     BackTab,
     Backspace,
+    Home,
+    End,
+    PageUp,
+    PageDown,
     /// A printable character.
     Char(char),
     /// A letter with Ctrl held: never the plain letter.
@@ -34,6 +38,39 @@ pub enum Action {
     SelectPrevious,
     /// Next parameter row, or next entry of a list.
     SelectNext,
+    /// The first row or entry (`g`, Home).
+    SelectFirst,
+    /// The last row or entry (`G`, End).
+    SelectLast,
+    /// A page up (PgUp).
+    PageUp,
+    /// A page down (PgDn).
+    PageDown,
+    /// The focused panel fills the screen, or back.
+    ToggleZoom,
+    /// A mouse button pressed at column `x`, row `y` (0-based); `double` when it is the second
+    /// press at that cell within [`super::mouse::DOUBLE_CLICK`].
+    Click {
+        x: u16,
+        y: u16,
+        double: bool,
+    },
+    /// The mouse moved to `x`, `y` with a button held.
+    Drag {
+        x: u16,
+        y: u16,
+    },
+    /// The mouse button was let go at `x`, `y`.
+    Release {
+        x: u16,
+        y: u16,
+    },
+    /// The wheel turned over `x`, `y`: `up` away from the user.
+    Scroll {
+        x: u16,
+        y: u16,
+        up: bool,
+    },
     /// Change the selected value one step down; `coarse` for a coarse step.
     Decrease {
         coarse: bool,
@@ -96,6 +133,10 @@ pub enum Action {
     PasteIgnored,
     /// The terminal changed size.
     Resize(u16, u16),
+    /// Follow mode: leave the presenter, exploring on from the current state.
+    Fork,
+    /// Follow mode: follow the presenter again.
+    Rejoin,
 }
 
 /// One line of the help: keys and what each does, the words, and the key hint if any.
@@ -153,6 +194,26 @@ pub const NORMAL: &[Binding] = &[
             word: "select",
             order: 2,
         }),
+    },
+    Binding {
+        keys: &[
+            (Key::Char('g'), Action::SelectFirst),
+            (Key::Char('G'), Action::SelectLast),
+            (Key::Home, Action::SelectFirst),
+            (Key::End, Action::SelectLast),
+        ],
+        aliases: &[],
+        help: "first / last parameter (Home End in lists too)",
+        hint: None,
+    },
+    Binding {
+        keys: &[
+            (Key::PageUp, Action::PageUp),
+            (Key::PageDown, Action::PageDown),
+        ],
+        aliases: &[],
+        help: "a page up / down (in lists too)",
+        hint: None,
     },
     Binding {
         keys: &[
@@ -251,6 +312,13 @@ pub const NORMAL: &[Binding] = &[
         }),
     },
     bind!(
+        Key::Char('z'),
+        Action::ToggleZoom,
+        "zoom the focused panel, or back (or double-click it)",
+        "zoom",
+        17,
+    ),
+    bind!(
         Key::Char('t'),
         Action::ToggleTimings,
         "show or hide run times",
@@ -306,6 +374,25 @@ pub const NORMAL: &[Binding] = &[
     },
 ];
 
+/// The keys of a served session that follows a presenter (`tui::follow` takes them before
+/// [`NORMAL`]); its help and hint line list them after and among those of [`NORMAL`].
+pub const FOLLOW: &[Binding] = &[
+    bind!(
+        Key::Char('f'),
+        Action::Fork,
+        "fork: explore on your own from the presenter's state",
+        "fork",
+        1,
+    ),
+    bind!(
+        Key::Char('F'),
+        Action::Rejoin,
+        "follow the presenter again",
+        "rejoin",
+        1,
+    ),
+];
+
 impl Key {
     /// The name of a key in `render --keys` and in the help, or `None` for a plain character.
     fn name(self) -> Option<&'static str> {
@@ -321,6 +408,10 @@ impl Key {
             Key::Tab => "Tab",
             Key::BackTab => "BackTab",
             Key::Backspace => "Backspace",
+            Key::Home => "Home",
+            Key::End => "End",
+            Key::PageUp => "PgUp",
+            Key::PageDown => "PgDn",
             Key::Char(' ') => "Space",
             Key::Char(_) | Key::Ctrl(_) => return None,
         })
@@ -353,11 +444,11 @@ impl Key {
 }
 
 /// Parses the key names of `--keys`: space-separated `Up`, `Down`, `Left`, `Right`, `S-Left`,
-/// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Space`, `C-x` (Ctrl and a
-/// letter), single characters, and any other word as the characters typed (e.g. a value after
-/// `Enter`).
+/// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Home`, `End`, `PgUp`, `PgDn`,
+/// `Space`, `C-x` (Ctrl and a letter), single characters, and any other word as the characters
+/// typed (e.g. a value after `Enter`).
 pub fn parse_keys(text: &str) -> Vec<Key> {
-    const NAMED: [Key; 12] = [
+    const NAMED: [Key; 16] = [
         Key::Up,
         Key::Down,
         Key::Left,
@@ -369,6 +460,10 @@ pub fn parse_keys(text: &str) -> Vec<Key> {
         Key::Tab,
         Key::BackTab,
         Key::Backspace,
+        Key::Home,
+        Key::End,
+        Key::PageUp,
+        Key::PageDown,
         Key::Char(' '),
     ];
     let mut keys = Vec::new();
@@ -404,18 +499,25 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
             Key::Backspace => Some(Action::DeleteChar),
             Key::Left => Some(Action::CursorLeft),
             Key::Right => Some(Action::CursorRight),
-            Key::Ctrl('a') => Some(Action::CursorHome),
-            Key::Ctrl('e') => Some(Action::CursorEnd),
+            Key::Ctrl('a') | Key::Home => Some(Action::CursorHome),
+            Key::Ctrl('e') | Key::End => Some(Action::CursorEnd),
             Key::Ctrl('u') => Some(Action::EraseToStart),
             Key::Enter => Some(Action::Confirm),
             Key::Esc => Some(Action::Cancel),
             _ => None,
         },
-        Mode::Presets { .. } => match key {
-            Key::Up | Key::Char('k') => Some(Action::SelectPrevious),
-            Key::Down | Key::Char('j') => Some(Action::SelectNext),
+        // Typing searches, so only keys that are not text move through the list.
+        Mode::Presets(_) => match key {
+            Key::Up => Some(Action::SelectPrevious),
+            Key::Down => Some(Action::SelectNext),
+            Key::Home => Some(Action::SelectFirst),
+            Key::End => Some(Action::SelectLast),
+            Key::PageUp => Some(Action::PageUp),
+            Key::PageDown => Some(Action::PageDown),
+            Key::Char(c) => Some(Action::Type(c)),
+            Key::Backspace => Some(Action::DeleteChar),
             Key::Enter => Some(Action::Confirm),
-            Key::Esc | Key::Char('q') => Some(Action::Cancel),
+            Key::Esc => Some(Action::Cancel),
             _ => None,
         },
         Mode::ConfirmOverwrite { .. } => match key {
@@ -434,7 +536,7 @@ pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
 /// (a pasted newline does not submit it), or, anywhere else, nothing but a note.
 pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
     match mode {
-        Mode::Editing { .. } | Mode::Save { .. } => text
+        Mode::Editing { .. } | Mode::Save { .. } | Mode::Presets(_) => text
             .chars()
             .filter(|c| !c.is_control())
             .map(Action::Type)
@@ -491,8 +593,14 @@ fn help_label(keys: &[Key], ascii: bool) -> String {
 
 /// The help's lines: (keys, what they do), from [`NORMAL`].
 pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
+    help_lines_with(ascii, &[])
+}
+
+/// The help's lines of [`NORMAL`] and then of `extra` (e.g. [`FOLLOW`]).
+pub fn help_lines_with(ascii: bool, extra: &[Binding]) -> Vec<(String, &'static str)> {
     NORMAL
         .iter()
+        .chain(extra)
         .map(|b| {
             let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();
             (help_label(&keys, ascii), b.help)
@@ -508,14 +616,19 @@ pub fn up_down(ascii: bool) -> &'static str {
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {
-    hint_items(ascii).join(" ")
+    hint_items(ascii, &[]).join(" ")
 }
 
-/// The hint line cut to `width` columns: the most useful hints that fit, whole, in their
-/// order (`?:help` first, so the rest is always one key away).
-pub fn fitted_hint_line(ascii: bool, width: usize) -> String {
+/// The hint line of [`NORMAL`] and `extra` (e.g. [`FOLLOW`]) together, in the hints' order.
+pub fn hint_line_with(ascii: bool, extra: &[Binding]) -> String {
+    hint_items(ascii, extra).join(" ")
+}
+
+/// The hint line of [`NORMAL`] and `extra` cut to `width` columns: the most useful hints
+/// that fit, whole, in their order (`?:help` first, so the rest is always one key away).
+pub fn fitted_hint_line(ascii: bool, extra: &[Binding], width: usize) -> String {
     let mut line = String::new();
-    for item in hint_items(ascii) {
+    for item in hint_items(ascii, extra) {
         let needed = if line.is_empty() { 0 } else { 1 } + item.chars().count();
         if line.chars().count() + needed > width {
             break;
@@ -528,9 +641,13 @@ pub fn fitted_hint_line(ascii: bool, width: usize) -> String {
     line
 }
 
-/// The hints, most useful first, each `key:word`.
-fn hint_items(ascii: bool) -> Vec<String> {
-    let mut hints: Vec<&Hint> = NORMAL.iter().filter_map(|b| b.hint.as_ref()).collect();
+/// The hints of [`NORMAL`] and `extra`, most useful first, each `key:word`.
+fn hint_items(ascii: bool, extra: &[Binding]) -> Vec<String> {
+    let mut hints: Vec<&Hint> = NORMAL
+        .iter()
+        .chain(extra)
+        .filter_map(|b| b.hint.as_ref())
+        .collect();
     hints.sort_by_key(|h| h.order);
     hints
         .iter()
@@ -554,7 +671,7 @@ mod tests {
     #[test]
     fn key_names_parse() {
         assert_eq!(
-            parse_keys("Down S-Right Enter 5e4 Enter q C-d"),
+            parse_keys("Down S-Right Enter 5e4 Enter q C-d Home End PgUp PgDn"),
             vec![
                 Key::Down,
                 Key::ShiftRight,
@@ -565,6 +682,10 @@ mod tests {
                 Key::Enter,
                 Key::Char('q'),
                 Key::Ctrl('d'),
+                Key::Home,
+                Key::End,
+                Key::PageUp,
+                Key::PageDown,
             ]
         );
         // Ctrl and a letter is never the letter.
@@ -597,6 +718,26 @@ mod tests {
     }
 
     #[test]
+    fn the_follow_keys_are_listed_only_where_asked_and_bound_nowhere_else() {
+        assert!(!hint_line(false).contains("fork"));
+        assert!(
+            hint_line_with(false, FOLLOW).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
+            "{}",
+            hint_line_with(false, FOLLOW)
+        );
+        let help = help_lines_with(true, FOLLOW);
+        assert_eq!(help.len(), NORMAL.len() + 2);
+        assert_eq!(help[NORMAL.len()].0, "f");
+        assert_eq!(help[NORMAL.len() + 1].0, "F");
+        // f and F mean nothing in normal mode itself: follow mode takes them first.
+        for binding in FOLLOW {
+            for (key, _) in binding.keys {
+                assert_eq!(normal_action(*key), None, "{key:?}");
+            }
+        }
+    }
+
+    #[test]
     fn no_key_is_bound_twice_in_normal_mode() {
         let keys: Vec<Key> = NORMAL
             .iter()
@@ -612,13 +753,15 @@ mod tests {
     fn the_help_lists_every_binding_as_before() {
         let lines = help_lines(false);
         assert_eq!(lines[0].0, "↑ ↓  k j");
-        assert_eq!(lines[2].0, "Shift+← →  [ ]");
+        assert_eq!(lines[1].0, "g G  Home  End");
+        assert_eq!(lines[2].0, "PgUp  PgDn");
+        assert_eq!(lines[4].0, "Shift+← →  [ ]");
         assert_eq!(lines.last().unwrap().0, "q  Ctrl-C");
         assert_eq!(help_lines(true)[0].0, "Up Down  k j");
         assert_eq!(
             hint_line(false),
             "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
-             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time"
+             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom"
         );
     }
 
@@ -627,7 +770,7 @@ mod tests {
         for ascii in [false, true] {
             let full = hint_line(ascii);
             for width in 0..=full.chars().count() + 5 {
-                let fitted = fitted_hint_line(ascii, width);
+                let fitted = fitted_hint_line(ascii, &[], width);
                 assert!(fitted.chars().count() <= width, "{width}: {fitted}");
                 // A prefix of the full line, ending at a whole hint.
                 assert!(full.starts_with(&fitted), "{width}: {fitted}");
@@ -637,8 +780,8 @@ mod tests {
                     "{width}: {fitted}"
                 );
             }
-            assert!(fitted_hint_line(ascii, 80).starts_with("?:help q:quit"));
-            assert!(fitted_hint_line(ascii, 80).contains(":warnings"));
+            assert!(fitted_hint_line(ascii, &[], 80).starts_with("?:help q:quit"));
+            assert!(fitted_hint_line(ascii, &[], 80).contains(":warnings"));
         }
     }
 }

@@ -6,11 +6,14 @@
 //! and headless rendering ([`render`]).
 
 pub mod app;
+pub mod cores;
 mod event_loop;
 pub mod follow;
 pub mod input;
 pub mod keymap;
+pub mod mouse;
 pub mod params;
+pub mod picker;
 pub mod prompt;
 pub mod remote;
 pub mod solver;
@@ -46,11 +49,27 @@ pub enum Ending {
 
 /// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal
 /// hangs up. The terminal is restored on return, on a panic, on SIGINT, SIGTERM and SIGHUP,
-/// and around a suspension.
-pub fn run(loaded: LoadedScene, look: Look, palette: Palette) -> Result<Ending, String> {
+/// and around a suspension. `mouse`: ask the terminal for mouse reports (clicks, wheel, drags); `palette`: the colours.
+pub fn run(
+    loaded: LoadedScene,
+    look: Look,
+    mouse: bool,
+    palette: Palette,
+) -> Result<Ending, String> {
     let mut app = App::new(loaded, look, true)?;
+    app.mouse = mouse;
     app.palette = palette;
-    event_loop::run(app)
+    event_loop::run(app, |_| None)
+}
+
+/// Runs `app` in the terminal as [`run`] does; `attach` is given a feed into its loop (for
+/// events from elsewhere, e.g. a server's follow hub) and returns what to call after every
+/// frame (`beamfric present`: publish the state to the students).
+pub fn run_attached(
+    app: App,
+    attach: impl FnOnce(remote::Feed) -> Option<remote::AfterFrame>,
+) -> Result<Ending, String> {
+    event_loop::run(app, attach)
 }
 
 /// What a headless render needs besides the scene.

@@ -48,7 +48,19 @@ pub struct Events {
 #[derive(Clone)]
 pub struct Feed(Sender<Event>);
 
+impl std::fmt::Debug for Feed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Feed")
+    }
+}
+
 impl Feed {
+    /// A feed into the loop that `sender` feeds (the local explorer's, see
+    /// [`super::event_loop::run`]).
+    pub(super) fn new(sender: Sender<Event>) -> Feed {
+        Feed(sender)
+    }
+
     /// Bytes the client typed.
     pub fn bytes(&self, bytes: &[u8]) {
         let _ = self.0.send(Event::Bytes(bytes.to_vec()));
@@ -117,8 +129,9 @@ impl<W: Write> Screen for RemoteScreen<W> {
 /// Runs the explorer on a remote terminal of `size` (columns, rows) that `output` writes to,
 /// until the user quits, the feed hangs up, or nothing arrives for `idle_timeout`. The
 /// alternate screen is entered first and left at the end (a write error there is ignored:
-/// the client may be gone). `after_frame` sees the state after every frame. Returns how it
-/// ended.
+/// the client may be gone). `after_frame` sees the state after every frame; `cores` is the
+/// session's turn on the server's shared cores. Its workers have ended when it returns.
+/// Returns how it ended.
 pub fn run(
     mut app: App,
     mut output: impl Write,
@@ -126,6 +139,7 @@ pub fn run(
     events: Events,
     idle_timeout: Option<Duration>,
     after_frame: Option<AfterFrame>,
+    cores: Option<super::cores::Share>,
 ) -> io::Result<Ending> {
     let (width, height) = clamp_size(size.0, size.1);
     queue!(output, EnterAlternateScreen, Hide)?;
@@ -143,6 +157,8 @@ pub fn run(
         idle_timeout,
         inject_panic: String::new(),
         after_frame,
+        cores,
+        wait_for_workers: true,
     };
     let ending = event_loop(
         &mut screen,

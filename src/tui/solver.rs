@@ -2,7 +2,8 @@
 //! newest request (older ones are dropped unseen, so ten quick key presses make one solve of
 //! the final value), and hands back the mesh and solution tagged with what they were computed
 //! for, with the reference solution (`condensed` on the same mesh) the deflection panel draws
-//! under it. The app keeps a result only if it is still the one wanted.
+//! under it. The app keeps a result only if it is still the one wanted. In a served session the
+//! worker waits for its turn on the shared cores ([`super::cores`]) before each solve.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
@@ -12,6 +13,7 @@ use crate::fem::Mesh;
 use crate::solve::{Cancellation, Method, SolveErrorKind, SolveOptions, solve};
 
 use super::app::{Shown, SolveRequest};
+use super::cores::Share;
 
 /// Computes a request on the spot (headless rendering, tests, and the worker itself).
 pub fn run_solve(request: &SolveRequest) -> Shown {
@@ -53,21 +55,31 @@ pub struct SolveWorker {
     newest: &'static AtomicU64,
     /// The last request handed over, so the same one is not solved twice.
     last: Option<SolveRequest>,
-    _thread: JoinHandle<()>,
+    thread: Option<JoinHandle<()>>,
 }
 
 impl SolveWorker {
     /// Starts the worker; `deliver` gets every finished result (on the worker thread).
     pub fn start(deliver: impl Fn(Result<Shown, String>) + Send + 'static) -> SolveWorker {
+        SolveWorker::start_sharing(None, deliver)
+    }
+
+    /// As [`SolveWorker::start`]; with a `share`, each solve waits for its turn on the shared
+    /// cores first, and then takes the newest request.
+    pub fn start_sharing(
+        share: Option<Share>,
+        deliver: impl Fn(Result<Shown, String>) + Send + 'static,
+    ) -> SolveWorker {
         let slot: Arc<(Mutex<Slot>, Condvar)> = Arc::default();
         let shared = Arc::clone(&slot);
         let newest: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
         let thread = std::thread::Builder::new()
             .name("solver".into())
             .spawn(move || {
+                let (lock, ready) = &*shared;
+                let closed = || lock.lock().unwrap_or_else(|e| e.into_inner()).closed;
                 loop {
-                    let request = {
-                        let (lock, ready) = &*shared;
+                    {
                         let mut slot = lock.lock().unwrap_or_else(|e| e.into_inner());
                         while slot.request.is_none() && !slot.closed {
                             slot = ready.wait(slot).unwrap_or_else(|e| e.into_inner());
@@ -75,8 +87,21 @@ impl SolveWorker {
                         if slot.closed {
                             return;
                         }
-                        slot.request.take()
+                    }
+                    // Our turn on the shared cores (served sessions), then the newest request:
+                    // whatever was asked for while waiting replaced the older one unseen.
+                    let _permit = match &share {
+                        Some(share) => match share.acquire(&closed) {
+                            Some(permit) => Some(permit),
+                            None => return,
+                        },
+                        None => None,
                     };
+                    let request = lock
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .request
+                        .take();
                     let Some((generation, mut request)) = request else {
                         continue;
                     };
@@ -109,8 +134,16 @@ impl SolveWorker {
             slot,
             newest,
             last: None,
-            _thread: thread,
+            thread: Some(thread),
         }
+    }
+
+    /// Stops the worker (a solve in progress is cancelled inside its loops) and returns its
+    /// thread, to see when it has ended (a served session that ends).
+    pub fn stop(mut self) -> Option<JoinHandle<()>> {
+        let thread = self.thread.take();
+        drop(self);
+        thread
     }
 
     /// Asks for `request` unless it was the last one asked for; replaces a request the worker

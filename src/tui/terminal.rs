@@ -3,6 +3,8 @@
 //! panic hook that restores first, then lets the default hook report), on a signal (the event
 //! loop hears SIGINT, SIGTERM and SIGHUP through [`Signals`] and returns), on a hangup (end of
 //! input), and around a suspension (Ctrl-Z or SIGTSTP: leave, stop, come back and redraw).
+//! Mouse reports are asked for by the event loop (the same for a remote terminal) and stopped
+//! here too.
 //! A panic on another thread (a worker) does not touch the terminal: the worker catches it.
 
 use std::io::{self, Stdout, stdout};
@@ -26,11 +28,14 @@ pub const SIGNALS: [i32; 6] = [
     signal_hook::consts::SIGCONT,
 ];
 
-/// Leaves raw mode and the alternate screen; safe to call more than once, and when the
-/// terminal is gone.
+/// Leaves raw mode and the alternate screen and stops mouse reports; safe to call more than
+/// once, and when the terminal is gone.
 pub fn restore() {
     let _ = disable_raw_mode();
-    let _ = execute!(stdout(), DisableBracketedPaste, LeaveAlternateScreen, Show);
+    let mut out = stdout();
+    // The event loop asks for the mouse while it runs (see `tui::mouse`).
+    let _ = io::Write::write_all(&mut out, super::mouse::MOUSE_OFF.as_bytes());
+    let _ = execute!(out, DisableBracketedPaste, LeaveAlternateScreen, Show);
 }
 
 fn enter() -> io::Result<()> {

@@ -1,14 +1,18 @@
 //! The one place that changes the explorer's state: [`update`] takes an [`Action`] (what a
-//! key means in the current mode, from [`super::keymap`]) and applies it. Every change of the scene goes through the scene's validation; a rejected value
-//! leaves the state as it was and says why.
+//! key means in the current mode, from [`super::keymap`], or a mouse event, placed on what is
+//! drawn under it by [`super::mouse::target`]) and applies it. Every change of the scene goes
+//! through the scene's validation; a rejected value leaves the state as it was and says why.
 
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, SceneSource, save_scene};
 use crate::solve::Method;
 
-use super::app::{App, Diagram, Discard, Mode, SavePolicy, UNDO_LIMIT};
+use super::app::{App, Diagram, Discard, Drag, Mode, SavePolicy, UNDO_LIMIT};
 use super::keymap::{Action, Key};
+use super::mouse::{Target, dragged_position, obstacle_row, target};
 use super::params::{Row, set_from_text, step};
+use super::picker::PresetPicker;
 use super::prompt::{Prompt, Typed, editable_number};
+use super::view::{picker_layout, screen_layout};
 use crate::scene::Panel;
 
 /// Longest value a prompt accepts.
@@ -18,6 +22,38 @@ const PATH_LIMIT: usize = 4096;
 
 /// Applies `action` to the state.
 pub fn update(app: &mut App, action: Action) {
+    apply(app, action);
+    keep_selection_in_view(app);
+}
+
+/// Scrolls the parameters (and the preset list) only as far as needed to show the selected
+/// row (after any change of the selection, the rows or the size).
+fn keep_selection_in_view(app: &mut App) {
+    let height = parameter_rows_shown(app);
+    app.parameters_offset = app.parameters_offset(height);
+    let visible = picker_rows_shown(app);
+    if let Mode::Presets(picker) = &mut app.mode {
+        picker.scroll_to_highlight(visible);
+    }
+}
+
+/// How many parameter rows the frame shows now (at least one).
+fn parameter_rows_shown(app: &App) -> usize {
+    let area = ratatui::layout::Rect::new(0, 0, app.size.0, app.size.1);
+    screen_layout(app, area)
+        .map_or(1, |layout| {
+            usize::from(layout.parameters.height.saturating_sub(2))
+        })
+        .max(1)
+}
+
+/// How many entries the preset picker's list shows now (at least one).
+fn picker_rows_shown(app: &App) -> usize {
+    let area = ratatui::layout::Rect::new(0, 0, app.size.0, app.size.1);
+    usize::from(picker_layout(area).list.height).max(1)
+}
+
+fn apply(app: &mut App, action: Action) {
     match action {
         Action::Interrupt => {
             // Ctrl-C quits at once unless that loses changes; then it asks, and a second
@@ -45,9 +81,24 @@ pub fn update(app: &mut App, action: Action) {
             app.suspend_requested = true;
             return;
         }
+        Action::Fork => {
+            super::follow::fork(app);
+            return;
+        }
+        Action::Rejoin => {
+            super::follow::rejoin(app);
+            return;
+        }
         Action::PasteIgnored => {
             app.message =
                 Some("a paste is typed only into a prompt (Enter opens one); ignored".into());
+            return;
+        }
+        Action::Click { .. }
+        | Action::Drag { .. }
+        | Action::Release { .. }
+        | Action::Scroll { .. } => {
+            mouse(app, action);
             return;
         }
         _ => {}
@@ -82,7 +133,7 @@ pub fn update(app: &mut App, action: Action) {
             }
         }
         Mode::Editing { row, prompt } => editing(app, action, row, prompt),
-        Mode::Presets { index } => presets(app, action, index),
+        Mode::Presets(picker) => presets(app, action, picker),
         Mode::Save { prompt } => save_prompt(app, action, prompt),
         Mode::ConfirmOverwrite { path } => confirm_overwrite(app, action, path),
         Mode::ConfirmDiscard { then } => confirm_discard(app, action, then),
@@ -206,7 +257,13 @@ fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
 /// Errors name obstacles by the numbers the user sees (the candidate is checked before its
 /// obstacles are put in order); once kept, the selection stays on the same obstacle even if
 /// a new position moved it past another.
-fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
+fn try_apply(app: &mut App, candidate: Scene) -> bool {
+    try_apply_keeping_undo(app, candidate, true)
+}
+
+/// [`try_apply`], keeping the scene before for undo only when `undo_step` (a drag keeps one
+/// undo step for all its moves).
+fn try_apply_keeping_undo(app: &mut App, mut candidate: Scene, undo_step: bool) -> bool {
     if let Some(message) = beyond_limits(app, &candidate) {
         app.message = Some(message);
         return false;
@@ -226,7 +283,9 @@ fn try_apply(app: &mut App, mut candidate: Scene) -> bool {
     match candidate.validate(&app.source.to_string()) {
         Ok((problem, settings)) => {
             let selected = app.selected_row();
-            remember(app);
+            if undo_step {
+                remember(app);
+            }
             app.scene = candidate;
             app.message = None;
             if let Some(old) = selected.obstacle()
@@ -252,6 +311,15 @@ fn normal(app: &mut App, action: Action) {
     match action {
         Action::SelectPrevious => app.selected = app.selected.saturating_sub(1),
         Action::SelectNext => app.selected = (app.selected + 1).min(rows.len() - 1),
+        Action::SelectFirst => app.selected = 0,
+        Action::SelectLast => app.selected = rows.len() - 1,
+        Action::PageUp => {
+            app.selected = app.selected.saturating_sub(parameter_rows_shown(app));
+        }
+        Action::PageDown => {
+            app.selected = (app.selected + parameter_rows_shown(app)).min(rows.len() - 1);
+        }
+        Action::ToggleZoom => toggle_zoom(app),
         Action::Decrease { coarse } => change(app, -1, coarse),
         Action::Increase { coarse } => change(app, 1, coarse),
         Action::EditValue => {
@@ -277,7 +345,9 @@ fn normal(app: &mut App, action: Action) {
                 .iter()
                 .position(|p| app.source == SceneSource::Preset(p.name))
                 .unwrap_or(0);
-            app.mode = Mode::Presets { index };
+            let mut picker = PresetPicker::at(index);
+            picker.scroll_to_highlight(picker_rows_shown(app));
+            app.mode = Mode::Presets(picker);
         }
         Action::Save => start_save(app),
         Action::Reset => unless_unsaved(app, Discard::Reset),
@@ -325,7 +395,16 @@ fn normal(app: &mut App, action: Action) {
         | Action::EraseToStart
         | Action::Confirm
         | Action::Cancel => {}
-        Action::Interrupt | Action::Resize(..) | Action::Suspend | Action::PasteIgnored => {
+        Action::Interrupt
+        | Action::Resize(..)
+        | Action::Suspend
+        | Action::PasteIgnored
+        | Action::Click { .. }
+        | Action::Drag { .. }
+        | Action::Release { .. }
+        | Action::Scroll { .. }
+        | Action::Fork
+        | Action::Rejoin => {
             unreachable!("handled before the mode")
         }
     }
@@ -490,24 +569,200 @@ fn editing(app: &mut App, action: Action, row: Row, mut prompt: Prompt) {
     }
 }
 
-fn presets(app: &mut App, action: Action, index: usize) {
-    let count = PRESETS.len();
+fn presets(app: &mut App, action: Action, mut picker: PresetPicker) {
+    let visible = picker_rows_shown(app);
+    let index = picker.index as isize;
+    let page = visible as isize;
     match action {
-        Action::SelectPrevious => {
-            app.mode = Mode::Presets {
-                index: index.saturating_sub(1),
-            }
-        }
-        Action::SelectNext => {
-            app.mode = Mode::Presets {
-                index: (index + 1).min(count - 1),
-            }
-        }
+        Action::SelectPrevious => picker.select(index - 1, visible),
+        Action::SelectNext => picker.select(index + 1, visible),
+        Action::SelectFirst => picker.select(0, visible),
+        Action::SelectLast => picker.select(isize::MAX, visible),
+        Action::PageUp => picker.select(index - page, visible),
+        Action::PageDown => picker.select(index + page, visible),
+        Action::Type(c) => picker.type_char(c, visible),
+        Action::DeleteChar => picker.delete_char(visible),
         Action::Confirm => {
-            app.mode = Mode::Normal;
-            unless_unsaved(app, Discard::Preset(index.min(count - 1)));
+            match picker.highlighted() {
+                Some(preset) => {
+                    app.mode = Mode::Normal;
+                    unless_unsaved(app, Discard::Preset(preset));
+                }
+                None => {
+                    app.message = Some(format!(
+                        "no preset matches \"{}\": Backspace edits the search",
+                        picker.query
+                    ))
+                }
+            }
+            return;
         }
-        Action::Cancel => app.mode = Mode::Normal,
+        Action::Cancel => {
+            app.mode = Mode::Normal;
+            return;
+        }
+        _ => {}
+    }
+    app.mode = Mode::Presets(picker);
+}
+
+/// The focused panel fills the screen, or the screen goes back to all panels.
+fn toggle_zoom(app: &mut App) {
+    if app.panels().is_empty() {
+        app.message = Some("this scene shows no panel to zoom".into());
+        return;
+    }
+    app.zoom = !app.zoom;
+    // Other panels come into view or leave it: studies follow.
+    app.refresh_studies();
+}
+
+/// Is this a served student following the presenter (who may not change the scene)?
+fn following(app: &App) -> bool {
+    use super::follow::Role;
+    matches!(
+        app.follow.as_ref().map(|f| &f.role),
+        Some(Role::Student(Some(_)))
+    )
+}
+
+/// A mouse event: what it does depends on the mode and on what is under the pointer.
+fn mouse(app: &mut App, action: Action) {
+    match app.mode.clone() {
+        Mode::Normal => normal_mouse(app, action),
+        Mode::Presets(picker) => picker_mouse(app, action, picker),
+        // The wheel scrolls the warnings view and the help; a click closes them, as a key does.
+        Mode::Warnings { .. } | Mode::Help { .. } => match action {
+            Action::Scroll { up: true, .. } => apply(app, Action::SelectPrevious),
+            Action::Scroll { up: false, .. } => apply(app, Action::SelectNext),
+            Action::Click { .. } => app.mode = Mode::Normal,
+            _ => {}
+        },
+        // Prompts and questions are answered with keys; the scene as text is selected with the
+        // mouse (no mouse capture then).
+        _ => {}
+    }
+}
+
+fn normal_mouse(app: &mut App, action: Action) {
+    match action {
+        Action::Click { x, y, double } => {
+            app.drag = None;
+            match target(app, x, y) {
+                Target::Row(row) => {
+                    app.selected = row;
+                    if double {
+                        normal(app, Action::EditValue);
+                    }
+                }
+                Target::Obstacle(index) => {
+                    focus_panel(app, crate::scene::Panel::Deflection);
+                    if double {
+                        toggle_zoom(app);
+                    } else {
+                        app.selected = obstacle_row(app, index).unwrap_or(app.selected);
+                        app.drag = Some(Drag::Obstacle {
+                            index,
+                            moved: false,
+                        });
+                    }
+                }
+                Target::Panel { index, title } => {
+                    if app.focus != index {
+                        app.focus = index;
+                        app.refresh_studies();
+                    }
+                    if double || title {
+                        toggle_zoom(app);
+                    }
+                }
+                Target::Status => show_warnings(app),
+                _ => {}
+            }
+        }
+        Action::Drag { x, .. } => {
+            let Some(Drag::Obstacle { index, moved }) = app.drag else {
+                return;
+            };
+            if following(app) {
+                app.message = Some("following the presenter: f to explore on your own".into());
+                return;
+            }
+            let Some(position) = dragged_position(app, index, x) else {
+                return;
+            };
+            if app
+                .scene
+                .obstacles
+                .get(index)
+                .is_none_or(|o| o.x == position)
+            {
+                return;
+            }
+            let mut candidate = app.scene.clone();
+            candidate.obstacles[index].x = position;
+            if try_apply_keeping_undo(app, candidate, !moved) {
+                app.drag = Some(Drag::Obstacle { index, moved: true });
+                app.message = Some(format!(
+                    "obstacle {} at x = {} m (drag; u undoes)",
+                    index + 1,
+                    crate::format::eng(position)
+                ));
+            }
+        }
+        Action::Release { .. } => app.drag = None,
+        Action::Scroll { x, y, up } => {
+            if matches!(target(app, x, y), Target::Row(_) | Target::Parameters) {
+                if following(app) {
+                    app.message = Some("following the presenter: f to explore on your own".into());
+                    return;
+                }
+                change(app, if up { 1 } else { -1 }, false);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Focuses `panel` if the scene shows it.
+fn focus_panel(app: &mut App, panel: crate::scene::Panel) {
+    if let Some(index) = app.panels().iter().position(|p| *p == panel)
+        && app.focus != index
+    {
+        app.focus = index;
+        app.refresh_studies();
+    }
+}
+
+/// A click on the status lines, where the warnings are: opens the warnings view (as `w`) when
+/// the solution shown has any.
+fn show_warnings(app: &mut App) {
+    if let Some(Ok(solution)) = app.solution()
+        && !solution.warnings.is_empty()
+    {
+        normal(app, Action::ShowWarnings);
+    }
+}
+
+fn picker_mouse(app: &mut App, action: Action, mut picker: PresetPicker) {
+    let visible = picker_rows_shown(app);
+    match action {
+        Action::Click { x, y, double } => match target(app, x, y) {
+            Target::PickerEntry(entry) => {
+                picker.select(entry as isize, visible);
+                app.mode = Mode::Presets(picker.clone());
+                if double {
+                    presets(app, Action::Confirm, picker);
+                }
+            }
+            Target::OutsidePicker => app.mode = Mode::Normal,
+            _ => {}
+        },
+        Action::Scroll { up, .. } => {
+            let index = picker.index as isize;
+            picker.select(if up { index - 1 } else { index + 1 }, visible);
+            app.mode = Mode::Presets(picker);
+        }
         _ => {}
     }
 }
@@ -604,7 +859,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             Some(target) => target,
             None => {
                 app.message = Some(format!(
-                    "not saved: {path} is outside {}, the directory --allow-save names",
+                    "not saved: {path} is outside {}, the only directory saves may go to",
                     dir.display()
                 ));
                 return;

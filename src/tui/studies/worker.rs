@@ -1,12 +1,15 @@
 //! The background thread that computes studies for the interactive explorer. Each request
 //! cancels the outdated work of its study; a panic in a study becomes a message in its panel.
+//! In a served session each study waits for its turn on the shared cores (`tui::cores`).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Sender, channel};
+use std::thread::JoinHandle;
 
 use super::{STUDIES, StudyRequest, StudyResult, run};
 use crate::solve::Cancellation;
 use crate::study::Cancelled;
+use crate::tui::cores::Share;
 
 /// A background worker for the studies.
 pub struct Worker {
@@ -18,6 +21,7 @@ pub struct Worker {
     counter: u64,
     /// Requests already sent, so the same one is not sent twice.
     sent: Vec<StudyRequest>,
+    thread: Option<JoinHandle<()>>,
 }
 
 /// The result of a study that panicked: its panel shows the message.
@@ -41,6 +45,16 @@ impl Worker {
     /// With `inject_panic`, its first study panics (a test of how a failing study is
     /// reported).
     pub fn start(inject_panic: bool, deliver: impl Fn(StudyResult) + Send + 'static) -> Worker {
+        Worker::start_sharing(inject_panic, None, deliver)
+    }
+
+    /// As [`Worker::start`]; with a `share`, each study waits for its turn on the shared cores
+    /// first (and is skipped if it became outdated meanwhile).
+    pub fn start_sharing(
+        inject_panic: bool,
+        share: Option<Share>,
+        deliver: impl Fn(StudyResult) + Send + 'static,
+    ) -> Worker {
         let (jobs, inbox) = channel::<(u64, StudyRequest)>();
         let newest: &'static [AtomicU64] =
             Vec::leak(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
@@ -50,6 +64,19 @@ impl Worker {
             for (id, request) in inbox {
                 let study = request.study;
                 let cancel = Cancellation::watching(&shared[study], id);
+                if cancel.is_cancelled() {
+                    continue;
+                }
+                // Our turn on the shared cores; the worker's end (every study cancelled for
+                // good) gives up waiting.
+                let closed = || shared.iter().all(|n| n.load(Ordering::Relaxed) == u64::MAX);
+                let _permit = match &share {
+                    Some(share) => match share.acquire(&closed) {
+                        Some(permit) => Some(permit),
+                        None => return,
+                    },
+                    None => None,
+                };
                 if cancel.is_cancelled() {
                     continue;
                 }
@@ -68,7 +95,7 @@ impl Worker {
                 deliver(result);
             }
         };
-        std::thread::Builder::new()
+        let thread = std::thread::Builder::new()
             .name("studies".into())
             .spawn(body)
             .expect("a thread can be started");
@@ -77,7 +104,16 @@ impl Worker {
             newest,
             counter: 0,
             sent: Vec::new(),
+            thread: Some(thread),
         }
+    }
+
+    /// Stops the worker (a study in progress is cancelled inside its loops) and returns its
+    /// thread, to see when it has ended (a served session that ends).
+    pub fn stop(mut self) -> Option<JoinHandle<()>> {
+        let thread = self.thread.take();
+        drop(self);
+        thread
     }
 
     /// Sends the requests not sent yet; each cancels the outdated work of its study, and a

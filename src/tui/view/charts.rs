@@ -10,12 +10,13 @@ use ratatui::widgets::{Dataset, GraphType};
 
 use crate::plot::{
     AxisKind, AxisSpec, CurrentRun, KeyEntry, PanelFrame, PlotArea, Theme, curve_key, curve_marker,
-    eps_condition_chart, eps_error_chart, error_time_chart, marker_char, notice, panel_with_key,
-    point_marker,
+    eps_condition_chart, eps_error_chart, error_time_chart, key_layout, marker_char, notice,
+    panel_with_key, point_marker,
 };
 use crate::scene::Panel;
+use crate::solve::Solution;
 use crate::study::{EpsPoint, MeshPoint};
-use crate::tui::app::{App, Diagram};
+use crate::tui::app::{App, Diagram, Shown};
 use crate::tui::studies::StudyView;
 
 /// The title's mark of a chart whose data belongs to the state before.
@@ -104,62 +105,44 @@ const STATE_MARKERS: [(char, char); 6] = [
     ('?', '?'),
 ];
 
-fn deflection(
-    frame: &mut Frame,
-    app: &App,
-    theme: &Theme,
-    area: Rect,
-    suffix: &str,
-    focused: bool,
-) {
-    let (name, symbol, unit) = match app.diagram {
-        Diagram::Deflection => ("Deflection u(x)", "u", "m"),
-        Diagram::Moment => ("Bending moment M = -EJu''", "M", "N m"),
-        Diagram::Shear => ("Shear force T = M'", "T", "N"),
-    };
-    let outdated = if app.is_current() {
-        ""
-    } else {
-        " · out of date"
-    };
-    let difference = app.show_difference;
-    let title = if difference {
-        format!(" {symbol} − {symbol}_ref [{unit}] (c: back, b: next){suffix}{outdated} ")
-    } else {
-        format!(" {name} [{unit}] (b: next){suffix}{outdated} ")
-    };
-    let panel = PanelFrame {
-        area,
-        title,
-        focused,
-    };
+/// What the deflection panel draws, in real values: the curve (u, M or T, or its difference
+/// from the reference), the reference curve, the obstacles by state, the key and the y range.
+struct DeflectionData {
+    length: f64,
+    curve: Vec<(f64, f64)>,
+    reference_curve: Vec<(f64, f64)>,
+    states: [Vec<(f64, f64)>; 6],
+    key: Vec<KeyEntry>,
+    y_range: [f64; 2],
+}
+
+const REFERENCE_MARKER: (char, char) = ('·', ':');
+const WALL: (char, char) = ('▒', '#');
+/// Rows the deflection chart keeps before its key takes the rest.
+const DEFLECTION_ROWS: u16 = 5;
+
+/// The deflection panel's data for a panel of `area`, or the notice to show instead.
+fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<DeflectionData, String> {
     let Some(shown) = &app.shown else {
-        let text = format!("solving n = {} …", app.wanted.elements);
-        return notice(frame, theme, panel, text);
+        return Err(format!("solving n = {} …", app.wanted.elements));
     };
     let solution = match &shown.solution {
         Ok(s) => s,
-        Err(e) => return notice(frame, theme, panel, format!("no solution: {e}")),
+        Err(e) => return Err(format!("no solution: {e}")),
     };
+    let difference = app.show_difference;
     let reference = shown.reference.as_ref();
     if difference && reference.is_none() {
-        let text = if solution.method == crate::solve::Method::Condensed {
+        return Err(if solution.method == crate::solve::Method::Condensed {
             "this is the reference method (condensed): nothing to compare with; c goes back"
         } else {
             "no reference: the condensed method gave no solution on this mesh; c goes back"
-        };
-        return notice(frame, theme, panel, text.into());
+        }
+        .into());
     }
     let l = shown.request.problem.length;
     let samples = (area.width as usize * 2).clamp(20, 400);
-    let value_of = |s: &crate::solve::Solution, x: f64| {
-        let p = s.field.at(&shown.mesh, x);
-        match app.diagram {
-            Diagram::Deflection => p.deflection,
-            Diagram::Moment => p.moment,
-            Diagram::Shear => p.shear,
-        }
-    };
+    let value_of = |s: &Solution, x: f64| diagram_value(app, shown, s, x);
     let value = |x: f64| match (difference, reference) {
         (true, Some(r)) => value_of(solution, x) - value_of(r, x),
         _ => value_of(solution, x),
@@ -176,8 +159,7 @@ fn deflection(
         _ => Vec::new(),
     };
     if curve.is_empty() {
-        let text = "no finite values to draw (see the warnings)".into();
-        return notice(frame, theme, panel, text);
+        return Err("no finite values to draw (see the warnings)".into());
     }
     // The range covers both curves and zero (the clamped ends, and the u = 0 line).
     let (min, max) = curve
@@ -195,25 +177,23 @@ fn deflection(
         style: theme.series(0),
         short: None,
     }];
-    let reference_marker = ('·', ':');
     if !reference_curve.is_empty() {
         key.push(KeyEntry {
-            marker: marker_char(theme, reference_marker.0, reference_marker.1),
+            marker: marker_char(theme, REFERENCE_MARKER.0, REFERENCE_MARKER.1),
             name: "condensed = reference (c: difference)".into(),
             style: theme.series(6),
             short: None,
         });
     }
-    let wall = ('▒', '#');
     key.push(KeyEntry {
-        marker: marker_char(theme, wall.0, wall.1),
+        marker: marker_char(theme, WALL.0, WALL.1),
         name: "clamped".into(),
         // Text is never dark grey (the theme's rule): the key in the secondary style.
         style: theme.dim(),
         short: None,
     });
     let mut states: [Vec<(f64, f64)>; 6] = Default::default();
-    let regularized = solution.method.is_regularized();
+    let regularized = method.is_regularized();
     for o in &solution.obstacles {
         let word = super::results::state_word(o, regularized, shown.max_deflection);
         let state = STATE_NAMES.iter().position(|n| *n == word).unwrap_or(5);
@@ -233,18 +213,75 @@ fn deflection(
             });
         }
     }
-    let plot = panel_with_key(frame, theme, &panel, &[], &[], &key, 5);
+    Ok(DeflectionData {
+        length: l,
+        curve,
+        reference_curve,
+        states,
+        key,
+        y_range: [min, max],
+    })
+}
+
+/// The deflection chart's axes in `plot` (the panel inside its borders, above its key).
+fn deflection_plot(data: &DeflectionData, plot: Rect) -> Option<PlotArea> {
     let x_axis = AxisSpec {
         kind: AxisKind::Linear,
-        range: [0.0, l],
+        range: [0.0, data.length],
         title: "x [m]".into(),
     };
     let y_axis = AxisSpec {
         kind: AxisKind::Linear,
-        range: [min, max],
+        range: data.y_range,
         title: String::new(),
     };
-    let Some(plot) = PlotArea::new(plot, &x_axis, &y_axis) else {
+    PlotArea::new(plot, &x_axis, &y_axis)
+}
+
+/// The value the deflection panel shows at `x`: u, M or T.
+fn diagram_value(app: &App, shown: &Shown, solution: &Solution, x: f64) -> f64 {
+    let p = solution.field.at(&shown.mesh, x);
+    match app.diagram {
+        Diagram::Deflection => p.deflection,
+        Diagram::Moment => p.moment,
+        Diagram::Shear => p.shear,
+    }
+}
+
+fn deflection(
+    frame: &mut Frame,
+    app: &App,
+    theme: &Theme,
+    area: Rect,
+    suffix: &str,
+    focused: bool,
+) {
+    let (name, symbol, unit) = match app.diagram {
+        Diagram::Deflection => ("Deflection u(x)", "u", "m"),
+        Diagram::Moment => ("Bending moment M = -EJu''", "M", "N m"),
+        Diagram::Shear => ("Shear force T = M'", "T", "N"),
+    };
+    let outdated = if app.is_current() {
+        ""
+    } else {
+        " · out of date"
+    };
+    let title = if app.show_difference {
+        format!(" {symbol} − {symbol}_ref [{unit}] (c: back, b: next){suffix}{outdated} ")
+    } else {
+        format!(" {name} [{unit}] (b: next){suffix}{outdated} ")
+    };
+    let panel = PanelFrame {
+        area,
+        title,
+        focused,
+    };
+    let data = match deflection_data(app, theme, area) {
+        Ok(data) => data,
+        Err(text) => return notice(frame, theme, panel, text),
+    };
+    let plot = panel_with_key(frame, theme, &panel, &[], &[], &data.key, DEFLECTION_ROWS);
+    let Some(plot) = deflection_plot(&data, plot) else {
         return;
     };
     let buffer = frame.buffer_mut();
@@ -254,14 +291,14 @@ fn deflection(
         points.iter().map(|p| plot.unit(*p)).collect()
     };
     let walls = [vec![(0.0, 0.0), (0.0, 1.0)], vec![(1.0, 0.0), (1.0, 1.0)]];
-    let curve = unit(&curve);
-    let reference_curve = unit(&reference_curve);
-    let states: Vec<Vec<(f64, f64)>> = states.iter().map(|s| unit(s)).collect();
+    let curve = unit(&data.curve);
+    let reference_curve = unit(&data.reference_curve);
+    let states: Vec<Vec<(f64, f64)>> = data.states.iter().map(|s| unit(s)).collect();
     let mut datasets = Vec::new();
     for wall_points in &walls {
         datasets.push(
             Dataset::default()
-                .marker(point_marker(theme, wall.0, wall.1))
+                .marker(point_marker(theme, WALL.0, WALL.1))
                 .graph_type(GraphType::Line)
                 .style(theme.faint())
                 .data(wall_points),
@@ -270,7 +307,7 @@ fn deflection(
     // The reference under the current method's curve.
     datasets.push(
         Dataset::default()
-            .marker(point_marker(theme, reference_marker.0, reference_marker.1))
+            .marker(point_marker(theme, REFERENCE_MARKER.0, REFERENCE_MARKER.1))
             .graph_type(GraphType::Line)
             .style(theme.series(6))
             .data(&reference_curve),
@@ -294,4 +331,58 @@ fn deflection(
     }
     plot.draw_datasets(buffer, theme, datasets);
     plot.draw_axes(buffer, theme);
+}
+
+/// Where the deflection chart puts x = 0 … l on screen: the first and last column of its plot
+/// (x = 0 and x = l), as ratatui's chart lays out the plot right of the y labels and its axis
+/// line, inside the panel's borders. Mouse hit-testing maps columns to positions with it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DeflectionColumns {
+    pub first: u16,
+    pub last: u16,
+    /// The rows of the plot (the panel inside its borders).
+    pub top: u16,
+    pub bottom: u16,
+    /// The beam's length l [m].
+    pub length: f64,
+}
+
+impl DeflectionColumns {
+    /// The column a point at `x` [m] is drawn in (the chart rounds to the nearest cell).
+    pub fn column_of(&self, x: f64) -> u16 {
+        let span = f64::from(self.last - self.first);
+        let unit = (x / self.length).clamp(0.0, 1.0);
+        self.first + (unit * span).round() as u16
+    }
+
+    /// The position [m] drawn at `column` (clamped to the plot).
+    pub fn x_at(&self, column: u16) -> f64 {
+        let span = f64::from(self.last - self.first).max(1.0);
+        let column = column.clamp(self.first, self.last);
+        self.length * f64::from(column - self.first) / span
+    }
+
+    /// Is the cell at `x`, `y` inside the plot?
+    pub fn contains(&self, x: u16, y: u16) -> bool {
+        (self.first..=self.last).contains(&x) && (self.top..self.bottom).contains(&y)
+    }
+}
+
+/// The deflection chart's columns in a panel of `area`, when it draws a chart (a solution with
+/// finite values, and room for a plot at least two columns wide).
+pub fn deflection_columns(app: &App, area: Rect) -> Option<DeflectionColumns> {
+    // The same data, key and axes as the drawing (see `deflection`).
+    let theme = Theme::new(app.look, app.palette);
+    let data = deflection_data(app, &theme, area).ok()?;
+    let inner = theme.block("", false).inner(area);
+    let plot = key_layout(&theme, inner, &[], &[], &data.key, DEFLECTION_ROWS).0;
+    let plot = deflection_plot(&data, plot)?;
+    let graph = plot.graph;
+    (graph.width > 1).then_some(DeflectionColumns {
+        first: graph.left(),
+        last: graph.right() - 1,
+        top: graph.top(),
+        bottom: graph.bottom(),
+        length: data.length,
+    })
 }

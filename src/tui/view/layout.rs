@@ -1,7 +1,8 @@
 //! Where everything goes on the screen: one pure function of the state and the terminal size,
 //! used by drawing and by mouse hit-testing alike, so a click lands on what is drawn there.
 //!
-//! Title line on top; parameters on the left with the results under them when there is room;
+//! Title line on top, the scene's description under it when there is room (from
+//! [`DESCRIPTION_MIN_HEIGHT`] rows); parameters on the left with the results under them when there is room;
 //! the scene's panels on the right (from [`FULL_SIZE`] on all of them, the deflection on top
 //! and the others side by side below; under it one at a time, Tab cycling; a zoomed panel
 //! takes the whole body); then the status (solution summary, warnings, last message) and the
@@ -16,11 +17,15 @@ use crate::scene::Panel;
 pub const MIN_SIZE: (u16, u16) = (60, 16);
 /// Smallest terminal for every panel at once.
 pub const FULL_SIZE: (u16, u16) = (100, 30);
+/// Fewest rows with the scene's description under the title.
+pub const DESCRIPTION_MIN_HEIGHT: u16 = 30;
 
 /// The rectangles of one frame.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ScreenLayout {
     pub title: Rect,
+    /// The scene's description, one line, when it has one and there is room.
+    pub description: Option<Rect>,
     /// The parameters box (borders included).
     pub parameters: Rect,
     /// The results box, when there is room for it.
@@ -44,19 +49,24 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
     if !fits(area) {
         return None;
     }
-    let [title, body, status, hints] = Layout::vertical([
+    let described =
+        area.height >= DESCRIPTION_MIN_HEIGHT && !app.scene.description.trim().is_empty();
+    let [title, description, body, status, hints] = Layout::vertical([
         Constraint::Length(1),
+        Constraint::Length(u16::from(described)),
         Constraint::Min(8),
         Constraint::Length(3),
         Constraint::Length(1),
     ])
     .areas(area);
+    let description = described.then_some(description);
     let full = area.width >= FULL_SIZE.0 && area.height >= FULL_SIZE.1;
     let panels = app.panels();
     let focused = (!panels.is_empty()).then(|| panels[app.focus % panels.len()]);
     if let (true, Some(panel)) = (app.zoom, focused) {
         return Some(ScreenLayout {
             title,
+            description,
             parameters: Rect::new(body.x, body.y, 0, 0),
             results: None,
             panels: vec![(panel, body)],
@@ -76,6 +86,7 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
     };
     Some(ScreenLayout {
         title,
+        description,
         parameters,
         results,
         panels,
@@ -155,7 +166,7 @@ impl ScreenLayout {
     pub fn region_at(&self, x: u16, y: u16) -> Option<Region> {
         let position = ratatui::layout::Position { x, y };
         let inside = |r: Rect| r.contains(position);
-        if inside(self.title) {
+        if inside(self.title) || self.description.is_some_and(inside) {
             Some(Region::Title)
         } else if inside(self.parameters) {
             Some(Region::Parameters)

@@ -21,7 +21,11 @@ use ratatui::widgets::{Paragraph, Wrap};
 use super::app::App;
 use crate::plot::{Theme, transliterate};
 
-pub use layout::{FULL_SIZE, MIN_SIZE, Region, ScreenLayout, screen_layout};
+pub use charts::{DeflectionColumns, deflection_columns};
+pub use layout::{
+    DESCRIPTION_MIN_HEIGHT, FULL_SIZE, MIN_SIZE, Region, ScreenLayout, screen_layout,
+};
+pub use overlays::{PickerLayout, picker_layout};
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
@@ -33,6 +37,9 @@ pub fn draw(frame: &mut Frame, app: &App) {
         None => too_small(frame, area),
         Some(layout) => {
             draw_title(frame, app, &theme, layout.title);
+            if let Some(area) = layout.description {
+                overlays::description_line(frame, app, &theme, area);
+            }
             if layout.parameters.area() > 0 {
                 draw_parameters(frame, app, &theme, layout.parameters);
             }
@@ -87,8 +94,8 @@ fn draw_parameters(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let rows = app.rows();
     let height = inner.height as usize;
     let selected = app.selected.min(rows.len() - 1);
-    // Scroll so that the selected row stays visible (a pure function of the selection).
-    let offset = (selected + 1).saturating_sub(height);
+    // The scroll `update` keeps, moved only as far as needed to show the selected row.
+    let offset = app.parameters_offset(height);
     let label_width = 14usize.min(inner.width as usize / 2);
     let lines: Vec<Line> = rows
         .iter()
@@ -119,12 +126,15 @@ fn draw_panels(frame: &mut Frame, app: &App, theme: &Theme, layout: &ScreenLayou
     }
     let focused = panels[app.focus % panels.len()];
     for (panel, area) in &layout.panels {
-        let title_suffix = if !layout.all_panels && panels.len() > 1 {
+        let mut title_suffix = if !layout.all_panels && panels.len() > 1 {
             let index = app.focus % panels.len();
             format!(" [{}/{} Tab]", index + 1, panels.len())
         } else {
             String::new()
         };
+        if app.zoom {
+            title_suffix.push_str(" [z: back]");
+        }
         charts::draw_panel(
             frame,
             app,

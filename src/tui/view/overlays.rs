@@ -1,15 +1,18 @@
-//! Overlays drawn over the frame: the help (every key), the preset picker, and the scene as
-//! TOML to copy (saving in a served session).
+//! Overlays drawn over the frame: the help (every key, and the scene's description in full),
+//! the preset picker (search, each preset's description, the highlighted one's in full), and
+//! the scene as TOML to copy (saving in a served session). Also the scene's description as a
+//! line under the title.
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Flex, Layout, Rect};
 use ratatui::text::Line;
-use ratatui::widgets::{Clear, Paragraph};
+use ratatui::widgets::{Clear, Paragraph, Wrap};
 
 use crate::plot::Theme;
-use crate::scene::{PRESETS, Scene};
+use crate::scene::PRESETS;
 use crate::tui::app::{App, Mode};
-use crate::tui::keymap::help_lines;
+use crate::tui::keymap::help_lines_with;
+use crate::tui::picker::{PresetPicker, preset_infos};
 
 fn centered(area: Rect, width: u16, height: u16) -> Rect {
     let [row] = Layout::vertical([Constraint::Length(height.min(area.height))])
@@ -26,7 +29,7 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         Mode::Help { offset } => help(frame, app, theme, area, *offset),
         Mode::SceneText => scene_text(frame, app, theme, area),
         Mode::Warnings { offset } => super::warnings::draw_view(frame, app, theme, area, *offset),
-        Mode::Presets { index } => presets(frame, theme, area, *index),
+        Mode::Presets(picker) => presets(frame, theme, area, picker),
         _ => {}
     }
 }
@@ -69,6 +72,12 @@ const READING_THE_STATUS: &[&str] = &[
      positions by l/200 (coarse l/20); elements by 10 % (coarse ×10). Units: SI.",
 ];
 
+/// What the mouse does, for the help (when the mouse is on).
+const MOUSE_HELP: &str = "Mouse: click a row to select it (double-click to type its value), the \
+     wheel over the parameters steps the selected value; drag an obstacle's marker along the \
+     deflection chart; click a panel to focus it, its title (or a double click) to zoom it; \
+     click the warnings in the status line to read them all. Shift+drag selects text.";
+
 /// The help over the whole frame: every key with what it does (wrapped under its own
 /// column), what the status line's words mean, the scene's description; scrolled by
 /// `offset` lines when taller than the screen, never cut.
@@ -76,7 +85,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     use super::fit::wrap_words;
     let width = 84u16.min(area.width);
     let inner = width.saturating_sub(2).max(1) as usize;
-    let bindings = help_lines(app.look.ascii);
+    let bindings = help_lines_with(app.look.ascii, crate::tui::follow::keys(app));
     let key_width = bindings
         .iter()
         .map(|(keys, _)| keys.chars().count())
@@ -102,6 +111,9 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     for text in READING_THE_STATUS {
         paragraph(text, theme.dim());
     }
+    if app.mouse {
+        paragraph(MOUSE_HELP, theme.dim());
+    }
     if !app.scene.description.is_empty() {
         paragraph(
             &format!("This scene: {}", app.scene.description),
@@ -126,32 +138,133 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     frame.render_widget(Paragraph::new(lines).scroll((offset, 0)).block(block), rect);
 }
 
-fn presets(frame: &mut Frame, theme: &Theme, area: Rect, index: usize) {
-    let lines: Vec<Line> = PRESETS
+/// `text` cut to `width` characters, with `…` where it was cut.
+fn truncated(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    let mut out: String = text.chars().take(width.saturating_sub(1)).collect();
+    out.push('…');
+    out
+}
+
+/// The scene's description on one line under the title (in full in the help).
+pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let text = format!(" {}", app.scene.description.trim());
+    frame.render_widget(
+        Paragraph::new(truncated(&text, area.width as usize)).style(theme.dim()),
+        area,
+    );
+}
+
+/// Where the preset picker's parts are on a screen of `area`: drawing and mouse hit-testing
+/// both use it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PickerLayout {
+    /// The whole box, borders included.
+    pub outer: Rect,
+    /// The search line.
+    pub search: Rect,
+    /// The list: one preset a row.
+    pub list: Rect,
+    /// The highlighted preset's title and description, in full (empty when there is no room).
+    pub detail: Rect,
+}
+
+/// Rows of the highlighted preset's description under the list.
+const PICKER_DETAIL_ROWS: u16 = 3;
+
+/// The preset picker's layout on a screen of `area`: as wide as the screen up to 100 columns,
+/// every preset listed when there is room, else the list scrolls.
+pub fn picker_layout(area: Rect) -> PickerLayout {
+    let width = area.width.min(100);
+    let wanted = PRESETS.len() as u16 + 2 + PICKER_DETAIL_ROWS + 2;
+    let outer = centered(area, width, wanted);
+    let inner = Rect::new(
+        outer.x.saturating_add(1),
+        outer.y.saturating_add(1),
+        outer.width.saturating_sub(2),
+        outer.height.saturating_sub(2),
+    );
+    // The search line, the list, a rule and the detail; the detail goes first when short.
+    let detail_rows = if inner.height >= 2 + 2 + PICKER_DETAIL_ROWS {
+        PICKER_DETAIL_ROWS
+    } else {
+        0
+    };
+    let rule = u16::from(detail_rows > 0);
+    let list_rows = inner.height.saturating_sub(1 + rule + detail_rows);
+    let row = |y: u16, height: u16| Rect::new(inner.x, y, inner.width, height);
+    PickerLayout {
+        outer,
+        search: row(inner.y, inner.height.min(1)),
+        list: row(inner.y.saturating_add(1), list_rows),
+        detail: row(inner.y.saturating_add(1 + list_rows + rule), detail_rows),
+    }
+}
+
+fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) {
+    let layout = picker_layout(area);
+    let infos = preset_infos();
+    let matches = picker.matches();
+    let highlighted = picker.index.min(matches.len().saturating_sub(1));
+    frame.render_widget(Clear, layout.outer);
+    frame.render_widget(
+        theme.block(" Presets (type to search, Enter loads, Esc cancels) ", true),
+        layout.outer,
+    );
+    let search = if picker.query.is_empty() {
+        Line::styled(
+            "search: type a word of a name or a description",
+            theme.dim(),
+        )
+    } else {
+        Line::from(format!("search: {}_", picker.query))
+    };
+    frame.render_widget(Paragraph::new(search), layout.search);
+    let width = layout.list.width as usize;
+    let name_width = infos.iter().map(|i| i.name.len()).max().unwrap_or(0) + 2;
+    let mut lines: Vec<Line> = matches
         .iter()
         .enumerate()
-        .map(|(i, p)| {
-            let title = Scene::from_toml(p.text, p.name)
-                .map(|s| s.title)
-                .unwrap_or_default();
-            let text = format!("{:<24}{title}", p.name);
-            if i == index {
-                Line::styled(text, theme.selected())
+        .skip(picker.offset)
+        .take(layout.list.height as usize)
+        .map(|(i, &preset)| {
+            let info = &infos[preset];
+            // The highlight is marked in the text too, for terminals without colours.
+            let mark = if i == highlighted { "> " } else { "  " };
+            let text = format!("{mark}{:<name_width$}{}", info.name, info.description);
+            let text = truncated(&text, width);
+            if i == highlighted {
+                Line::styled(format!("{text:<width$}"), theme.selected())
             } else {
                 Line::from(text)
             }
         })
         .collect();
-    let height = lines.len() as u16 + 2;
-    let rect = centered(area, 72, height);
-    frame.render_widget(Clear, rect);
-    // Keep the highlighted entry visible when the list is taller than the screen.
-    let visible = rect.height.saturating_sub(2) as usize;
-    let offset = (index + 1).saturating_sub(visible) as u16;
-    frame.render_widget(
-        Paragraph::new(lines)
-            .scroll((offset, 0))
-            .block(theme.block(" Presets (Enter loads, Esc cancels) ", true)),
-        rect,
-    );
+    if matches.is_empty() {
+        lines.push(Line::styled(
+            format!("no preset matches \"{}\" (Backspace edits)", picker.query),
+            theme.warning(),
+        ));
+    }
+    frame.render_widget(Paragraph::new(lines), layout.list);
+    if layout.detail.height > 0 {
+        let rule = Rect::new(layout.list.x, layout.detail.y - 1, layout.list.width, 1);
+        frame.render_widget(
+            Paragraph::new("─".repeat(rule.width as usize)).style(theme.dim()),
+            rule,
+        );
+        if let Some(&preset) = matches.get(highlighted) {
+            let info = &infos[preset];
+            let detail = Line::from(vec![
+                ratatui::text::Span::styled(format!("{}: ", info.title), theme.title()),
+                ratatui::text::Span::raw(info.description.clone()),
+            ]);
+            frame.render_widget(
+                Paragraph::new(detail).wrap(Wrap { trim: true }),
+                layout.detail,
+            );
+        }
+    }
 }

@@ -238,9 +238,16 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                 width,
             )
         }
-        Mode::Presets { .. } => format!(
-            "{} choose a preset, Enter loads it, Esc cancels",
-            up_down(app.look.ascii)
+        Mode::Presets(_) => fit_items(
+            &[
+                Item::new(0, "type to search"),
+                Item::new(0, format!("{} choose", up_down(app.look.ascii))),
+                Item::new(1, "PgUp PgDn Home End"),
+                Item::new(0, "Enter loads"),
+                Item::new(0, "Esc cancels"),
+            ],
+            " · ",
+            width,
         ),
         Mode::Help { .. } => format!(
             "{} scroll · any other key closes the help",
@@ -250,7 +257,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             format!("{} scroll · any other key closes", up_down(app.look.ascii))
         }
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
-        Mode::Normal => fitted_hint_line(app.look.ascii, width),
+        Mode::Normal => fitted_hint_line(app.look.ascii, crate::tui::follow::keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }
