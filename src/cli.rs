@@ -449,7 +449,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
                 &loaded.scene,
             )]
         }
-        None => crate::check::check_presets(),
+        None => crate::check::check_all(),
     };
     let text = match args.format {
         CheckFormat::Markdown => crate::check::markdown(&reports),

@@ -60,6 +60,7 @@ pub fn solution_json(
             "moment": number(o.moment),
             "sliding": o.sliding,
             "swivel": o.swivel,
+            "state": { "sliding": o.sliding_state.name(), "swivel": o.swivel_state.name() },
         })).collect::<Vec<_>>(),
         "kkt_residual": number(solution.kkt_residual),
         "error": solution.error.as_ref().map(to_value),

@@ -168,10 +168,10 @@ fn a_refused_method_says_which_one_works() {
     assert_eq!(out.status.code(), Some(3));
     let line = stderr_line(&out);
     assert!(line.contains("closed-form not applicable"), "{line}");
-    assert!(line.contains("flexibility"), "{line}");
+    assert!(line.contains("condensed"), "{line}");
     let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(doc["refused"]["kind"], "not-applicable");
-    assert_eq!(doc["refused"]["suggestion"], "flexibility");
+    assert_eq!(doc["refused"]["suggestion"], "condensed");
 }
 
 #[test]

@@ -130,23 +130,26 @@ proptest! {
             reference: false,
             ..SolveOptions::default()
         };
-        let reference = solve(&problem, &mesh, Method::Flexibility, &options).unwrap();
+        // The stable method is the reference (issue 10); it certifies itself to a few ulps of
+        // the local values, which the piecewise KKT check of the certificate measures.
+        let reference = solve(&problem, &mesh, Method::Condensed, &options).unwrap();
         prop_assert!(reference.warnings.is_empty(), "{:?}", reference.warnings);
-        let cond_dual = reference.conditioning.dual.map_or(1.0, |c| c.value);
-        // A stuck obstacle's displacement is a sum of k flexibility contributions that cancel,
-        // each rounded to eps of its own size; complementarity is measured against ‖c‖, so its
-        // residual grows with k (seen: 1.6e-9 on 80 obstacles with forces of ±1e4 N cancelling,
-        // while the six-obstacle scenes stay below 1e-10).
-        let kkt_tolerance = 1e-9 * (problem.obstacles.len() as f64 / 8.0).max(1.0);
-        prop_assert!(reference.kkt_residual < kkt_tolerance, "flexibility KKT {:e}", reference.kkt_residual);
+        prop_assert!(reference.kkt_residual < 1e-12, "condensed KKT {:e}", reference.kkt_residual);
+        let flexibility = solve(&problem, &mesh, Method::Flexibility, &options).unwrap();
+        let cond_dual = flexibility.conditioning.dual.map_or(1.0, |c| c.value);
         for method in [Method::Dual, Method::DualInverse] {
             let solution = solve(&problem, &mesh, method, &options).unwrap();
             prop_assert!(solution.is_finite(), "{method}");
-            prop_assert!(solution.kkt_residual < kkt_tolerance, "{method}: KKT {:e}", solution.kkt_residual);
             let cond_stiffness = solution.conditioning.stiffness.map_or(1.0, |c| c.value);
             let tolerance = 1e-12 + 2.0 * (cond_stiffness + cond_dual) * f64::EPSILON;
             let du = common::relative_difference(&solution.field.deflection, &reference.field.deflection);
             prop_assert!(du < tolerance, "{method}: u differs by {du:e} (tolerance {tolerance:e})");
+            // The piecewise KKT check measures against the local values: a stiffness-route
+            // answer is inconsistent there by no more than its conditioning explains.
+            prop_assert!(
+                solution.kkt_residual < 1e-9_f64.max(100.0 * tolerance),
+                "{method}: KKT {:e}", solution.kkt_residual
+            );
         }
     }
 }
@@ -206,9 +209,16 @@ proptest! {
             prop_assert!(du < tolerance, "{method}: u differs by {du:e} (tolerance {tolerance:e})");
             let ds = common::relative_difference(&solution.field.slope, &reference.field.slope);
             prop_assert!(ds < tolerance, "{method}: u' differs by {ds:e}");
-            let kkt_tolerance = if method.is_regularized() { 1e-6 } else { 1e-9 };
+            // The piecewise KKT check measures against the local values, which the stiffness
+            // route resolves to what its conditioning explains.
+            let kkt_tolerance = if method.is_regularized() { 1e-6 } else { 1e-9_f64.max(100.0 * tolerance) };
+            // Single shooting resolves values to about 1e-12 of the largest, not to an ulp of
+            // the local ones, so the piecewise check may find flexibility inconsistent near a
+            // stuck obstacle even where u agrees to 1e-10; then it must say so.
+            let flagged = method == Method::Flexibility
+                && solution.has_warning(beamfric::solve::WarningCode::KktResidual);
             prop_assert!(
-                solution.kkt_residual < kkt_tolerance,
+                solution.kkt_residual < kkt_tolerance || flagged,
                 "{method}: KKT residual {:e}", solution.kkt_residual
             );
             for o in &solution.obstacles {
@@ -228,6 +238,8 @@ proptest! {
         let exact = dense_condition(&a.to_dense(), n).unwrap().value;
         let exact_scaled = dense_condition(&jacobi_scaled(&a).to_dense(), n).unwrap().value;
         let (bound, scaled) = stiffness_condition_bounds(&mesh);
+        prop_assert!(bound.is_some() && scaled.is_some(), "no bound: {bound:?} {scaled:?}");
+        let (bound, scaled) = (bound.unwrap(), scaled.unwrap());
         // Rounding in the exact eigenvalues and in the energies allows a hair above.
         prop_assert!(bound.value <= exact * (1.0 + 1e-6), "{:e} > {exact:e}", bound.value);
         prop_assert!(scaled.value <= exact_scaled * (1.0 + 1e-6), "{:e} > {exact_scaled:e}", scaled.value);

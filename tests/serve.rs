@@ -777,7 +777,7 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         assert!(!presenter.text().contains("f:fork"), "{}", presenter.text());
         // The student's help lists them too.
         follower.send(b"?").await;
-        follower.wait_for("any key closes the help").await;
+        follower.wait_for("Keys (any key closes)").await;
         follower.wait_for("F  follow the presenter again").await;
         follower.send(b"\x1b").await;
         follower.wait_for("f:fork F:rejoin").await;

@@ -11,7 +11,8 @@ use crate::linalg::condition::{ConditionKind, ConditionNumber, smallest_rayleigh
 const COARSE_PER_PIECE: usize = 4;
 
 /// Rigorous lower bounds on cond₂(A) and on cond₂(D^{-1/2} A D^{-1/2}) (D = diag(A)) of the
-/// stiffness matrix, in O(n) without storing A.
+/// stiffness matrix, in O(n) without storing A; `None` when the coarse problem could not be
+/// solved in floating point (never a made-up bound).
 ///
 /// λ_max(A) is at least A's largest diagonal entry, and λ_max of the scaled matrix at least 1.
 /// λ_min is at most the Rayleigh quotient vᵀAv / vᵀMv (M = I, or M = D for the scaled matrix)
@@ -22,7 +23,9 @@ const COARSE_PER_PIECE: usize = 4;
 /// inverse iteration in it (block-tridiagonal, a few dozen unknowns) finds a Rayleigh quotient
 /// close to λ_min in both cases. The scaled number does not depend on the units (A's u- and
 /// u'-rows scale differently with l), which is why the solve path's warning uses it.
-pub fn stiffness_condition_bounds(mesh: &Mesh) -> (ConditionNumber, ConditionNumber) {
+pub fn stiffness_condition_bounds(
+    mesh: &Mesh,
+) -> (Option<ConditionNumber>, Option<ConditionNumber>) {
     let last = mesh.elements();
     // Coarse nodes: every piece boundary and a few fine nodes inside each piece; each coarse
     // element lies in one piece.
@@ -157,17 +160,14 @@ pub fn stiffness_condition_bounds(mesh: &Mesh) -> (ConditionNumber, ConditionNum
             &form(inner.0, inner.1, at_first.0, at_first.1),
         );
     }
+    // No bound at all rather than a made-up one when the coarse problem fails.
     let lower_bound = |largest: f64, mass: &BlockTridiagonal| {
         let smallest = smallest_rayleigh_quotient(&g, mass);
         let value = largest / smallest;
-        ConditionNumber {
-            value: if value.is_finite() && smallest > 0.0 {
-                value
-            } else {
-                1.0
-            },
+        (value.is_finite() && smallest > 0.0).then_some(ConditionNumber {
+            value,
             kind: ConditionKind::LowerBound,
-        }
+        })
     };
     (
         lower_bound(largest, &plain),

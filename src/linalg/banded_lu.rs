@@ -31,6 +31,8 @@ pub struct BandedSystem {
     rhs: Vec<f64>,
     /// Storage of the factors, kept between solves of systems of the same shape.
     factor_storage: Vec<f64>,
+    /// The factors of the last solve, until the system is reset.
+    factors: Option<Factors>,
 }
 
 /// Largest number of refinement steps after the first solve.
@@ -46,11 +48,15 @@ impl BandedSystem {
             entries: vec![0.0; size * (lower + upper + 1)],
             rhs: vec![0.0; size],
             factor_storage: Vec::new(),
+            factors: None,
         }
     }
 
     /// Makes this a zero system of `size` unknowns with the same band, reusing its memory.
     pub fn reset(&mut self, size: usize) {
+        if let Some(factors) = self.factors.take() {
+            self.factor_storage = factors.entries;
+        }
         self.size = size;
         self.entries.clear();
         self.entries
@@ -96,16 +102,30 @@ impl BandedSystem {
     }
 
     fn solve_refined(&mut self, steps: usize) -> Result<Vec<f64>, SingularColumn> {
-        let storage = std::mem::take(&mut self.factor_storage);
+        let storage = match self.factors.take() {
+            Some(factors) => factors.entries,
+            None => std::mem::take(&mut self.factor_storage),
+        };
         let factors = Factors::new(self, storage)?;
         let x = self.refine(&factors, steps);
-        self.factor_storage = factors.entries;
+        self.factors = Some(factors);
         Ok(x)
+    }
+
+    /// The last solve again, refined as [`BandedSystem::solve`] does, reusing its factors
+    /// (the system must not have changed since): the price of refinement without a second
+    /// factorisation. `None` when there was no successful solve since the last reset.
+    pub fn solve_again_refined(&self) -> Option<Vec<f64>> {
+        let factors = self.factors.as_ref()?;
+        Some(self.refine(factors, REFINEMENT_STEPS))
     }
 
     fn refine(&self, factors: &Factors, steps: usize) -> Vec<f64> {
         let mut hi = self.rhs.clone();
         factors.solve_in_place(&mut hi);
+        if steps == 0 {
+            return hi;
+        }
         let mut lo = vec![0.0; self.size];
         let mut previous = f64::INFINITY;
         for _ in 0..steps {
@@ -195,6 +215,7 @@ impl DoubleDouble {
 
 /// The LU factors of an equilibrated copy of A in LAPACK's `gbtrf` layout: U in the rows,
 /// the multipliers of column j below its diagonal, and the row exchanged with j.
+#[derive(Debug, Clone)]
 struct Factors {
     size: usize,
     lower: usize,
@@ -221,7 +242,7 @@ impl Factors {
             let target = &mut entries[row * width..row * width + given];
             let largest = source.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let scale = if largest > 0.0 && largest.is_finite() {
-                power_of_two(-(largest.log2().floor() as i32) - 1)
+                power_of_two(-binary_exponent(largest) - 1)
             } else {
                 None
             };
@@ -316,6 +337,16 @@ impl Factors {
                 .fold(b[i], |sum, (a, x)| sum - a * x);
             b[i] = sum / self.entries[at(i, i)];
         }
+    }
+}
+
+/// ⌊log2 x⌋ for a finite x > 0 (read from the bits of a normal number).
+fn binary_exponent(x: f64) -> i32 {
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i32;
+    if biased == 0 {
+        x.log2().floor() as i32
+    } else {
+        biased - 1023
     }
 }
 

@@ -68,10 +68,37 @@ pub fn dense_extremes(a: &[f64], n: usize) -> Option<(f64, f64)> {
     Some((*values.first()?, *values.last()?))
 }
 
-/// cond₂ of a dense SPD matrix from its eigenvalues.
+/// How far above rounding (n·eps·λ_max, the eigensolver's absolute accuracy) λ_min must be for
+/// the condition number from the eigenvalues to be called exact (three digits).
+const RESOLVED_EIGENVALUE: f64 = 1e3;
+
+/// cond₂ of a dense SPD matrix. From its eigenvalues when λ_min is resolved (`Exact`); else
+/// λ_max(A)·λ_max(A⁻¹) with A⁻¹ from a Cholesky factorization, which is accurate when the
+/// ill-conditioning comes from a diagonal scaling such as the regularised g/ε (`Estimate`);
+/// else, when A is not positive definite in floating point, the rigorous
+/// λ_max / (max(λ_min, 0) + n·eps·λ_max) (`LowerBound`). `None` only if the eigensolver fails.
 pub fn dense_condition(a: &[f64], n: usize) -> Option<ConditionNumber> {
     let (min, max) = dense_extremes(a, n)?;
-    condition_from(min, max, ConditionKind::Exact)
+    if !(max > 0.0 && max.is_finite()) {
+        return None;
+    }
+    let rounding = n as f64 * f64::EPSILON * max;
+    if min > RESOLVED_EIGENVALUE * rounding {
+        return condition_from(min, max, ConditionKind::Exact);
+    }
+    let bound = ConditionNumber {
+        value: max / (min.max(0.0) + rounding),
+        kind: ConditionKind::LowerBound,
+    };
+    let inverse = crate::linalg::dense::Cholesky::new(a, n).map(|c| c.inverse());
+    let estimate = inverse
+        .and_then(|inverse| dense_extremes(&inverse, n))
+        .map(|(_, inverse_max)| max * inverse_max)
+        .filter(|v| v.is_finite() && *v >= bound.value);
+    Some(estimate.map_or(bound, |value| ConditionNumber {
+        value,
+        kind: ConditionKind::Estimate,
+    }))
 }
 
 fn condition_from(min: f64, max: f64, kind: ConditionKind) -> Option<ConditionNumber> {
@@ -110,18 +137,26 @@ pub fn jacobi_scaled(a: &BlockTridiagonal) -> BlockTridiagonal {
     }
 }
 
-/// cond₂ of a block-tridiagonal SPD matrix: exact for N ≤ [`DENSE_LIMIT`], else a Lanczos
-/// estimate. `None` if the matrix is not positive definite to working precision.
+/// cond₂ of a block-tridiagonal SPD matrix: [`dense_condition`] for N ≤ [`DENSE_LIMIT`], else
+/// a Lanczos estimate, or a lower bound when the matrix is not positive definite to working
+/// precision.
 pub fn block_condition(a: &BlockTridiagonal) -> Option<ConditionNumber> {
     let n = 2 * a.blocks();
     if n <= DENSE_LIMIT {
         return dense_condition(&a.to_dense(), n);
     }
     let max = lanczos_largest(n, |v| flat_apply(a, v));
-    let factor = FrictionLastFactor::new(a.clone(), &[]).ok()?;
+    // A is not positive definite in floating point: λ_min is below the factorization's
+    // rounding, a few ulps of λ_max for a banded matrix, so cond(A) ≥ 1/(64 eps).
+    let indefinite = Some(ConditionNumber {
+        value: 1.0 / (64.0 * f64::EPSILON),
+        kind: ConditionKind::LowerBound,
+    });
+    let Ok(factor) = FrictionLastFactor::new(a.clone(), &[]) else {
+        return indefinite;
+    };
     if factor.first_indefinite.is_some() {
-        // A is not positive definite in floating point: cond(A)·eps ≳ 1.
-        return None;
+        return indefinite;
     }
     let inverse_max = lanczos_largest(n, |v| {
         let mut u: Vec<f64> = v.iter().step_by(2).copied().collect();

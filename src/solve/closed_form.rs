@@ -210,19 +210,18 @@ pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, Solv
         method: Method::ClosedForm,
         kind: SolveErrorKind::NotApplicable,
         reason,
-        suggestion: Method::Flexibility,
+        suggestion: Method::Condensed,
     })?;
     timing.dual_solve = clock.lap();
     let field = exact.nodal_field(mesh);
     timing.reconstruction = clock.lap();
-    let (lambda, moving) = match exact.obstacle {
-        Some(o) => (vec![[o.force, o.moment]], vec![[o.sliding, o.swivel]]),
-        None => (vec![], vec![]),
+    let lambda = match exact.obstacle {
+        Some(o) => vec![[o.force, o.moment]],
+        None => vec![],
     };
     Ok(MethodOutput {
         field,
         lambda,
-        moving,
         timing,
         warnings: Vec::new(),
         details: MethodDetails::default(),

@@ -42,5 +42,5 @@ pub(super) fn solve(
         .into_iter()
         .chain(indefinite_k)
         .collect();
-    Ok(dual_output(mesh, field, &qp, &s, timing, warnings, options))
+    Ok(dual_output(field, &qp, &s, timing, warnings, options))
 }

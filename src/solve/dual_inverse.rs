@@ -35,7 +35,7 @@ pub(super) fn solve(
                 mesh.elements(),
                 options.max_dense_unknowns
             ),
-            suggestion: Method::Dual,
+            suggestion: Method::Condensed,
         });
     }
     let mut timing = Timing::default();
@@ -111,13 +111,5 @@ pub(super) fn solve(
     }
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(
-        mesh,
-        field,
-        &qp,
-        &s,
-        timing,
-        Vec::new(),
-        options,
-    ))
+    Ok(dual_output(field, &qp, &s, timing, Vec::new(), options))
 }

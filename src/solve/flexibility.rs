@@ -146,13 +146,5 @@ pub(super) fn solve(
     field.slope[last] = 0.0;
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(
-        mesh,
-        field,
-        &qp,
-        &s,
-        timing,
-        Vec::new(),
-        options,
-    ))
+    Ok(dual_output(field, &qp, &s, timing, Vec::new(), options))
 }

@@ -11,6 +11,7 @@ mod closed_form;
 mod condensed;
 mod dual;
 mod dual_inverse;
+mod equilibrium;
 mod flexibility;
 mod options;
 mod regularized;

@@ -1,22 +1,20 @@
 //! What the method modules share: the [`MethodOutput`] they hand to the certificate, a
-//! stopwatch for their stages, friction states from nodal values, and the common ending of
+//! stopwatch for their stages, and the common ending of
 //! the three dual methods.
 
 use std::time::{Duration, Instant};
 
 use super::options::{ConditionLevel, SolveOptions};
 use super::solution::{MethodDetails, Timing, Warning, WarningCode};
-use crate::fem::{Mesh, NodalField};
+use crate::fem::NodalField;
 use crate::linalg::boxqp::QpResult;
 use crate::linalg::condition::{ConditionNumber, dense_condition};
 
 /// What a method module hands back before the common certification.
 pub(crate) struct MethodOutput {
     pub field: NodalField,
-    /// (force, moment) per obstacle.
+    /// (force, moment) per obstacle. The friction states are the certificate's to decide.
     pub lambda: Vec<[f64; 2]>,
-    /// (sliding, swivel) per obstacle.
-    pub moving: Vec<[bool; 2]>,
     pub timing: Timing,
     pub warnings: Vec<Warning>,
     pub details: MethodDetails,
@@ -27,8 +25,6 @@ pub(crate) struct MethodOutput {
     pub regularized_cases: Vec<Vec<(usize, f64)>>,
 }
 
-/// Is a friction DOF moving? Its value must stand out of rounding noise: more than
-/// `1e-10` times the largest nodal value of its kind.
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
 /// (`dual`, `dual-inverse`, `flexibility`, `regularized-newton`): 1024² doubles = 8 MB, and the
 /// box QP's cost grows like k³ beyond. The condensed method has no such limit.
@@ -78,25 +74,6 @@ pub(crate) fn check_cancel(
     }
 }
 
-pub(crate) fn is_moving(value: f64, largest_of_kind: f64) -> bool {
-    value.abs() > 1e-10 * largest_of_kind
-}
-
-/// (sliding, swivel) for every obstacle from the nodal values at the obstacle nodes.
-pub(crate) fn moving_from_values(mesh: &Mesh, field: &NodalField) -> Vec<[bool; 2]> {
-    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let (lu, ls) = (largest(&field.deflection), largest(&field.slope));
-    mesh.obstacle_nodes
-        .iter()
-        .map(|&node| {
-            [
-                is_moving(field.deflection[node], lu),
-                is_moving(field.slope[node], ls),
-            ]
-        })
-        .collect()
-}
-
 /// A stopwatch for the stages of a method.
 pub(crate) struct Stopwatch(Instant);
 
@@ -115,10 +92,8 @@ impl Stopwatch {
 }
 
 /// What the three dual methods (`dual`, `dual-inverse`, `flexibility`) hand back once the box
-/// QP has given λ and the nodal field is rebuilt: friction states from the nodal values, a
-/// warning if the QP did not converge, and cond(S) when asked for.
+/// QP has given λ and the nodal field is rebuilt: a warning if the QP did not converge, and cond(S) when asked for.
 pub(crate) fn dual_output(
-    mesh: &Mesh,
     field: NodalField,
     qp: &QpResult,
     s: &[f64],
@@ -136,7 +111,6 @@ pub(crate) fn dual_output(
         ));
     }
     MethodOutput {
-        moving: moving_from_values(mesh, &field),
         field,
         lambda: qp.x.chunks(2).map(|c| [c[0], c[1]]).collect(),
         timing,

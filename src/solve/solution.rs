@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use serde::Serialize;
 
+use super::condensed::FrictionState;
 use crate::fem::NodalField;
 use crate::linalg::condition::ConditionNumber;
 use crate::model::Method;
@@ -125,11 +126,14 @@ pub enum WarningCode {
     NonFinite,
     /// The reference did not certify itself here, so no error is reported.
     UntrustedReference,
+    /// The KKT conditions of (38), checked independently of the method, fail by more than
+    /// rounding can explain.
+    KktResidual,
 }
 
 impl WarningCode {
     /// Every code.
-    pub const ALL: [WarningCode; 9] = [
+    pub const ALL: [WarningCode; 10] = [
         WarningCode::MeshRaised,
         WarningCode::StiffnessConditioning,
         WarningCode::AccuracyLoss,
@@ -139,6 +143,7 @@ impl WarningCode {
         WarningCode::IndefiniteFactorization,
         WarningCode::NonFinite,
         WarningCode::UntrustedReference,
+        WarningCode::KktResidual,
     ];
 
     /// The code in JSON and CSV, e.g. `stiffness-conditioning`.
@@ -153,6 +158,7 @@ impl WarningCode {
             WarningCode::IndefiniteFactorization => "indefinite-factorization",
             WarningCode::NonFinite => "non-finite",
             WarningCode::UntrustedReference => "untrusted-reference",
+            WarningCode::KktResidual => "kkt-residual",
         }
     }
 
@@ -168,6 +174,7 @@ impl WarningCode {
             WarningCode::IndefiniteFactorization => "indefinite",
             WarningCode::NonFinite => "non-finite",
             WarningCode::UntrustedReference => "no-reference",
+            WarningCode::KktResidual => "kkt",
         }
     }
 }
@@ -188,6 +195,24 @@ impl Warning {
     }
 }
 
+impl FrictionState {
+    /// The code in JSON: `stuck`, `moves`, `at-threshold`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionState::Stuck => "stuck",
+            FrictionState::Moves => "moves",
+            FrictionState::AtThreshold => "at-threshold",
+        }
+    }
+}
+
+/// Serialized as its [`name`](FrictionState::name).
+impl Serialize for FrictionState {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
 /// The result at one obstacle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ObstacleResult {
@@ -201,15 +226,23 @@ pub struct ObstacleResult {
     pub force: f64,
     /// Friction moment λ2 [N m] (|λ2| ≤ g2).
     pub moment: f64,
-    /// The point slides (u(x̂) ≠ 0, |λ1| = g1).
+    /// The value DOF: stuck, moving (sliding) or at its threshold (both fit within
+    /// rounding), decided by the certificate from the force and the motion.
+    pub sliding_state: FrictionState,
+    /// The slope DOF: stuck, moving (swivelling) or at its threshold.
+    pub swivel_state: FrictionState,
+    /// The sliding friction is fully mobilised: `sliding_state` is not
+    /// [`FrictionState::Stuck`] (it moves, or sits at its threshold with a motion rounding
+    /// cannot resolve, which is how a real but tiny slide looks in double precision).
     pub sliding: bool,
-    /// The point swivels (u'(x̂) ≠ 0, |λ2| = g2).
+    /// The swivel friction is fully mobilised: `swivel_state` is not stuck.
     pub swivel: bool,
 }
 
 impl ObstacleResult {
-    /// The friction state in words: `stuck`, `slides`, `swivels` or `slides and swivels`;
-    /// `unknown` when the numbers it rests on are not finite.
+    /// The friction state in words: `stuck`, `slides`, `swivels`, `slides and swivels`, with
+    /// `at the sliding threshold` (`swivel`, `both thresholds`) for a DOF that rounding cannot
+    /// place on either side; `unknown` when the numbers it rests on are not finite.
     pub fn state(&self) -> &'static str {
         if ![self.u, self.slope, self.force, self.moment]
             .iter()
@@ -217,11 +250,17 @@ impl ObstacleResult {
         {
             return "unknown";
         }
-        match (self.sliding, self.swivel) {
-            (false, false) => "stuck",
-            (true, false) => "slides",
-            (false, true) => "swivels",
-            (true, true) => "slides and swivels",
+        use FrictionState::{AtThreshold as T, Moves as M, Stuck as S};
+        match (self.sliding_state, self.swivel_state) {
+            (S, S) => "stuck",
+            (M, S) => "slides",
+            (S, M) => "swivels",
+            (M, M) => "slides and swivels",
+            (T, S) => "at the sliding threshold",
+            (S, T) => "at the swivel threshold",
+            (T, T) => "at both thresholds",
+            (M, T) => "slides, at the swivel threshold",
+            (T, M) => "swivels, at the sliding threshold",
         }
     }
 }

@@ -141,6 +141,6 @@ pub(super) fn breakdown(method: Method, mesh: &Mesh, what: String) -> SolveError
             "{what} at n = {} elements: rounding of the stiffness matrix has destroyed it",
             mesh.elements()
         ),
-        suggestion: Method::Flexibility,
+        suggestion: Method::Condensed,
     }
 }

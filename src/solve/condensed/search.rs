@@ -6,97 +6,50 @@ use std::collections::HashSet;
 
 use super::nodes::nodal_field;
 use super::scaling::Scales;
-use super::system::{Condensed, Pattern, PatternSolution};
+use super::system::{Accuracy, Condensed, Pattern, PatternSolution};
 use super::{CondensedFailure, CondensedSolution, FrictionState};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
 
+/// A point of the monotone search on the friction DOFs: the motions c and the forces
+/// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
+/// the point, so a point between two solves carries the same combination of their forces:
+/// no stiffness (1e27 for a piece 1e-9·l long) is ever multiplied by a displacement.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct SearchPoint {
+    pub(super) motion: Vec<f64>,
+    pub(super) force: Vec<f64>,
+}
+
 impl Condensed {
-    /// (u, u') at every interior special point 1..P−1, two per point.
-    pub(super) fn point_dofs(&self, solution: &PatternSolution) -> Vec<f64> {
-        solution.start[1..]
-            .iter()
-            .flat_map(|y| [y[0], y[1]])
-            .collect()
-    }
-
-    /// The threshold of interior DOF q (zero at the ends of segments: no friction there).
-    pub(super) fn dof_threshold(&self, q: usize) -> f64 {
-        self.obstacle_at_point[q / 2 + 1].map_or(0.0, |j| self.thresholds[j][q % 2])
-    }
-
-    /// b − K c on the interior DOFs, piece by piece with the exact piece stiffness.
-    pub(super) fn residual(&self, c: &[f64]) -> Vec<f64> {
-        let mut r = vec![0.0; c.len()];
-        let points = self.pieces.len();
-        for (p, piece) in self.pieces.iter().enumerate() {
-            let (t, e) = (piece.length, piece.stiffness);
-            let value = |point: usize, d: usize| {
-                if point == 0 || point == points {
-                    0.0
-                } else {
-                    c[2 * (point - 1) + d]
-                }
-            };
-            let v = [value(p, 0), value(p, 1), value(p + 1, 0), value(p + 1, 1)];
-            let k = e / (t * t * t);
-            // The Hermite element on the whole piece (exact at its ends).
-            let s = 6.0 * t * k;
-            let stiffness = [
-                [12.0 * k, s, -12.0 * k, s],
-                [s, 4.0 * t * t * k, -s, 2.0 * t * t * k],
-                [-12.0 * k, -s, 12.0 * k, -s],
-                [s, 2.0 * t * t * k, -s, 4.0 * t * t * k],
-            ];
-            let (fa, fb) = (piece.load_start, piece.load_end);
-            let load = [
-                t * (7.0 * fa + 3.0 * fb) / 20.0,
-                t * t * (3.0 * fa + 2.0 * fb) / 60.0,
-                t * (3.0 * fa + 7.0 * fb) / 20.0,
-                -t * t * (2.0 * fa + 3.0 * fb) / 60.0,
-            ];
-            for (row, point) in [(0, p), (1, p), (2, p + 1), (3, p + 1)] {
-                if point == 0 || point == points {
-                    continue;
-                }
-                let kv: f64 = stiffness[row].iter().zip(&v).map(|(a, b)| a * b).sum();
-                r[2 * (point - 1) + row % 2] += load[row] - kv;
-            }
+    /// The friction DOFs' motions and forces of a solve.
+    pub(super) fn search_point(&self, solution: &PatternSolution) -> SearchPoint {
+        SearchPoint {
+            motion: (0..solution.lambda.len())
+                .map(|i| self.friction_value(solution, i))
+                .collect(),
+            force: solution.lambda.clone(),
         }
-        r
-    }
-
-    /// dᵀ K d = Σ over pieces of EJ/L·(12 s² + (Δu')²), s = (u_a − u_b)/L + (u'_a + u'_b)/2:
-    /// a sum of non-negative terms.
-    pub(super) fn curvature(&self, d: &[f64]) -> f64 {
-        let points = self.pieces.len();
-        let value = |point: usize, k: usize| {
-            if point == 0 || point == points {
-                0.0
-            } else {
-                d[2 * (point - 1) + k]
-            }
-        };
-        self.pieces
-            .iter()
-            .enumerate()
-            .map(|(p, piece)| {
-                let (ua, sa, ub, sb) = (value(p, 0), value(p, 1), value(p + 1, 0), value(p + 1, 1));
-                let shear = (ua - ub) / piece.length + 0.5 * (sa + sb);
-                piece.stiffness / piece.length * (12.0 * shear * shear + (sb - sa) * (sb - sa))
-            })
-            .sum()
     }
 
     /// Exact minimisation of J(c + t d), d = target − c, over t ∈ [0, 1]: J is convex and
     /// piecewise quadratic along the segment, with kinks where a friction DOF crosses zero.
+    /// The slope of its smooth part is −rᵀd and its curvature dᵀK d = dᵀ(r(c) − r(target)).
     /// Returns the new point (DOFs that stop at their kink set to exactly zero) and whether
     /// it is the target itself.
-    pub(super) fn line_search(&self, c: &[f64], target: &[f64]) -> (Vec<f64>, bool) {
-        let d: Vec<f64> = target.iter().zip(c).map(|(t, c)| t - c).collect();
-        let r = self.residual(c);
-        let q = self.curvature(&d);
+    pub(super) fn line_search(
+        &self,
+        current: &SearchPoint,
+        target: &SearchPoint,
+    ) -> (SearchPoint, bool) {
+        let (c, r) = (&current.motion, &current.force);
+        let d: Vec<f64> = target.motion.iter().zip(c).map(|(t, c)| t - c).collect();
+        let q: f64 = d
+            .iter()
+            .zip(r.iter().zip(&target.force))
+            .map(|(d, (a, b))| d * (a - b))
+            .sum();
         let sign = |v: f64| {
             if v > 0.0 {
                 1.0
@@ -111,7 +64,7 @@ impl Condensed {
         let mut kinks = Vec::new();
         for (i, (&ci, &di)) in c.iter().zip(&d).enumerate() {
             slope -= r[i] * di;
-            let g = self.dof_threshold(i);
+            let g = self.thresholds[i / 2][i % 2];
             if di == 0.0 || g == 0.0 {
                 continue;
             }
@@ -148,17 +101,23 @@ impl Condensed {
             }
         }
         match stop {
-            None => (target.to_vec(), true),
+            None => (target.clone(), true),
             Some((t, kink)) => {
                 let t = t.clamp(0.0, 1.0);
-                let mut next: Vec<f64> = c.iter().zip(&d).map(|(c, d)| c + t * d).collect();
+                let between = |a: &[f64], b: &[f64]| -> Vec<f64> {
+                    a.iter().zip(b).map(|(a, b)| a + t * (b - a)).collect()
+                };
+                let mut next = SearchPoint {
+                    motion: between(c, &target.motion),
+                    force: between(r, &target.force),
+                };
                 if let Some(i) = kink {
-                    next[i] = 0.0;
+                    next.motion[i] = 0.0;
                 }
                 // Every DOF whose kink lies at or before t has crossed or stopped at zero.
                 for &(tk, i, _) in &kinks {
                     if tk == t {
-                        next[i] = 0.0;
+                        next.motion[i] = 0.0;
                     }
                 }
                 (next, false)
@@ -167,10 +126,11 @@ impl Condensed {
     }
 
     /// The pattern of a point: moving DOFs with their sign, zeros stuck.
-    pub(super) fn signs_of(&self, c: &[f64]) -> Vec<Pattern> {
-        (0..2 * self.thresholds.len())
-            .map(|i| {
-                let v = c[2 * (self.point_of_obstacle[i / 2] - 1) + i % 2];
+    pub(super) fn signs_of(&self, point: &SearchPoint) -> Vec<Pattern> {
+        point
+            .motion
+            .iter()
+            .map(|&v| {
                 if v > 0.0 {
                     Pattern::Positive
                 } else if v < 0.0 {
@@ -221,18 +181,21 @@ impl Condensed {
 /// Most solves of one semismooth Newton phase.
 pub(super) const NEWTON_STEPS: usize = 40;
 /// The Newton phases tried in turn before the monotone search, by σ / diagonal stiffness of
-/// the reversal prediction. Measured on 128–4000 obstacles with random thresholds: 0.5 needs
-/// 9–15 solves where 0 needs up to 300 (a front of reversals moving one obstacle per step),
-/// and 0 needs 13 where 0.5 cycles (neighbours over-react to a jump).
-pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.5, 0.0];
+/// the reversal prediction. Measured on the benchmark scenes (`condensed-many-obstacles`,
+/// 16–4000 obstacles with random thresholds) once uncertain decisions wait for refinement:
+/// σ = 0 converges in 6–16 solves where 0.5 diverges after a few steps at 4000 obstacles;
+/// 0.5 stays as the second variant for scenes where 0 cycles.
+pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 pub(super) const NEWTON_PATIENCE: usize = 6;
 
-/// The band of the multiple-shooting system: a piece's first transfer row and its first
-/// state column differ by 2, which bounds the band by (5, 4).
-pub(super) const BAND_LOWER: usize = 5;
-pub(super) const BAND_UPPER: usize = 4;
+/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 (u, u', m, m') reach
+/// the columns 4p − 2 ..= 4p + 1 of its start point (u and u' rows all four, m and m' rows only
+/// m, m') and 4p + 2 ..= 4p + 5 of its end point (u, u' rows only a, b; the m row b and m; the
+/// m' row a and m'), which bounds the band by (3, 3).
+pub(super) const BAND_LOWER: usize = 3;
+pub(super) const BAND_UPPER: usize = 3;
 
 /// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone).
 pub(super) fn solve_with_newton_phases(
@@ -251,36 +214,56 @@ pub(super) fn solve_with_newton_phases(
     let limit = 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS;
     let mut solves = 0;
     // The iterate (u, u' at every interior special point), which only ever lowers J.
-    let mut current: Option<Vec<f64>> = None;
+    let mut current: Option<SearchPoint> = None;
     // After adding DOFs at an optimum: the pattern and the single worst DOF to fall back on.
     let mut fallback: Option<(Vec<Pattern>, usize, Pattern)> = None;
-    // The pattern is searched with plain solves; once it is consistent, the refined solve
-    // (each value accurate to its own size) confirms it or the search goes on refined.
-    let mut refined = false;
+    // Every pattern is solved by elimination alone; when a decision is within what that can
+    // resolve (or the pattern looks consistent), the same system is refined from its factors
+    // (each value to its own last bits) and the decision is taken on the refined values.
     let mut system = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
     let mut newton_phase = !newton_phases.is_empty();
     let (mut phase, mut phase_start) = (0, 0);
     // The fewest inconsistent DOFs seen in this phase, and when.
     let mut fewest_changes = (usize::MAX, 0);
     let mut seen = HashSet::new();
+    let changes_of = |solution: &PatternSolution, pattern: &[Pattern]| -> Vec<(usize, Pattern)> {
+        (0..dofs)
+            .filter_map(|i| {
+                let wanted = condensed.wanted(solution, pattern, i);
+                (wanted != pattern[i]).then_some((i, wanted))
+            })
+            .collect()
+    };
     let (solution, converged) = loop {
         if !keep_going() {
             return Err(CondensedFailure::Stopped);
         }
-        let solution = condensed.solve_pattern(&pattern, refined, &mut system)?;
+        let mut solution = condensed.solve_pattern(&pattern, Accuracy::Plain, &mut system)?;
         solves += 1;
-        let changes: Vec<(usize, Pattern)> = (0..dofs)
-            .filter_map(|i| {
-                let wanted = condensed.wanted(&solution, &pattern, i);
-                (wanted != pattern[i]).then_some((i, wanted))
-            })
-            .collect();
+        let mut changes = changes_of(&solution, &pattern);
+        // Newton steps take the decisions that elimination alone settles first, the others
+        // on refined values once nothing else is left to change; the monotone search (which
+        // must not be misled by a wrong sign) decides on refined values whenever any
+        // decision is uncertain.
+        let uncertain = condensed.uncertain(&solution, &pattern);
+        if newton_phase {
+            changes.retain(|&(i, _)| !uncertain[i]);
+        } else if uncertain.iter().any(|&u| u) {
+            changes.clear();
+        }
+        if std::env::var("CONDENSED_DEBUG").is_ok() {
+            eprintln!(
+                "solve {solves} newton {newton_phase} changes {} uncertain {}",
+                changes.len(),
+                uncertain.iter().filter(|&&u| u).count()
+            );
+        }
         if changes.is_empty() {
-            if refined {
+            solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
+            changes = changes_of(&solution, &pattern);
+            if changes.is_empty() {
                 break (solution, true);
             }
-            refined = true;
-            continue;
         }
         if solves >= limit {
             break (solution, false);
@@ -310,7 +293,7 @@ pub(super) fn solve_with_newton_phases(
             }
             continue;
         }
-        let candidate = condensed.point_dofs(&solution);
+        let candidate = condensed.search_point(&solution);
         let (c, full_step) = match current.take() {
             None => (candidate, true),
             Some(c) => {

@@ -9,6 +9,22 @@ use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
 
+/// What elimination without refinement is trusted to resolve, relative to the largest value
+/// of a kind (generous: a short piece next to long ones makes the system ill-conditioned).
+pub(super) const PLAIN_RESOLUTION: f64 = 1e-6;
+
+/// How accurately a pattern is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Accuracy {
+    /// Elimination alone: each value to rounding of the largest ones.
+    Plain,
+    /// Elimination and iterative refinement: each value to its own last bits.
+    Refined,
+    /// The pattern of the previous solve again (the system is unchanged), refined from its
+    /// factors.
+    RefineLast,
+}
+
 /// How a friction DOF enters the linear system.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(super) enum Pattern {
@@ -91,62 +107,61 @@ impl Condensed {
 
     /// Solves the linear problem of one pattern: stuck DOFs are held at zero with an unknown
     /// reaction, moving DOFs carry the force ±g.
+    ///
+    /// Unknowns: m, m' at the left support (u = u' = 0 there), then per interior special point
+    /// (a, b, m, m') just right of it, where a is u there, or the reaction λ1 when u is stuck
+    /// (u = 0 is then known), and b likewise u' or λ2. A known zero never enters the matrix:
+    /// the transfer rows of a short piece between stuck DOFs keep only the entries that carry
+    /// its flexibility (t u', t² m/2EJ, t³ m'/6EJ), and row equilibration sees them at their
+    /// own scale instead of next to the 1 of a value that is zero anyway.
+    /// Rows: per piece its four transfer rows (two for the last piece: the far end is
+    /// clamped), in the order of the columns, so the band is (5, 5).
     pub(super) fn solve_pattern(
         &self,
         pattern: &[Pattern],
-        refined: bool,
+        accuracy: Accuracy,
         system: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
-        // Unknown numbering: state of piece p at `state_column[p]`; the reactions of the
-        // stuck DOFs at point p (1 ≤ p < P) just before it.
-        let mut state_column = vec![0; pieces];
-        let mut reaction_column = vec![[None; 2]; pieces + 1];
-        let mut next = 0;
-        for p in 0..pieces {
-            if let Some(j) = self.obstacle_at_point[p] {
-                for d in 0..2 {
-                    if pattern[2 * j + d] == Pattern::Stuck {
-                        reaction_column[p][d] = Some(next);
-                        next += 1;
-                    }
-                }
-            }
-            state_column[p] = next;
-            next += 4;
+        // Column of component c (0..4) of the state at point p; point 0 has only m, m'.
+        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        if accuracy == Accuracy::RefineLast {
+            let x = system
+                .solve_again_refined()
+                .ok_or(CondensedFailure::Singular { column: 0 })?;
+            return Ok(self.pattern_solution(pattern, &x));
         }
-        let size = next;
-        // Rows follow the columns: the two clamping rows, then per piece its four transfer
-        // rows and the rows c = 0 of the stuck DOFs at its end (band: BAND_LOWER, BAND_UPPER).
-        system.reset(size);
-        system.add(0, 0, 1.0);
-        system.add(1, 1, 1.0);
-        let mut row = 2;
+        system.reset(4 * pieces - 2);
         for (p, piece) in self.pieces.iter().enumerate() {
             let phi = piece.transfer_matrix();
             let q = piece.load_terms();
-            let own = state_column[p];
+            let row = 4 * p;
             let last = p + 1 == pieces;
             let rows = if last { 2 } else { 4 };
             for r in 0..rows {
                 for (c, &value) in phi[r].iter().enumerate() {
-                    if value != 0.0 {
-                        system.add(row + r, own + c, value);
+                    // u, u' at the left support and stuck DOFs are zero.
+                    let known_zero = c < 2 && (p == 0 || stuck(p, c));
+                    if value != 0.0 && !known_zero {
+                        system.add(row + r, column(p, c), value);
                     }
                 }
                 system.add_rhs(row + r, -q[r]);
-                if !last {
-                    system.add(row + r, state_column[p + 1] + r, -1.0);
+                // The next state (a stuck value is a known zero: nothing to subtract).
+                let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
+                if !last && !next_is_known_zero {
+                    system.add(row + r, column(p + 1, r), -1.0);
                 }
             }
             if !last && let Some(j) = self.obstacle_at_point[p + 1] {
-                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1.
+                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1; a stuck DOF's reaction is the unknown
+                // in the column of its (zero) value.
                 for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
                     match pattern[2 * j + d] {
-                        Pattern::Stuck => {
-                            let column = reaction_column[p + 1][d].expect("stuck DOF");
-                            system.add(row + jump_row, column, sign);
-                        }
+                        Pattern::Stuck => system.add(row + jump_row, column(p + 1, d), sign),
                         Pattern::Positive => {
                             system.add_rhs(row + jump_row, -sign * self.thresholds[j][d])
                         }
@@ -156,36 +171,35 @@ impl Condensed {
                     }
                 }
             }
-            row += rows;
-            if !last {
-                for d in 0..2 {
-                    if reaction_column[p + 1][d].is_some() {
-                        system.add(row, state_column[p + 1] + d, 1.0);
-                        row += 1;
-                    }
-                }
-            }
         }
-        debug_assert_eq!(row, size);
-        let x = if refined {
+        let x = if accuracy == Accuracy::Refined {
             system.solve()
         } else {
             system.solve_unrefined()
         }
         .map_err(|e| CondensedFailure::Singular { column: e.column })?;
+        Ok(self.pattern_solution(pattern, &x))
+    }
 
-        let mut start: Vec<[f64; 4]> = state_column
-            .iter()
-            .map(|&c| [x[c], x[c + 1], x[c + 2], x[c + 3]])
+    /// The states and forces of a solution `x` of the system of `pattern`.
+    fn pattern_solution(&self, pattern: &[Pattern], x: &[f64]) -> PatternSolution {
+        let pieces = self.pieces.len();
+        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        let start: Vec<[f64; 4]> = (0..pieces)
+            .map(|p| {
+                let value = |c: usize| {
+                    if c < 2 && (p == 0 || stuck(p, c)) {
+                        0.0
+                    } else {
+                        x[column(p, c)]
+                    }
+                };
+                [value(0), value(1), value(2), value(3)]
+            })
             .collect();
-        // A stuck DOF is zero by its own equation; do not let a rounding residue through.
-        for (p, reactions) in reaction_column.iter().enumerate() {
-            for d in 0..2 {
-                if reactions[d].is_some() {
-                    start[p][d] = 0.0;
-                }
-            }
-        }
         let end = self
             .pieces
             .iter()
@@ -198,16 +212,13 @@ impl Condensed {
             .map(|(i, state)| {
                 let (j, d) = (i / 2, i % 2);
                 match state {
-                    Pattern::Stuck => {
-                        x[reaction_column[self.point_of_obstacle[j]][d]
-                            .expect("stuck DOF has a reaction")]
-                    }
+                    Pattern::Stuck => x[column(self.point_of_obstacle[j], d)],
                     Pattern::Positive => self.thresholds[j][d],
                     Pattern::Negative => -self.thresholds[j][d],
                 }
             })
             .collect();
-        Ok(PatternSolution { start, end, lambda })
+        PatternSolution { start, end, lambda }
     }
 
     /// (u, u') at special point p (the far support is clamped).
@@ -223,16 +234,11 @@ impl Condensed {
         let p = self.point_of_obstacle[j];
         let [left, right] = [p - 1, p].map(|q| {
             let piece = &self.pieces[q];
-            let magnitude = piece.magnitude(
+            piece.magnitude(
                 self.point_values(solution, q),
                 self.point_values(solution, q + 1),
-            );
-            // A slope is resolved to the deflection magnitude over the piece length.
-            if d == 0 {
-                magnitude
-            } else {
-                magnitude / piece.length
-            }
+                d,
+            )
         });
         let motion = ULPS * left.min(right);
         // m' for the force, m for the moment, on both sides of the obstacle.
@@ -242,6 +248,36 @@ impl Condensed {
                 .abs()
                 .max(solution.start[p][component].abs());
         (motion, force)
+    }
+
+    /// Which decisions of this solve are within what elimination without refinement resolves:
+    /// a motion within [`PLAIN_RESOLUTION`] of the largest value of its kind, or a stuck force
+    /// that close to its threshold, relative to the largest internal force of its kind.
+    pub(super) fn uncertain(&self, solution: &PatternSolution, pattern: &[Pattern]) -> Vec<bool> {
+        let largest = |c: usize| {
+            solution
+                .start
+                .iter()
+                .chain(&solution.end)
+                .fold(0.0f64, |m, y| m.max(y[c].abs()))
+        };
+        let motion_scale = [largest(0), largest(1)].map(|v| PLAIN_RESOLUTION * v);
+        // λ1 is a jump of m', λ2 a jump of m.
+        let force_scale = [largest(3), largest(2)].map(|v| PLAIN_RESOLUTION * v);
+        pattern
+            .iter()
+            .enumerate()
+            .map(|(i, state)| {
+                let d = i % 2;
+                match state {
+                    Pattern::Stuck => {
+                        let g = self.thresholds[i / 2][d];
+                        (solution.lambda[i].abs() - g).abs() <= force_scale[d]
+                    }
+                    _ => self.friction_value(solution, i).abs() <= motion_scale[d],
+                }
+            })
+            .collect()
     }
 
     /// The value c_i of friction DOF i.

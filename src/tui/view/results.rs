@@ -14,28 +14,33 @@ use ratatui::widgets::Paragraph;
 
 use crate::format::eng;
 use crate::plot::Theme;
-use crate::solve::{ObstacleResult, Solution};
+use crate::solve::{FrictionState, ObstacleResult, Solution};
 use crate::tui::app::App;
 
 /// Relative size under which a motion is rounding noise, not motion.
 const NOISE: f64 = 1e-12;
 
-/// How an obstacle moves, in a word of at most seven letters.
+/// How an obstacle moves, in a word of at most seven letters (the detail line under the
+/// table gives the full words for a DOF at its threshold).
 pub fn state_word(
     obstacle: &ObstacleResult,
     regularized: bool,
     max_deflection: f64,
 ) -> &'static str {
-    let state = obstacle.state();
+    use FrictionState::{AtThreshold as T, Moves as M, Stuck as S};
+    if obstacle.state() == "unknown" {
+        return "unknown";
+    }
     let moves = obstacle.u.abs() > NOISE * max_deflection;
-    match state {
-        "unknown" => "unknown",
-        "stuck" if regularized && moves => "creeps",
-        "stuck" => "stuck",
-        "slides" => "slides",
-        "swivels" if regularized && moves => "creeps",
-        "swivels" => "swivels",
-        _ => "both",
+    match (obstacle.sliding_state, obstacle.swivel_state) {
+        (S, S) if regularized && moves => "creeps",
+        (S, S) => "stuck",
+        (M, S) | (M, T) => "slides",
+        (S, M) | (T, M) => "swivels",
+        (M, M) => "both",
+        (T, S) => "at g1",
+        (S, T) => "at g2",
+        (T, T) => "at g1+2",
     }
 }
 
@@ -163,6 +168,8 @@ fn result_lines(
         );
         if regularized && state_word(o, true, max_deflection) == "creeps" {
             text = format!("#{} creeps {} m inside the ε-band", i + 1, eng(o.u.abs()));
+        } else if o.state().contains("threshold") {
+            text = format!("#{} {}", i + 1, o.state());
         }
         lines.push(Line::styled(text, theme.dim()));
     }
@@ -180,6 +187,12 @@ mod tests {
             slope: 0.0,
             force,
             moment: 0.0,
+            sliding_state: if sliding {
+                FrictionState::Moves
+            } else {
+                FrictionState::Stuck
+            },
+            swivel_state: FrictionState::Stuck,
             sliding,
             swivel: false,
         }

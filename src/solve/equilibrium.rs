@@ -1,0 +1,480 @@
+//! The independent half of the certificate: the KKT conditions of (38) checked from the exact
+//! local solutions of the pieces between special points, and the friction state of every DOF
+//! decided from the force at its bound and the motion (issue 10).
+//!
+//! **Why not the method's own matrix.** A residual A c − b + Bᵀλ computed with the rounded A a
+//! method used cannot see the error that rounding caused, and relative to ‖A‖‖c‖ it is tiny
+//! whenever one short or stiff piece makes ‖A‖ huge. Here every piece between special points
+//! (supports, obstacles, segment ends) is one exact macro element: EJ is constant and f linear
+//! on it, so the Hermite element on the whole piece gives the exact end forces of the exact
+//! local solution from the piece's end values (docs/design.md fact 1). Equilibrium is then
+//! checked at every special point, and as a rigid-body balance (force, and moment about its
+//! left end) of every run of up to [`CLUSTER`] consecutive special points, in which the forces
+//! inside the run cancel algebraically: the internal force of a piece 1e-9·l long is a
+//! difference of nearly equal values times 1e27 and pure noise, the balance of its two ends is
+//! not. Every check is relative to the sum of the absolute values of its own terms (including
+//! |K||c|, what one rounding of c moves the forces by), so it lies in [0, 1] and is never a
+//! ratio of noise to noise. Interior nodes are checked against their piece's exact solution.
+//! Everything is made dimensionless first by powers of two (exact), so loads of 1e-300 or
+//! 1e300 neither underflow to a zero residual nor overflow.
+//!
+//! **States.** A DOF moves when |c| exceeds what rounding resolves: a few ulps of the local
+//! magnitudes (the values on the two adjacent pieces), or more when the method's own rounding
+//! is known to be larger (`motion_resolution`, relative to the largest value of its kind). A DOF
+//! that does not move is stuck when |λ| is below its threshold by more than rounding of the
+//! local forces, and "at the threshold" otherwise: both descriptions fit. For the regularised
+//! methods the motion must also exceed ε, and complementarity is that of the ε-problem,
+//! λ = g·clamp(c/ε, −1, 1).
+
+use super::condensed::FrictionState;
+use crate::fem::{Mesh, NodalField};
+use crate::fem::{element_load, element_stiffness};
+use crate::model::Problem;
+
+/// Longest run of consecutive special points balanced as one rigid body.
+const CLUSTER: usize = 3;
+
+/// Ulps of the local magnitudes within which a motion is not resolved.
+const MOTION_ULPS: f64 = 16.0;
+
+/// Ulps of the local forces within which |λ| = g (at the threshold).
+const FORCE_ULPS: f64 = 64.0;
+
+/// What the certificate learns from the pieces.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Equilibrium {
+    /// Relative KKT residual in [0, 1]; NaN when the field or forces are not finite.
+    pub residual: f64,
+    /// (sliding, swivel) state per obstacle.
+    pub states: Vec<[FrictionState; 2]>,
+}
+
+/// How a method's answer is judged.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Judging {
+    /// The method's own rounding of c relative to the largest |u| and |u'| (0 when it is no
+    /// more than a few ulps of the local values).
+    pub motion_resolution: f64,
+    /// ε of a regularised method.
+    pub epsilon: Option<f64>,
+}
+
+/// 2^k·x without intermediate overflow or underflow.
+fn scaled(x: f64, k: i32) -> f64 {
+    let mut value = x;
+    let mut k = k;
+    while k > 500 {
+        value *= 2f64.powi(500);
+        k -= 500;
+    }
+    while k < -500 {
+        value *= 2f64.powi(-500);
+        k += 500;
+    }
+    value * 2f64.powi(k)
+}
+
+/// The binary exponent of a positive finite x (0 for anything else).
+fn exponent(x: f64) -> i32 {
+    if x > 0.0 && x.is_finite() {
+        x.log2().round() as i32
+    } else {
+        0
+    }
+}
+
+/// The problem in dimensionless units: every scale a power of two.
+struct Units {
+    length: i32,
+    stiffness: i32,
+    load: i32,
+}
+
+impl Units {
+    fn of(problem: &Problem) -> Units {
+        let l = problem.length;
+        let ej = problem
+            .stiffness
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.bending_stiffness));
+        let f = problem.load.f0.abs().max(problem.load.f1.abs());
+        let g = problem.obstacles.iter().fold(0.0f64, |m, o| {
+            m.max(o.sliding_threshold / l)
+                .max(o.swivel_threshold / (l * l))
+        });
+        let load = if f > 0.0 { f } else { g };
+        Units {
+            length: exponent(l),
+            stiffness: exponent(ej),
+            load: exponent(load),
+        }
+    }
+    fn x(&self, x: f64) -> f64 {
+        scaled(x, -self.length)
+    }
+    fn ej(&self, ej: f64) -> f64 {
+        scaled(ej, -self.stiffness)
+    }
+    fn f(&self, f: f64) -> f64 {
+        scaled(f, -self.load)
+    }
+    /// u over F L⁴ / EJ.
+    fn u(&self, u: f64) -> f64 {
+        scaled(u, self.stiffness - self.load - 4 * self.length)
+    }
+    /// u' over F L³ / EJ.
+    fn slope(&self, t: f64) -> f64 {
+        scaled(t, self.stiffness - self.load - 3 * self.length)
+    }
+    /// λ1 over F L, λ2 over F L².
+    fn force(&self, v: f64, kind: usize) -> f64 {
+        scaled(v, -self.load - (1 + kind as i32) * self.length)
+    }
+}
+
+/// The exact end forces of one piece (rows u_a, u'_a, u_b, u'_b of K c − f) and the sums of
+/// the absolute values of their terms, in dimensionless units.
+struct PieceForces {
+    forces: [f64; 4],
+    magnitude: [f64; 4],
+    /// The rows of the load alone.
+    load: [f64; 4],
+    a: f64,
+    b: f64,
+}
+
+/// A relative residual: |r| / scale, in [0, 1]; 1 when the numbers overflowed.
+fn relative(r: f64, scale: f64) -> f64 {
+    if !r.is_finite() || !scale.is_finite() {
+        1.0
+    } else if scale > 0.0 {
+        (r.abs() / scale).min(1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Checks (38) piece by piece and decides the friction states (module doc).
+pub(super) fn check(
+    problem: &Problem,
+    mesh: &Mesh,
+    field: &NodalField,
+    lambda: &[[f64; 2]],
+    judging: Judging,
+) -> Equilibrium {
+    let k = problem.obstacles.len();
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    if !finite(&field.deflection) || !finite(&field.slope) || !lambda.iter().all(|l| finite(l)) {
+        return Equilibrium {
+            residual: f64::NAN,
+            states: vec![[FrictionState::AtThreshold; 2]; k],
+        };
+    }
+    let units = Units::of(problem);
+    let u: Vec<f64> = field.deflection.iter().map(|&v| units.u(v)).collect();
+    let t: Vec<f64> = field.slope.iter().map(|&v| units.slope(v)).collect();
+    let x: Vec<f64> = mesh.nodes.iter().map(|&v| units.x(v)).collect();
+    let lam: Vec<[f64; 2]> = lambda
+        .iter()
+        .map(|l| [units.force(l[0], 0), units.force(l[1], 1)])
+        .collect();
+    let g: Vec<[f64; 2]> = problem
+        .obstacles
+        .iter()
+        .map(|o| {
+            [
+                units.force(o.sliding_threshold, 0),
+                units.force(o.swivel_threshold, 1),
+            ]
+        })
+        .collect();
+    let load_at = |node: usize| units.f(problem.load_at(mesh.nodes[node]));
+
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    // The magnitude of (u, u') on each piece, each kind also seen through the other.
+    let piece_magnitude: Vec<[f64; 2]> = mesh
+        .pieces
+        .iter()
+        .map(|p| {
+            let nodes = p.first_node..=p.last_node;
+            let length = x[p.last_node] - x[p.first_node];
+            let (mu, mt) = (largest(&u[nodes.clone()]), largest(&t[nodes]));
+            [mu.max(mt * length), mt.max(mu / length)]
+        })
+        .collect();
+    // What rounding leaves unresolved in (u, u') at each special point: an ulp of the local
+    // magnitudes on both sides (a value of 1e-20 next to values of 1 is not known to 1e-36).
+    let special_noise: Vec<[f64; 2]> = (0..=mesh.pieces.len())
+        .map(|s| {
+            let left = s.checked_sub(1).map_or([0.0; 2], |p| piece_magnitude[p]);
+            let right = piece_magnitude.get(s).copied().unwrap_or([0.0; 2]);
+            [
+                f64::EPSILON * left[0].max(right[0]),
+                f64::EPSILON * left[1].max(right[1]),
+            ]
+        })
+        .collect();
+    let pieces: Vec<PieceForces> = mesh
+        .pieces
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let (a, b) = (p.first_node, p.last_node);
+            let length = x[b] - x[a];
+            let stiffness = element_stiffness(units.ej(p.bending_stiffness), length);
+            let load = element_load(length, load_at(a), load_at(b));
+            let c = [u[a], t[a], u[b], t[b]];
+            let (na, nb) = (special_noise[i], special_noise[i + 1]);
+            let noise = [na[0], na[1], nb[0], nb[1]];
+            let mut forces = [0.0; 4];
+            let mut magnitude = [0.0; 4];
+            for r in 0..4 {
+                let mut sum = -load[r];
+                let mut abs = load[r].abs();
+                for j in 0..4 {
+                    sum += stiffness[r][j] * c[j];
+                    abs += stiffness[r][j].abs() * (c[j].abs() + noise[j]);
+                }
+                forces[r] = sum;
+                magnitude[r] = abs;
+            }
+            PieceForces {
+                forces,
+                magnitude,
+                load,
+                a: x[a],
+                b: x[b],
+            }
+        })
+        .collect();
+
+    // Special point s (1..pieces.len() − 1 are interior) is the start of piece s.
+    let special_of = |node: usize| {
+        let s = mesh.pieces.partition_point(|p| p.first_node < node);
+        (s < mesh.pieces.len() && mesh.pieces[s].first_node == node).then_some(s)
+    };
+    let mut obstacle_at: Vec<Option<usize>> = vec![None; mesh.pieces.len() + 1];
+    for (j, &node) in mesh.obstacle_nodes.iter().enumerate() {
+        if let Some(s) = special_of(node) {
+            obstacle_at[s] = Some(j);
+        }
+    }
+    let mut residual = 0.0f64;
+    let specials = mesh.pieces.len() + 1;
+    for first in 1..specials.saturating_sub(1) {
+        for last in first..(first + CLUSTER).min(specials - 1) {
+            let (left, right) = (&pieces[first - 1], &pieces[last]);
+            let x0 = left.b;
+            let arm = right.a - x0;
+            let mut force = left.forces[2] + right.forces[0];
+            let mut force_scale = left.magnitude[2] + right.magnitude[0];
+            let mut moment = left.forces[3] + right.forces[1] + arm * right.forces[0];
+            let mut moment_scale =
+                left.magnitude[3] + right.magnitude[1] + arm * right.magnitude[0];
+            for inner in &pieces[first..last] {
+                let l = &inner.load;
+                force -= l[0] + l[2];
+                force_scale += l[0].abs() + l[2].abs();
+                let terms = [l[1], l[3], (inner.a - x0) * l[0], (inner.b - x0) * l[2]];
+                moment -= terms.iter().sum::<f64>();
+                moment_scale += terms.iter().map(|v| v.abs()).sum::<f64>();
+            }
+            for (s, at) in obstacle_at.iter().enumerate().take(last + 1).skip(first) {
+                if let Some(j) = *at {
+                    let arm = pieces[s].a - x0;
+                    force += lam[j][0];
+                    force_scale += lam[j][0].abs();
+                    moment += lam[j][1] + arm * lam[j][0];
+                    moment_scale += lam[j][1].abs() + (arm * lam[j][0]).abs();
+                }
+            }
+            residual = residual
+                .max(relative(force, force_scale))
+                .max(relative(moment, moment_scale));
+        }
+    }
+    residual = residual.max(interior_residual(
+        mesh,
+        (&x, &u, &t),
+        &piece_magnitude,
+        &units,
+        problem,
+    ));
+
+    // Local magnitudes of each kind around every special point.
+    // The largest value of each kind, each kind also seen through the other (u/l, u'·l): in
+    // dimensionless units l is 1 up to a power of two.
+    // Floored by the natural scales f l⁴/EJ and f l³/EJ (stiffest stretch): when every value
+    // of a kind is rounding noise (all stuck), the noise is no yardstick.
+    let span = x[x.len() - 1] - x[0];
+    let natural = {
+        let f = units
+            .f(problem.load.f0)
+            .abs()
+            .max(units.f(problem.load.f1).abs());
+        let ej = problem
+            .stiffness
+            .iter()
+            .fold(0.0f64, |m, p| m.max(units.ej(p.bending_stiffness)));
+        if ej > 0.0 { f * span.powi(3) / ej } else { 0.0 }
+    };
+    let global = [
+        largest(&u).max(largest(&t) * span).max(natural * span),
+        largest(&t).max(largest(&u) / span).max(natural),
+    ];
+    let mut states = Vec::with_capacity(k);
+    for (j, &node) in mesh.obstacle_nodes.iter().enumerate() {
+        let Some(s) = special_of(node).filter(|&s| s > 0) else {
+            states.push([FrictionState::AtThreshold; 2]);
+            continue;
+        };
+        let around = [&mesh.pieces[s - 1], &mesh.pieces[s]];
+        let (mut local_u, mut local_t, mut longest) = (0.0f64, 0.0f64, 0.0f64);
+        for p in around {
+            let nodes = p.first_node..=p.last_node;
+            local_u = local_u.max(largest(&u[nodes.clone()]));
+            local_t = local_t.max(largest(&t[nodes]));
+            longest = longest.max(x[p.last_node] - x[p.first_node]);
+        }
+        let f = load_at(node).abs();
+        let ej = units.ej(around[0].bending_stiffness.min(around[1].bending_stiffness));
+        let local = [
+            local_u
+                .max(local_t * longest)
+                .max(f * longest.powi(4) / ej / 384.0),
+            local_t
+                .max(local_u / longest)
+                .max(f * longest.powi(3) / ej / 120.0),
+        ];
+        // The forces that meet at the point: what λ is computed against.
+        let (left, right) = (&pieces[s - 1], &pieces[s]);
+        let meeting = [
+            left.forces[2].abs() + right.forces[0].abs(),
+            left.forces[3].abs() + right.forces[1].abs(),
+        ];
+        let c = [u[node], t[node]];
+        let mut pair = [FrictionState::Stuck; 2];
+        for d in 0..2 {
+            let (c, l, g) = (c[d], lam[j][d], g[j][d]);
+            let motion_tolerance =
+                (MOTION_ULPS * f64::EPSILON * local[d]).max(judging.motion_resolution * global[d]);
+            let epsilon = judging
+                .epsilon
+                .map_or(0.0, |e| [units.u(e), units.slope(e)][d]);
+            let force_scale = g.max(l.abs()).max(meeting[d]);
+            let force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
+            // Feasibility |λ| ≤ g.
+            residual = residual.max(relative((l.abs() - g).max(0.0), force_scale));
+            let moves = c.abs() > motion_tolerance + epsilon;
+            // Complementarity: the force a moving DOF (or the ε-problem) prescribes.
+            let prescribed = if judging.epsilon.is_some() && epsilon > 0.0 {
+                Some(g * (c / epsilon).clamp(-1.0, 1.0))
+            } else if moves {
+                Some(g * c.signum())
+            } else {
+                None
+            };
+            if let Some(p) = prescribed {
+                // g·c/ε turns the unresolved part of c into a force of (g/ε)·tolerance.
+                let unresolved = if epsilon > 0.0 {
+                    g / epsilon * motion_tolerance
+                } else {
+                    0.0
+                };
+                residual =
+                    residual.max(relative(((l - p).abs() - unresolved).max(0.0), force_scale));
+            }
+            pair[d] = if moves {
+                FrictionState::Moves
+            } else if g - l.abs() <= force_tolerance {
+                FrictionState::AtThreshold
+            } else {
+                FrictionState::Stuck
+            };
+        }
+        states.push(pair);
+    }
+    Equilibrium { residual, states }
+}
+
+/// The Hermite basis and its derivative at ξ (η = 1 − ξ) on a piece of length h, in factored
+/// form: each function is computed to a few ulps of its own value.
+fn hermite_factored(xi: f64, eta: f64, h: f64) -> ([f64; 4], [f64; 4]) {
+    (
+        [
+            eta * eta * (1.0 + 2.0 * xi),
+            h * xi * eta * eta,
+            xi * xi * (1.0 + 2.0 * eta),
+            -h * xi * xi * eta,
+        ],
+        [
+            -6.0 * xi * eta / h,
+            eta * (eta - 2.0 * xi),
+            6.0 * xi * eta / h,
+            xi * (xi - 2.0 * eta),
+        ],
+    )
+}
+
+/// The largest relative difference between an interior node and its piece's exact local
+/// solution (Hermite interpolation of the end values plus the clamped–clamped response to
+/// the linear load), value and slope.
+fn interior_residual(
+    mesh: &Mesh,
+    (x, u, t): (&[f64], &[f64], &[f64]),
+    magnitude: &[[f64; 2]],
+    units: &Units,
+    problem: &Problem,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for (piece, p) in mesh.pieces.iter().enumerate() {
+        if p.elements() < 2 {
+            continue;
+        }
+        let (a, b) = (p.first_node, p.last_node);
+        let length = x[b] - x[a];
+        let ej = units.ej(p.bending_stiffness);
+        let (fa, fb) = (
+            units.f(problem.load_at(mesh.nodes[a])),
+            units.f(problem.load_at(mesh.nodes[b])),
+        );
+        let ends = [u[a], t[a], u[b], t[b]];
+        for node in a + 1..b {
+            // ξ and 1 − ξ each from its own end: no cancellation next to either end.
+            let (xi, eta) = ((x[node] - x[a]) / length, (x[b] - x[node]) / length);
+            let (n, dn) = hermite_factored(xi, eta, length);
+            // Clamped–clamped response to f = fa (1 − ξ) + fb ξ: L⁴/EJ (fa P(1 − ξ) + fb P(ξ)),
+            // P(s) = s²(1 − s)²(s + 2)/120, P'(s) = −s(1 − s)(5s² + 5s − 4)/120.
+            let p = |s: f64, r: f64| s * s * r * r * (s + 2.0) / 120.0;
+            let dp = |s: f64, r: f64| -s * r * (5.0 * s * s + 5.0 * s - 4.0) / 120.0;
+            let l4 = length.powi(4) / ej;
+            let particular = [
+                l4 * fa * p(eta, xi),
+                l4 * fb * p(xi, eta),
+                -l4 / length * fa * dp(eta, xi),
+                l4 / length * fb * dp(xi, eta),
+            ];
+            let value_terms: Vec<f64> = (0..4)
+                .map(|i| n[i] * ends[i])
+                .chain(particular[..2].iter().copied())
+                .collect();
+            let slope_terms: Vec<f64> = (0..4)
+                .map(|i| dn[i] * ends[i])
+                .chain(particular[2..].iter().copied())
+                .collect();
+            for (kind, (terms, value)) in [(value_terms, u[node]), (slope_terms, t[node])]
+                .into_iter()
+                .enumerate()
+            {
+                let exact: f64 = terms.iter().sum();
+                // Relative to the piece's own magnitude too: a method resolves a value near a
+                // clamped end to an ulp of the piece's values, not of that small value.
+                let scale: f64 = terms.iter().map(|v| v.abs()).sum::<f64>()
+                    + value.abs()
+                    + magnitude[piece][kind];
+                worst = worst.max(relative(value - exact, scale));
+            }
+        }
+    }
+    worst
+}
