@@ -74,6 +74,7 @@ pub fn run(cli: Cli) -> ExitCode {
             cli.ascii,
             cli.no_color,
             cli.no_mouse,
+            cli.theme,
         ),
     };
     match result {
@@ -116,7 +117,13 @@ fn colors_wanted(no_color: bool) -> bool {
     !no_color && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-fn explore(name: &str, ascii: bool, no_color: bool, no_mouse: bool) -> Result<ExitCode, String> {
+fn explore(
+    name: &str,
+    ascii: bool,
+    no_color: bool,
+    no_mouse: bool,
+    palette: crate::plot::Palette,
+) -> Result<ExitCode, String> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(
@@ -127,10 +134,12 @@ fn explore(name: &str, ascii: bool, no_color: bool, no_mouse: bool) -> Result<Ex
     }
     let loaded = scene::load(name).map_err(|e| e.to_string())?;
     let look = crate::plot::Look {
-        ascii,
+        ascii: ascii || !crate::plot::locale_is_utf8(|name| std::env::var(name).ok()),
         color: colors_wanted(no_color),
     };
-    Ok(exit_code(crate::tui::run(loaded, look, !no_mouse)?))
+    Ok(exit_code(crate::tui::run(
+        loaded, look, !no_mouse, palette,
+    )?))
 }
 
 /// The exit status after the explorer ended.
@@ -211,6 +220,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
             ascii: args.ascii,
             color: args.color,
         },
+        palette: args.theme,
         timings: args.timings,
         allow_save: args.allow_save.clone(),
     };

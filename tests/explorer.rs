@@ -24,6 +24,7 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         height,
         look: LOOK,
         timings: false,
+        palette: Default::default(),
         allow_save: None,
     };
     let buffer = render(scene(name), &parse_keys(keys), options).unwrap();

@@ -302,6 +302,7 @@ fn ready_app() -> &'static App {
                 height: 40,
                 look,
                 timings: false,
+                palette: Default::default(),
                 allow_save: None,
             },
         )

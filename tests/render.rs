@@ -18,6 +18,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
             ascii,
             color: false,
         },
+        palette: Default::default(),
         timings: false,
         allow_save: None,
     }
@@ -235,6 +236,38 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     assert!(frame.contains("exists: overwrite it?"), "{frame}");
 }
 
+// Issue 13: charts that tell the truth, at the sizes a lecturer uses, in Unicode and ASCII.
+
+const LESSON_SIZES: [(u16, u16); 3] = [(80, 24), (100, 30), (120, 40)];
+
+/// The frame of `scene` after `keys` at every lesson size, Unicode and ASCII, each checked for
+/// its size and (ASCII) for containing only ASCII; `adjust` may change the prepared state.
+fn lesson_frames(
+    scene: &str,
+    keys_at: impl Fn(u16) -> String,
+    adjust: impl Fn(&mut beamfric::tui::app::App),
+) -> Vec<(String, u16, bool, String)> {
+    let mut out = Vec::new();
+    for (w, h) in LESSON_SIZES {
+        let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
+        let keys = beamfric::tui::keymap::parse_keys(&keys_at(w));
+        let mut app = prepare(loaded, &keys, options(w, h, false)).unwrap();
+        adjust(&mut app);
+        for ascii in [false, true] {
+            app.look.ascii = ascii;
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            assert_eq!(text.lines().count(), h as usize);
+            assert!(text.lines().all(|l| l.chars().count() == w as usize));
+            if ascii {
+                assert!(text.is_ascii(), "{scene} {w}x{h}: non-ASCII output");
+            }
+            let label = format!("{w}x{h}{}", if ascii { "-ascii" } else { "" });
+            out.push((label, w, ascii, text));
+        }
+    }
+    out
+}
+
 /// The frame after `keys` on a preset, at each size and look.
 fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
     let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
@@ -250,6 +283,279 @@ fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, St
         }
     }
     out
+}
+
+/// Every method's marker appears in the chart rows (not only in the key): the key line is the
+/// only place a method's name is written, so a marker seen twice is drawn at least once.
+fn assert_every_series_drawn(text: &str, ascii: bool, label: &str) {
+    let markers: [(&str, char, char); 6] = [
+        ("dual", '●', 'o'),
+        ("condensed", '■', '#'),
+        ("flexibility", '▲', '^'),
+        ("regularized", '◆', '%'),
+        ("regularized-newton", '✚', '+'),
+        ("dual-inverse", '✖', 'x'),
+    ];
+    for (name, unicode, plain) in markers {
+        let marker = if ascii { plain } else { unicode };
+        let in_key = text.contains(&format!("{marker} {name}"))
+            || text
+                .lines()
+                .any(|l| l.contains(&format!("{marker} ")) && l.contains("dual"));
+        assert!(in_key, "{label}: {name} missing from the key\n{text}");
+        if !ascii || marker != 'x' {
+            assert!(
+                text.matches(marker).count() >= 2,
+                "{label}: no {name} marker drawn\n{text}"
+            );
+        }
+    }
+}
+
+/// Error against n on lesson-mesh: all series drawn, none hidden, the current n marked with
+/// the selected method's error printed.
+#[test]
+fn lesson_mesh_error_against_n() {
+    // One panel at a time below 100x30: Tab brings the error chart.
+    let keys = |w: u16| {
+        if w < 100 {
+            "Tab".to_string()
+        } else {
+            String::new()
+        }
+    };
+    for (label, _, ascii, text) in lesson_frames("lesson-mesh", keys, |_| {}) {
+        let current = if ascii {
+            ": n = 2000:"
+        } else {
+            "┆ n = 2000:"
+        };
+        assert!(
+            text.contains(current),
+            "{label}: current n not marked\n{text}"
+        );
+        let error = if ascii { "o 8.1e-6" } else { "● 8.1e-6" };
+        assert!(
+            text.contains(error),
+            "{label}: dual's error at n = 2000\n{text}"
+        );
+        assert_every_series_drawn(&text, ascii, &label);
+        insta::assert_snapshot!(format!("lesson-mesh-error-vs-n-{label}"), text);
+    }
+}
+
+/// Synthetic run times (a fixed cost per element, per method; n³ for the dense inverse), so
+/// that the error-vs-run-time frame is the same on every machine and every run.
+fn synthetic_time(point: &beamfric::study::MeshPoint) -> std::time::Duration {
+    use beamfric::solve::Method;
+    let n = point.elements as f64;
+    let seconds = match point.method {
+        Method::Dual => 8e-8 * n,
+        Method::Condensed => 2e-7 * n,
+        Method::Flexibility => 3e-8 * n,
+        Method::Regularized => 1e-7 * n + 2e-6,
+        Method::RegularizedNewton => 1.2e-7 * n + 1e-6,
+        Method::DualInverse => 4e-10 * n * n * n,
+        Method::ClosedForm => 1e-8 * n,
+    };
+    std::time::Duration::from_secs_f64(seconds + 1e-6)
+}
+
+/// Error against run time on lesson-mesh (run times replaced by [`synthetic_time`]): all
+/// series drawn, the current n's points marked, its error and time printed.
+#[test]
+fn lesson_mesh_error_against_run_time() {
+    use beamfric::tui::studies::{StudyState, study_of};
+    let keys = |w: u16| {
+        if w < 100 {
+            "t Tab".to_string()
+        } else {
+            "t".to_string()
+        }
+    };
+    let deterministic = |app: &mut beamfric::tui::app::App| {
+        let slot = study_of(beamfric::scene::Panel::ErrorTime).unwrap();
+        let StudyState::Ready(data) = &app.studies[slot].state else {
+            panic!("the mesh sweep ran");
+        };
+        let mut points = data
+            .downcast_ref::<Vec<beamfric::study::MeshPoint>>()
+            .unwrap()
+            .clone();
+        for p in &mut points {
+            p.run_time = synthetic_time(p);
+        }
+        app.studies[slot].state = StudyState::Ready(std::sync::Arc::new(points));
+        if let Some(Ok(solution)) = app.shown.as_mut().map(|s| &mut s.solution) {
+            solution.timing = Default::default();
+        }
+    };
+    for (label, _, ascii, text) in lesson_frames("lesson-mesh", keys, deterministic) {
+        assert!(text.contains("Error vs run time"), "{label}\n{text}");
+        // dual at n = 2000: 8e-8·2000 + 1e-6 s = 161 µs.
+        assert!(
+            text.contains("in 161.0"),
+            "{label}: time at n not printed\n{text}"
+        );
+        assert_every_series_drawn(&text, ascii, &label);
+        insta::assert_snapshot!(format!("lesson-mesh-error-vs-time-{label}"), text);
+    }
+}
+
+/// The ε charts on Benchmark 1: the current ε marked with the error, cond₂(Â) and the scaled
+/// condition number printed (the values of the sweep at exactly that ε, checked against an
+/// independent run of the sweep), and cond₂'s plateau drawn on top of the scaled markers.
+#[test]
+fn benchmark_1_epsilon_charts() {
+    let problem = LoadedScene::preset(preset("benchmark-1").unwrap()).unwrap();
+    let sweep = beamfric::study::epsilon_sweep(
+        &problem.problem,
+        20,
+        beamfric::solve::Method::Regularized,
+        &[1e-6, 1.0],
+        beamfric::solve::Cancellation::NEVER,
+        &beamfric::study::silent,
+    )
+    .unwrap()
+    .unwrap();
+    let at_1e6 = &sweep[0];
+    let error = beamfric::format::sci(at_1e6.error.unwrap().max_rel.unwrap(), 2);
+    let cond = beamfric::format::sci(at_1e6.cond_max.unwrap().value, 2);
+    let scaled = beamfric::format::sci(at_1e6.cond_scaled_max.unwrap().value, 2);
+    let plateau = sweep[1].cond_max.unwrap().value;
+    assert!((plateau / 2.0956e5 - 1.0).abs() < 1e-3, "{plateau}");
+    // 80x24 shows one panel: Tab to each ε chart.
+    for (panel, tabs) in [("error", "Tab"), ("cond", "Tab Tab")] {
+        let keys = |w: u16| {
+            if w < 100 {
+                tabs.to_string()
+            } else {
+                String::new()
+            }
+        };
+        for (label, w, ascii, text) in lesson_frames("benchmark-1", keys, |_| {}) {
+            if w >= 100 && panel == "cond" {
+                continue; // the same frame as for "error"
+            }
+            let eps = if ascii {
+                "eps = 1.0e-6:"
+            } else {
+                "ε = 1.0e-6:"
+            };
+            assert!(text.contains(eps), "{label}\n{text}");
+            if panel == "error" || w >= 100 {
+                assert!(text.contains(&format!("error {error}")), "{label}\n{text}");
+            }
+            if panel == "cond" || w >= 100 {
+                let name = if ascii { "cond2(A^)" } else { "cond₂(Â)" };
+                assert!(text.contains(&format!("{name} {cond}")), "{label}\n{text}");
+                assert!(
+                    text.contains(&format!("scaled {scaled}")),
+                    "{label}\n{text}"
+                );
+            }
+            let name = if w >= 100 { "all" } else { panel };
+            insta::assert_snapshot!(format!("benchmark-1-eps-{name}-{label}"), text);
+        }
+    }
+}
+
+/// The deflection of `regularized` at ε = 1e-2 on Benchmark 1 with the reference (condensed)
+/// under it, and with `c` the difference u − u_ref on its own scale.
+#[test]
+fn regularized_deflection_with_its_reference() {
+    let keys = format!(
+        "m m m {} Enter {} 1e-2 Enter",
+        "Down ".repeat(8),
+        "Backspace ".repeat(12)
+    );
+    for difference in [false, true] {
+        let keys_at = |_: u16| {
+            if difference {
+                format!("{keys} c")
+            } else {
+                keys.clone()
+            }
+        };
+        for (label, _, ascii, text) in lesson_frames("benchmark-1", keys_at, |app| {
+            assert_eq!(app.scene.solver.epsilon, 1e-2);
+            let shown = app.shown.as_ref().unwrap();
+            let reference = shown.reference.as_ref().expect("the reference is solved");
+            assert_eq!(reference.method, beamfric::solve::Method::Condensed);
+        }) {
+            if difference {
+                let title = if ascii {
+                    "u - u_ref [m]"
+                } else {
+                    "u − u_ref [m]"
+                };
+                assert!(text.contains(title), "{label}\n{text}");
+                assert!(
+                    text.contains("regularized - condensed")
+                        || text.contains("regularized − condensed"),
+                    "{label}\n{text}"
+                );
+            } else {
+                assert!(text.contains("condensed = reference"), "{label}\n{text}");
+                // The reference curve's dots on several rows of the panel (the title line and
+                // the status lines, which use · as a separator, left out).
+                let reference = if ascii { ':' } else { '·' };
+                let rows = text.lines().count();
+                let with_dots = text
+                    .lines()
+                    .skip(1)
+                    .take(rows - 5)
+                    .filter(|l| l.matches(reference).count() >= 1)
+                    .count();
+                assert!(with_dots >= 4, "{label}: no reference curve\n{text}");
+            }
+            let name = if difference {
+                "difference"
+            } else {
+                "reference"
+            };
+            insta::assert_snapshot!(format!("regularized-1e-2-{name}-{label}"), text);
+        }
+    }
+}
+
+/// Issue 13: in every palette, dark grey draws only decoration (axis lines, the zero line, the
+/// clamped ends), never a letter or a digit; the light palette writes no text in yellow; the
+/// high-contrast palette sets the background of every cell.
+#[test]
+fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
+    use beamfric::plot::Palette;
+    use ratatui::style::Color;
+    let keys = beamfric::tui::keymap::parse_keys("m m m Down Down Down Down Down Down Down Down");
+    for scene in ["benchmark-1", "lesson-mesh"] {
+        for palette in Palette::ALL {
+            for (w, h) in LESSON_SIZES {
+                let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
+                let mut options = options(w, h, false);
+                options.look.color = true;
+                options.palette = palette;
+                let app = prepare(loaded, &keys, options).unwrap();
+                let buffer = draw_to_buffer(&app, w, h).unwrap();
+                for cell in buffer.content.iter() {
+                    let text = cell.symbol().chars().any(|c| c.is_alphanumeric());
+                    let case = format!("{scene} {w}x{h} {}: {:?}", palette.name(), cell);
+                    if cell.fg == Color::DarkGray {
+                        assert!(!text, "dark grey text: {case}");
+                    }
+                    if palette == Palette::Light {
+                        assert!(
+                            !(text && matches!(cell.fg, Color::Yellow | Color::LightYellow)),
+                            "yellow text on the light theme: {case}"
+                        );
+                    }
+                    if palette == Palette::HighContrast {
+                        // Black, or white under the selected row: never the terminal's own.
+                        assert!(matches!(cell.bg, Color::Black | Color::White), "{case}");
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// The warnings of a preset's solution after `keys`, from the solver (not from the screen).

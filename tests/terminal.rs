@@ -681,3 +681,39 @@ fn no_mouse_leaves_the_mouse_to_the_terminal() {
     let (status, _) = explorer.finish();
     assert_eq!(status.code(), Some(0));
 }
+
+/// Issue 13: a locale that is not UTF-8 gets ASCII by itself (LC_ALL, then LC_CTYPE, then
+/// LANG, as tmux decides), a UTF-8 one Unicode; `--ascii` forces ASCII; `T` cycles the theme.
+#[test]
+fn the_locale_decides_ascii_and_t_cycles_the_theme() {
+    for (env, ascii) in [
+        (&[("LC_ALL", ""), ("LC_CTYPE", ""), ("LANG", "C")][..], true),
+        (&[("LC_ALL", "POSIX"), ("LANG", "en_US.UTF-8")][..], true),
+        (
+            &[("LC_ALL", ""), ("LC_CTYPE", ""), ("LANG", "en_US.UTF-8")][..],
+            false,
+        ),
+    ] {
+        let mut explorer = Explorer::start(env);
+        // Waits for the whole parameter panel: the first frame may arrive in pieces.
+        if ascii {
+            explorer.wait_for_screen("+ Parameters -");
+            explorer.wait_for_screen("epsilon eps");
+            let screen = explorer.screen();
+            assert!(!screen.contains('┌'), "{env:?}\n{screen}");
+        } else {
+            explorer.wait_for_screen("┌ Parameters ─");
+            explorer.wait_for_screen("epsilon ε");
+        }
+        explorer.type_bytes(b"T");
+        explorer.wait_for_screen("theme light");
+        explorer.type_bytes(b"q");
+        let (status, _) = explorer.finish();
+        assert_eq!(status.code(), Some(0), "{env:?}");
+    }
+    let mut explorer = Explorer::start_with(&["--ascii"], &[("LANG", "en_US.UTF-8")]);
+    explorer.wait_for_screen("+ Parameters -");
+    explorer.type_bytes(b"q");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}

@@ -7,6 +7,7 @@ use std::sync::LazyLock;
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::plot::Palette;
 use crate::solve::{ConditionLevel, Method};
 
 /// The methods in declaration order (the order clap has always listed them in).
@@ -19,6 +20,16 @@ static METHODS: LazyLock<Vec<Method>> = LazyLock::new(|| {
 impl ValueEnum for Method {
     fn value_variants<'a>() -> &'a [Self] {
         &METHODS
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+impl ValueEnum for Palette {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Palette::ALL
     }
 
     fn to_possible_value(&self) -> Option<PossibleValue> {
@@ -49,12 +60,16 @@ pub struct Cli {
     pub command: Option<Command>,
     /// Scene file or preset name to open (default: benchmark-1).
     pub scene: Option<String>,
-    /// Draw without Unicode (no Braille, no box drawing) for plain terminals.
+    /// Draw without Unicode (no Braille, no box drawing) for plain terminals; automatic when
+    /// the locale (LC_ALL, LC_CTYPE or LANG) is not UTF-8.
     #[arg(long)]
     pub ascii: bool,
     /// No colours (also when the NO_COLOR environment variable is set).
     #[arg(long)]
     pub no_color: bool,
+    /// Colours for the terminal's background or a projector (`T` cycles them).
+    #[arg(long, value_name = "THEME", default_value = "dark")]
+    pub theme: Palette,
     /// Leave the mouse to the terminal (no clicks, wheel or drags in the explorer).
     #[arg(long)]
     pub no_mouse: bool,
@@ -254,6 +269,9 @@ pub struct RenderArgs {
     /// Emit ANSI colours (plain text otherwise).
     #[arg(long)]
     pub color: bool,
+    /// The colours of --color.
+    #[arg(long, value_name = "THEME", default_value = "dark")]
+    pub theme: Palette,
     /// Show run times (the frame then depends on the clock).
     #[arg(long)]
     pub timings: bool,

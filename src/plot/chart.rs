@@ -1,16 +1,15 @@
-//! The pieces every chart panel is made of: a bordered block with its key inside, a notice in
-//! place of a chart, markers in Unicode or ASCII, and the log–log chart of plain series with
-//! decade axes and an optional vertical marker (the current ε).
+//! The pieces every chart panel is made of: a bordered block with, on its last lines, the
+//! readout of the current point and the key; a notice in place of a chart; markers in Unicode
+//! or ASCII; log10 points of data.
 
 use ratatui::Frame;
-use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::layout::{Alignment, Rect};
 use ratatui::style::Style;
 use ratatui::symbols::Marker;
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Axis, Chart, Dataset, GraphType, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 
 use super::Theme;
-use super::axes::decade_axis;
 
 /// Where a chart goes: its area, the title of its block, and whether it has the focus.
 #[derive(Debug, Clone)]
@@ -22,9 +21,9 @@ pub struct PanelFrame {
 
 /// A message in place of a chart.
 pub fn notice(frame: &mut Frame, theme: &Theme, panel: PanelFrame, text: String) {
-    let block = theme.block(panel.title, panel.focused);
+    let block = theme.block(theme.text(&panel.title).into_owned(), panel.focused);
     frame.render_widget(
-        Paragraph::new(text)
+        Paragraph::new(theme.text(&text).into_owned())
             .wrap(Wrap { trim: true })
             .alignment(Alignment::Center)
             .block(block),
@@ -32,50 +31,145 @@ pub fn notice(frame: &mut Frame, theme: &Theme, panel: PanelFrame, text: String)
     );
 }
 
-/// One entry of a chart's key: its marker and name.
+/// One entry of a chart's key: its marker and name (and a shorter name for narrow panels).
 pub struct KeyEntry {
     pub marker: char,
     pub name: String,
     pub style: Style,
+    /// Used for every entry when the full names would not fit.
+    pub short: Option<String>,
 }
 
-/// Draws `chart` in a bordered block with its key on the last lines inside the block (a
-/// ratatui legend would hide itself in narrow panels).
-pub fn chart_with_key(
+/// One piece of a readout or key line: text in a style. Pieces are laid out in lines no wider
+/// than the panel, never split.
+pub type Piece = (String, Style);
+
+/// Lays `pieces` out in lines of at most `width` characters, `gap` blanks apart; a piece wider
+/// than a line is cut with `…` (`.` in ASCII).
+pub fn pack(pieces: &[Piece], width: usize, gap: usize, ascii: bool) -> Vec<Line<'static>> {
+    let mut lines: Vec<Vec<Span<'static>>> = Vec::new();
+    let mut used = 0usize;
+    for (text, style) in pieces {
+        let mut text = text.clone();
+        let mut len = text.chars().count();
+        if len > width {
+            text = text.chars().take(width.saturating_sub(1)).collect();
+            text.push(if ascii { '.' } else { '…' });
+            len = width;
+        }
+        if lines.is_empty() || used + gap + len > width {
+            lines.push(Vec::new());
+            used = 0;
+        } else {
+            lines
+                .last_mut()
+                .expect("a line")
+                .push(Span::raw(" ".repeat(gap)));
+            used += gap;
+        }
+        lines
+            .last_mut()
+            .expect("a line")
+            .push(Span::styled(text, *style));
+        used += len;
+    }
+    lines.into_iter().map(Line::from).collect()
+}
+
+/// Draws the panel's block with the readout and the key on its last lines (as many as are
+/// needed, while at least `plot_rows` rows stay for the chart; the key's entries packed two
+/// blanks apart, or one when that saves a line, with their short names when the full ones do
+/// not fit; the `optional` pieces after the readout only when there is room for them) and
+/// returns the rectangle left for the chart.
+pub fn panel_with_key(
     frame: &mut Frame,
     theme: &Theme,
-    panel: PanelFrame,
-    chart: Chart,
+    panel: &PanelFrame,
+    readout: &[Piece],
+    optional: &[Piece],
     key: &[KeyEntry],
-) {
-    let block = theme.block(panel.title, panel.focused);
+    plot_rows: u16,
+) -> Rect {
+    let block = theme.block(theme.text(&panel.title).into_owned(), panel.focused);
     let inner = block.inner(panel.area);
     frame.render_widget(block, panel.area);
-    // Lay the entries out in lines no wider than the panel.
-    let mut lines: Vec<Vec<Span>> = vec![Vec::new()];
-    let mut width = 0usize;
-    for entry in key {
-        let text = format!("{} {}", entry.marker, entry.name);
-        let len = text.chars().count() + 2;
-        if width > 0 && width + len > inner.width as usize {
-            lines.push(Vec::new());
-            width = 0;
-        }
-        let line = lines.last_mut().expect("one line at least");
-        line.push(Span::styled(text, entry.style));
-        line.push(Span::raw("  "));
-        width += len;
-    }
-    let key_height = if key.is_empty() {
-        0
-    } else {
-        (lines.len() as u16).min(inner.height / 3)
+    let (plot, lines) = key_layout(theme, inner, readout, optional, key, plot_rows);
+    let text_area = Rect {
+        y: inner.y + plot.height,
+        height: inner.height - plot.height,
+        ..inner
     };
-    let [plot, legend] =
-        Layout::vertical([Constraint::Min(1), Constraint::Length(key_height)]).areas(inner);
-    frame.render_widget(chart, plot);
-    let text: Vec<Line> = lines.into_iter().map(Line::from).collect();
-    frame.render_widget(Paragraph::new(text), legend);
+    frame.render_widget(Paragraph::new(lines), text_area);
+    plot
+}
+
+/// Where [`panel_with_key`] puts the chart inside the block (`inner`), and the readout and key
+/// lines under it: the same layout for drawing and for hit-testing.
+pub fn key_layout(
+    theme: &Theme,
+    inner: Rect,
+    readout: &[Piece],
+    optional: &[Piece],
+    key: &[KeyEntry],
+    plot_rows: u16,
+) -> (Rect, Vec<Line<'static>>) {
+    let width = inner.width as usize;
+    let ascii = theme.look.ascii;
+    let key_pieces = |short: bool| -> Vec<Piece> {
+        key.iter()
+            .map(|e| {
+                let name = match (&e.short, short) {
+                    (Some(s), true) => s,
+                    _ => &e.name,
+                };
+                let text = format!("{} {name}", e.marker);
+                (theme.text(&text).into_owned(), e.style)
+            })
+            .collect()
+    };
+    let best = |pieces: &[Piece]| {
+        let wide = pack(pieces, width, 2, ascii);
+        let tight = pack(pieces, width, 1, ascii);
+        if tight.len() < wide.len() {
+            tight
+        } else {
+            wide
+        }
+    };
+    let readout: Vec<Piece> = readout
+        .iter()
+        .chain(optional)
+        .map(|(t, s)| (theme.text(t).into_owned(), *s))
+        .collect();
+    let room = inner.height.saturating_sub(plot_rows) as usize;
+    let essential = readout.len() - optional.len().min(readout.len());
+    let readout_lines: Vec<Line> = pack(&readout[..essential], width, 1, ascii)
+        .into_iter()
+        .take(room)
+        .collect();
+    let mut key_lines = best(&key_pieces(false));
+    if key_lines.len() > room - readout_lines.len() && key.iter().any(|e| e.short.is_some()) {
+        key_lines = best(&key_pieces(true));
+    }
+    // The optional pieces only where the key leaves room for them.
+    let with_optional = pack(&readout, width, 1, ascii);
+    let readout_lines = if with_optional.len() + key_lines.len() <= room {
+        with_optional
+    } else {
+        readout_lines
+    };
+    let key_lines: Vec<Line> = key_lines
+        .into_iter()
+        .take(room - readout_lines.len())
+        .collect();
+    let below = (readout_lines.len() + key_lines.len()) as u16;
+    let plot = Rect {
+        height: inner.height - below,
+        ..inner
+    };
+    let mut lines = readout_lines;
+    lines.extend(key_lines);
+    (plot, lines)
 }
 
 /// The marker of a curve: Braille dots, or `.` in ASCII.
@@ -85,6 +179,11 @@ pub fn curve_marker(theme: &Theme) -> Marker {
     } else {
         Marker::Braille
     }
+}
+
+/// The key's marker of a curve.
+pub fn curve_key(theme: &Theme) -> char {
+    marker_char(theme, '⠤', '.')
 }
 
 /// A point marker: `unicode`, or `ascii` in ASCII mode.
@@ -107,8 +206,11 @@ pub fn log_points(pairs: impl Iterator<Item = (f64, Option<f64>)>) -> Vec<(f64, 
         .collect()
 }
 
-fn bounds_of(series: &[&[(f64, f64)]]) -> Option<([f64; 2], [f64; 2])> {
-    let mut iter = series.iter().flat_map(|s| s.iter());
+/// The smallest and largest x and y of the points, if any.
+pub fn bounds_of<'a>(
+    points: impl IntoIterator<Item = &'a (f64, f64)>,
+) -> Option<([f64; 2], [f64; 2])> {
+    let mut iter = points.into_iter();
     let first = iter.next()?;
     let (mut x, mut y) = ([first.0, first.0], [first.1, first.1]);
     for p in iter {
@@ -116,81 +218,4 @@ fn bounds_of(series: &[&[(f64, f64)]]) -> Option<([f64; 2], [f64; 2])> {
         y = [y[0].min(p.1), y[1].max(p.1)];
     }
     Some((x, y))
-}
-
-/// A series of a log–log chart: markers (Unicode, ASCII), name, log10 points, how drawn.
-pub type Series = ((char, char), String, Vec<(f64, f64)>, GraphType);
-
-/// What a log–log chart shows.
-pub struct LogLog<'a> {
-    pub x_title: &'a str,
-    pub series: &'a [Series],
-    /// The current ε, marked by a vertical line.
-    pub current_epsilon: Option<f64>,
-    /// The notice when no series has a point.
-    pub empty: String,
-}
-
-/// A log–log chart of `chart.series` with the current ε marked when given.
-pub fn log_log(frame: &mut Frame, theme: &Theme, panel: PanelFrame, chart: LogLog) {
-    let all: Vec<&[(f64, f64)]> = chart
-        .series
-        .iter()
-        .map(|(_, _, d, _)| d.as_slice())
-        .collect();
-    let Some((x, y)) = bounds_of(&all) else {
-        return notice(frame, theme, panel, chart.empty);
-    };
-    let area = panel.area;
-    let (x_bounds, x_labels) = decade_axis(x[0], x[1], area.width.saturating_sub(10));
-    let (y_bounds, y_labels) = decade_axis(y[0], y[1], area.height.saturating_sub(6) * 3);
-    let marker: Vec<(f64, f64)> = chart
-        .current_epsilon
-        .map(|e| vec![(e.log10(), y_bounds[0]), (e.log10(), y_bounds[1])])
-        .unwrap_or_default();
-    let mut key = Vec::new();
-    let mut datasets = Vec::new();
-    for (i, ((u, a), name, data, kind)) in chart.series.iter().enumerate() {
-        let marker = if *kind == GraphType::Line && !theme.look.ascii {
-            Marker::Braille
-        } else {
-            point_marker(theme, *u, *a)
-        };
-        datasets.push(
-            Dataset::default()
-                .marker(marker)
-                .graph_type(*kind)
-                .style(theme.series(i))
-                .data(data),
-        );
-        key.push(KeyEntry {
-            marker: marker_char(theme, *u, *a),
-            name: name.clone(),
-            style: theme.series(i),
-        });
-    }
-    if let Some(epsilon) = chart.current_epsilon {
-        datasets.push(
-            Dataset::default()
-                .marker(point_marker(theme, '│', '|'))
-                .graph_type(GraphType::Line)
-                .style(theme.dim())
-                .data(&marker),
-        );
-        key.push(KeyEntry {
-            marker: marker_char(theme, '│', '|'),
-            name: format!("ε = {}", crate::format::sci(epsilon, 2)),
-            style: theme.dim(),
-        });
-    }
-    let widget = Chart::new(datasets)
-        .x_axis(
-            Axis::default()
-                .title(chart.x_title)
-                .bounds(x_bounds)
-                .labels(x_labels),
-        )
-        .y_axis(Axis::default().bounds(y_bounds).labels(y_labels))
-        .legend_position(None);
-    chart_with_key(frame, theme, panel, widget, &key);
 }

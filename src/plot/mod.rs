@@ -1,26 +1,42 @@
 //! Drawing that the explorer and `beamfric report` share: the [`Look`] of a frame (Unicode or
-//! ASCII, colour or not), its [`Theme`] of styles, the ASCII stand-ins for every symbol, log–log
-//! charts of plain data with decade axes, the study charts built on them, and a buffer turned
-//! into text. Nothing here knows the explorer's state: every chart takes its data as arguments.
+//! ASCII, colour or not), its [`Theme`] of styles in one of three [`Palette`]s, ASCII spelled
+//! out so that nothing changes meaning, axes whose labels sit at their values (log decades and
+//! nice linear ticks, [`PlotArea`]), the study charts built on them, and a buffer turned into
+//! text. Nothing here knows the explorer's state: every chart takes its data as arguments.
 
 mod ascii;
 mod axes;
 mod chart;
+mod plot_area;
 mod study_charts;
 mod text;
 mod theme;
 
-pub use ascii::{ascii_char, transliterate};
-pub use axes::{decade_axis, linear_axis, to_unit};
+pub use ascii::{ascii_char, spell_ascii, transliterate};
+pub use axes::{Scale, cell, linear_scale, log_scale, tick_label, to_unit};
 pub use chart::{
-    KeyEntry, LogLog, PanelFrame, Series, chart_with_key, curve_marker, log_log, log_points,
-    marker_char, notice, point_marker,
+    KeyEntry, PanelFrame, Piece, bounds_of, curve_key, curve_marker, key_layout, log_points,
+    marker_char, notice, pack, panel_with_key, point_marker,
 };
+pub use plot_area::{AxisKind, AxisSpec, Markers, PlotArea};
 pub use study_charts::{
-    StudyChart, chart_buffer, eps_condition_chart, eps_error_chart, error_time_chart,
+    CurrentRun, StudyChart, chart_buffer, eps_condition_chart, eps_error_chart, error_time_chart,
 };
 pub use text::buffer_to_text;
-pub use theme::Theme;
+pub use theme::{Palette, Theme};
+
+/// Does the locale ask for UTF-8? The first of `LC_ALL`, `LC_CTYPE` and `LANG` that is set and
+/// not empty decides, as in tmux and other terminal programs: UTF-8 when it names `UTF-8` or
+/// `utf8` (any case); none set means the C locale, which is ASCII. `var` reads a variable.
+pub fn locale_is_utf8(var: impl Fn(&str) -> Option<String>) -> bool {
+    ["LC_ALL", "LC_CTYPE", "LANG"]
+        .iter()
+        .find_map(|name| var(name).filter(|v| !v.is_empty()))
+        .is_some_and(|locale| {
+            let locale = locale.to_ascii_lowercase();
+            locale.contains("utf-8") || locale.contains("utf8")
+        })
+}
 
 /// How a frame is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,4 +45,39 @@ pub struct Look {
     pub ascii: bool,
     /// Colours (off with NO_COLOR).
     pub color: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::locale_is_utf8;
+
+    fn env<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
+        move |name| {
+            vars.iter()
+                .find(|(n, _)| *n == name)
+                .map(|(_, v)| v.to_string())
+        }
+    }
+
+    #[test]
+    fn the_locale_decides_like_tmux() {
+        assert!(locale_is_utf8(env(&[("LANG", "en_GB.UTF-8")])));
+        assert!(locale_is_utf8(env(&[("LANG", "C.utf8")])));
+        assert!(!locale_is_utf8(env(&[("LANG", "C")])));
+        assert!(!locale_is_utf8(env(&[])), "no locale is the C locale");
+        // LC_ALL over LC_CTYPE over LANG; empty values do not count.
+        assert!(!locale_is_utf8(env(&[
+            ("LC_ALL", "POSIX"),
+            ("LANG", "C.UTF-8")
+        ])));
+        assert!(locale_is_utf8(env(&[
+            ("LC_ALL", ""),
+            ("LC_CTYPE", "de_DE.UTF-8"),
+            ("LANG", "C")
+        ])));
+        assert!(!locale_is_utf8(env(&[
+            ("LC_CTYPE", "de_DE.ISO-8859-1"),
+            ("LANG", "C.UTF-8")
+        ])));
+    }
 }

@@ -38,19 +38,27 @@ fn sgr((fg, bg, modifier): (Color, Color, Modifier)) -> String {
         codes.push("7".into());
     }
     let color_code = |c: Color, base: u8| -> Option<String> {
-        let index = match c {
-            Color::Black => 0,
-            Color::Red => 1,
-            Color::Green => 2,
-            Color::Yellow => 3,
-            Color::Blue => 4,
-            Color::Magenta => 5,
-            Color::Cyan => 6,
-            Color::Gray | Color::White => 7,
-            Color::DarkGray => return Some(format!("{}", base + 60)),
+        let (index, bright) = match c {
+            Color::Black => (0, false),
+            Color::Red => (1, false),
+            Color::Green => (2, false),
+            Color::Yellow => (3, false),
+            Color::Blue => (4, false),
+            Color::Magenta => (5, false),
+            Color::Cyan => (6, false),
+            Color::Gray => (7, false),
+            Color::DarkGray => (0, true),
+            Color::LightRed => (1, true),
+            Color::LightGreen => (2, true),
+            Color::LightYellow => (3, true),
+            Color::LightBlue => (4, true),
+            Color::LightMagenta => (5, true),
+            Color::LightCyan => (6, true),
+            Color::White => (7, true),
+            Color::Indexed(n) => return Some(format!("{};5;{n}", base + 8)),
             _ => return None,
         };
-        Some(format!("{}", base + index))
+        Some(format!("{}", base + index + if bright { 60 } else { 0 }))
     };
     codes.extend(color_code(fg, 30));
     codes.extend(color_code(bg, 40));

@@ -12,7 +12,7 @@ use super::studies::{
     STUDIES, StudyContext, StudyRequest, StudyResult, StudySlot, StudyState, StudyView, study_of,
 };
 
-pub use crate::plot::Look;
+pub use crate::plot::{Look, Palette};
 
 /// What the keyboard is doing.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -79,6 +79,9 @@ pub struct Shown {
     /// max |u| over the nodes, found once on the worker (an O(n) scan has no place in a
     /// frame: 10⁷ nodes take milliseconds).
     pub max_deflection: f64,
+    /// The reference (the `condensed` method on the same mesh), solved on the worker too, when
+    /// the method is another one and the reference gave a solution.
+    pub reference: Option<Solution>,
 }
 
 /// What a mouse drag that started on something is moving.
@@ -153,6 +156,10 @@ pub struct App {
     /// Show run times (they make frames depend on the clock).
     pub show_timings: bool,
     pub look: Look,
+    /// The colours (`T` cycles them).
+    pub palette: Palette,
+    /// The deflection panel shows u − u_ref instead of u and u_ref (`c`).
+    pub show_difference: bool,
     /// Terminal size in cells, as last reported.
     pub size: (u16, u16),
     pub quit: bool,
@@ -209,6 +216,8 @@ impl App {
             parameters_offset: 0,
             show_timings,
             look,
+            palette: Palette::default(),
+            show_difference: false,
             size: (120, 40),
             quit: false,
             suspend_requested: false,

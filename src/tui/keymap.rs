@@ -93,6 +93,10 @@ pub enum Action {
     /// The next panel when one is shown at a time.
     NextPanel,
     ToggleTimings,
+    /// The deflection panel: u and the reference u_ref, or the difference u − u_ref.
+    ToggleDifference,
+    /// The next colour palette (dark, light, high contrast).
+    CycleTheme,
     ShowHelp,
     /// Every warning of the solution shown, in full.
     ShowWarnings,
@@ -321,6 +325,19 @@ pub const NORMAL: &[Binding] = &[
         "time",
         16,
     ),
+    // No hints: the deflection panel's key names `c`, the help names both.
+    Binding {
+        keys: &[(Key::Char('c'), Action::ToggleDifference)],
+        aliases: &[],
+        help: "deflection: the reference curve, or u - u_ref alone",
+        hint: None,
+    },
+    Binding {
+        keys: &[(Key::Char('T'), Action::CycleTheme)],
+        aliases: &[],
+        help: "colour theme: dark, light, high-contrast",
+        hint: None,
+    },
     Binding {
         keys: &[
             (Key::Char('u'), Action::Undo),

@@ -27,7 +27,7 @@ use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 
 use crate::scene::LoadedScene;
-use app::{App, Look};
+use app::{App, Look, Palette};
 use keymap::{Action, Key, action_for};
 
 /// Set to `main` or `worker` to make the explorer panic after its first frame (on the main
@@ -49,10 +49,16 @@ pub enum Ending {
 
 /// Runs the explorer in the terminal until the user quits, a signal arrives or the terminal
 /// hangs up. The terminal is restored on return, on a panic, on SIGINT, SIGTERM and SIGHUP,
-/// and around a suspension. `mouse`: ask the terminal for mouse reports (clicks, wheel, drags).
-pub fn run(loaded: LoadedScene, look: Look, mouse: bool) -> Result<Ending, String> {
+/// and around a suspension. `mouse`: ask the terminal for mouse reports (clicks, wheel, drags); `palette`: the colours.
+pub fn run(
+    loaded: LoadedScene,
+    look: Look,
+    mouse: bool,
+    palette: Palette,
+) -> Result<Ending, String> {
     let mut app = App::new(loaded, look, true)?;
     app.mouse = mouse;
+    app.palette = palette;
     event_loop::run(app, |_| None)
 }
 
@@ -72,6 +78,8 @@ pub struct RenderOptions {
     pub width: u16,
     pub height: u16,
     pub look: Look,
+    /// The colours.
+    pub palette: Palette,
     /// Show run times (frames then depend on the clock).
     pub timings: bool,
     /// The only directory a save in the keys may write to; `None`: saves are only simulated.
@@ -99,6 +107,7 @@ pub fn render(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Resu
 /// panels need run to completion.
 pub fn prepare(loaded: LoadedScene, keys: &[Key], options: RenderOptions) -> Result<App, String> {
     let mut app = App::new(loaded, options.look, options.timings)?;
+    app.palette = options.palette;
     app.settle();
     // A render is for snapshots: it touches the file system only where it was allowed to.
     app.save_policy = match options.allow_save {

@@ -1,7 +1,8 @@
 //! The keystroke's own solve, off the UI thread: one worker thread that always takes the
 //! newest request (older ones are dropped unseen, so ten quick key presses make one solve of
 //! the final value), and hands back the mesh and solution tagged with what they were computed
-//! for. The app keeps a result only if it is still the one wanted. In a served session the
+//! for, with the reference solution (`condensed` on the same mesh) the deflection panel draws
+//! under it. The app keeps a result only if it is still the one wanted. In a served session the
 //! worker waits for its turn on the shared cores ([`super::cores`]) before each solve.
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -9,7 +10,7 @@ use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use crate::fem::Mesh;
-use crate::solve::{Cancellation, SolveErrorKind, solve};
+use crate::solve::{Cancellation, Method, SolveErrorKind, SolveOptions, solve};
 
 use super::app::{Shown, SolveRequest};
 use super::cores::Share;
@@ -19,11 +20,23 @@ pub fn run_solve(request: &SolveRequest) -> Shown {
     let mesh = Mesh::new(&request.problem, request.elements);
     let solution = solve(&request.problem, &mesh, request.method, &request.options);
     let max_deflection = solution.as_ref().map_or(f64::NAN, |s| s.max_deflection());
+    // The reference curve of the deflection panel: the stable method on the same mesh, without
+    // a reference of its own (it is the reference).
+    let reference = (request.method != Method::Condensed)
+        .then(|| {
+            let options = SolveOptions {
+                reference: false,
+                ..request.options
+            };
+            solve(&request.problem, &mesh, Method::Condensed, &options).ok()
+        })
+        .flatten();
     Shown {
         request: request.clone(),
         mesh,
         solution,
         max_deflection,
+        reference,
     }
 }
 
@@ -105,10 +118,12 @@ impl SolveWorker {
                             .unwrap_or_else(|| "unknown".into());
                         format!("internal error in the solver ({message})")
                     });
-                    let cancelled = matches!(
-                        &outcome,
-                        Ok(Shown { solution: Err(e), .. }) if e.kind == SolveErrorKind::Cancelled
-                    );
+                    // A newer request also cuts the reference's solve short: drop the result.
+                    let cancelled = request.options.cancel.is_cancelled()
+                        || matches!(
+                            &outcome,
+                            Ok(Shown { solution: Err(e), .. }) if e.kind == SolveErrorKind::Cancelled
+                        );
                     if !cancelled {
                         deliver(outcome);
                     }

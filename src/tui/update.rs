@@ -357,6 +357,15 @@ fn normal(app: &mut App, action: Action) {
         Action::Undo => undo_redo(app, true),
         Action::Redo => undo_redo(app, false),
         Action::NextDiagram => next_diagram(app),
+        Action::ToggleDifference => app.show_difference = !app.show_difference,
+        Action::CycleTheme => {
+            app.palette = app.palette.next();
+            app.message = Some(format!(
+                "theme {}: {}",
+                app.palette.name(),
+                app.palette.description()
+            ));
+        }
         Action::ToggleTimings => {
             app.show_timings = !app.show_timings;
             app.refresh_studies();

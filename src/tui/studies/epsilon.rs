@@ -1,5 +1,6 @@
 //! The ε sweep behind the error-vs-ε and cond-vs-ε panels (paper Figure 5): the regularised
-//! method at the scene's n for ε = 1e-16 … 1.
+//! method at the scene's n for ε = 1e-16 … 1 and at the scene's own ε, whose values the panels
+//! print.
 
 use std::sync::Arc;
 
@@ -8,7 +9,7 @@ use crate::scene::Panel;
 use crate::solve::Method;
 use crate::study::{self, Cancel, Cancelled};
 
-/// Points of the ε sweep drawn in the panels: ε = 1e-16 … 1, two per decade.
+/// Points of the ε sweep drawn in the panels: ε = 1e-16 … 1, two per decade (and the scene's ε).
 pub const EPS_POINTS: usize = 33;
 
 /// The ε sweep; its data is a `Vec<EpsPoint>`.
@@ -27,7 +28,7 @@ impl PanelStudy for EpsilonSweep {
         StudyInputs {
             problem: context.problem.clone(),
             elements: context.elements,
-            epsilon: None,
+            epsilon: Some(context.epsilon),
             repeat: None,
         }
     }
@@ -37,7 +38,13 @@ impl PanelStudy for EpsilonSweep {
         inputs: &StudyInputs,
         cancel: Cancel,
     ) -> Result<Result<StudyData, String>, Cancelled> {
-        let epsilons = study::log_space(1e-16, 1.0, EPS_POINTS);
+        let mut epsilons = study::log_space(1e-16, 1.0, EPS_POINTS);
+        // The scene's ε exactly, so that the panels print its values rather than a neighbour's.
+        if let Some(current) = inputs.epsilon.filter(|e| e.is_finite() && *e > 0.0) {
+            epsilons.push(current);
+            epsilons.sort_by(f64::total_cmp);
+            epsilons.dedup();
+        }
         let result = study::epsilon_sweep(
             &inputs.problem,
             inputs.elements,

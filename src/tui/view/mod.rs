@@ -29,8 +29,10 @@ pub use overlays::{PickerLayout, picker_layout};
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
-    let theme = Theme { look: app.look };
+    let theme = Theme::new(app.look, app.palette);
     let area = frame.area();
+    // The palette's own background, where it has one (high contrast).
+    frame.render_widget(ratatui::widgets::Block::new().style(theme.base()), area);
     match screen_layout(app, area) {
         None => too_small(frame, area),
         Some(layout) => {
