@@ -325,19 +325,20 @@ pub const NORMAL: &[Binding] = &[
         "time",
         16,
     ),
-    // No hints: the deflection panel's key names `c`, the help names both.
-    Binding {
-        keys: &[(Key::Char('c'), Action::ToggleDifference)],
-        aliases: &[],
-        help: "deflection: the reference curve, or u - u_ref alone",
-        hint: None,
-    },
-    Binding {
-        keys: &[(Key::Char('T'), Action::CycleTheme)],
-        aliases: &[],
-        help: "colour theme: dark, light, high-contrast",
-        hint: None,
-    },
+    bind!(
+        Key::Char('c'),
+        Action::ToggleDifference,
+        "deflection: the reference curve, or u - u_ref alone",
+        "compare",
+        17,
+    ),
+    bind!(
+        Key::Char('T'),
+        Action::CycleTheme,
+        "colour theme: dark, light, high-contrast",
+        "theme",
+        18,
+    ),
     Binding {
         keys: &[
             (Key::Char('u'), Action::Undo),
@@ -761,7 +762,7 @@ mod tests {
         assert_eq!(
             hint_line(false),
             "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
-             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom"
+             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom c:compare T:theme"
         );
     }
 

@@ -75,9 +75,21 @@ pub(super) fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Re
     let height = area.height.saturating_sub(2) as usize;
     let selected = app.selected_row().obstacle();
     let count = solution.obstacles.len();
-    // max |u|, the header and (when there is room) the selected obstacle's detail.
-    let detail = count > 0 && (height > 2 + count || height >= 6);
-    let visible = height.saturating_sub(2 + usize::from(detail)).max(1);
+    // max |u|, the header and (when there is room) the selected obstacle's detail: one line,
+    // and under a regularised method a second with the exact state.
+    let wanted_detail = if solution.method.is_regularized() {
+        2
+    } else {
+        1
+    };
+    let detail_rows = if count == 0 {
+        0
+    } else if height >= 2 + count + wanted_detail || height >= 6 + wanted_detail {
+        wanted_detail
+    } else {
+        usize::from(height > 2 + count || height >= 6)
+    };
+    let visible = height.saturating_sub(2 + detail_rows).max(1);
     let first = first_row(selected, count, visible);
     let last = (first + visible).min(count);
     let title = if count > visible {
@@ -92,7 +104,7 @@ pub(super) fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Re
         shown.max_deflection,
         width,
         first..last,
-        detail,
+        detail_rows,
         theme,
     );
     frame.render_widget(Paragraph::new(lines).block(block), area);
@@ -104,9 +116,10 @@ fn result_lines(
     max_deflection: f64,
     width: usize,
     rows: std::ops::Range<usize>,
-    detail: bool,
+    detail_rows: usize,
     theme: &Theme,
 ) -> Vec<Line<'static>> {
+    let detail = detail_rows > 0;
     let regularized = solution.method.is_regularized();
     let wide = width >= 36;
     let mut lines = vec![Line::from(format!("max |u| {} m", eng(max_deflection)))];
@@ -166,12 +179,48 @@ fn result_lines(
             ", ",
             width,
         );
-        if regularized && state_word(o, true, max_deflection) == "creeps" {
-            text = format!("#{} creeps {} m inside the ε-band", i + 1, eng(o.u.abs()));
-        } else if o.state().contains("threshold") {
-            text = format!("#{} {}", i + 1, o.state());
+        // The exact problem's state of the same obstacle, next to a regularised one's.
+        let exact = app
+            .shown
+            .as_ref()
+            .and_then(|shown| shown.reference.as_ref())
+            .and_then(|reference| reference.obstacles.get(i))
+            .filter(|_| regularized)
+            .map(|r| state_word(r, false, max_deflection));
+        let creeps = regularized && state_word(o, true, max_deflection) == "creeps";
+        match exact {
+            // One row: u and the exact state first, the slope if it fits.
+            Some(exact) if detail_rows < 2 => {
+                text = super::fit::fit_items(
+                    &[
+                        super::fit::Item::new(
+                            0,
+                            format!("#{} u {}", i + 1, small(o.u, NOISE * max_deflection, "m")),
+                        ),
+                        super::fit::Item::new(1, format!("exact: {exact}")),
+                    ],
+                    ", ",
+                    width,
+                );
+                lines.push(Line::styled(text, theme.dim()));
+            }
+            Some(exact) => {
+                if creeps {
+                    text = format!("#{} creeps {} m in the ε-band", i + 1, eng(o.u.abs()));
+                }
+                lines.push(Line::styled(text, theme.dim()));
+                lines.push(Line::styled(
+                    format!("   exact (condensed): {exact}"),
+                    theme.dim(),
+                ));
+            }
+            None => {
+                if o.state().contains("threshold") {
+                    text = format!("#{} {}", i + 1, o.state());
+                }
+                lines.push(Line::styled(text, theme.dim()));
+            }
         }
-        lines.push(Line::styled(text, theme.dim()));
     }
     lines
 }
