@@ -45,14 +45,22 @@ impl PanelStudy for EpsilonSweep {
             epsilons.sort_by(f64::total_cmp);
             epsilons.dedup();
         }
-        let result = study::epsilon_sweep(
-            &inputs.problem,
-            inputs.elements,
-            Method::Regularized,
-            &epsilons,
-            cancel,
-            &study::silent,
-        )?;
+        let sweep = |method| {
+            study::epsilon_sweep(
+                &inputs.problem,
+                inputs.elements,
+                method,
+                &epsilons,
+                cancel.clone(),
+                &study::silent,
+            )
+        };
+        // The enumeration gives the case matrices the cond panel shows; where it refuses (too
+        // many obstacles for 9^k cases) Newton's method still gives the error curve.
+        let result = match sweep(Method::Regularized)? {
+            Err(_) => sweep(Method::RegularizedNewton)?,
+            enumerated => enumerated,
+        };
         Ok(result
             .map(|points| Arc::new(points) as StudyData)
             .map_err(|e| format!("the ε sweep needs the regularised method: {e}")))
