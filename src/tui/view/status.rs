@@ -95,11 +95,16 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
             items.push(Item::new(0, e.method.to_string()));
             items.push(Item::new(1, format!("n = {}", shown.mesh.elements())));
             let rows = if app.message.is_none() { 2 } else { 1 };
-            detail = fitted_lines(&format!("{e} (w: in full)"), width, rows, theme.error());
+            let text = theme.text(&format!("{e} (w: in full)")).into_owned();
+            detail = fitted_lines(&text, width, rows, theme.error());
         }
     }
+    // In ASCII the words are spelled out before fitting (ε as eps), so nothing is cut later.
+    for item in &mut items {
+        item.text = theme.text(&item.text).into_owned();
+    }
     // The first item (the follow mode or the busy note) gets its own style.
-    let summary = fit_items(&items, " · ", width);
+    let summary = fit_items(&items, &theme.text(" · "), width);
     let [first, second, third] = Layout::vertical([Constraint::Length(1); 3]).areas(area);
     let emphasised = items
         .first()
@@ -176,7 +181,9 @@ fn warning_lines(
         format!("{} warnings (w: all)", warnings.len())
     };
     let rows = if two_rows { 2 } else { 1 };
-    let full = format!("⚠ {count}: {}", first.message);
+    let full = theme
+        .text(&format!("⚠ {count}: {}", first.message))
+        .into_owned();
     let lines = wrap_words(&full, width);
     if lines.len() <= rows {
         return lines
@@ -184,7 +191,9 @@ fn warning_lines(
             .map(|l| Line::styled(l, theme.warning()))
             .collect();
     }
-    let short = format!("⚠ {count}: {}", headline(first.code));
+    let short = theme
+        .text(&format!("⚠ {count}: {}", headline(first.code)))
+        .into_owned();
     fitted_lines(&short, width, rows, theme.warning())
 }
 

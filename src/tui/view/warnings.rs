@@ -64,7 +64,7 @@ fn view_lines(
     let mut lines = Vec::new();
     let mut push = |text: &str, style| {
         lines.extend(
-            wrap_words(text, width)
+            wrap_words(&theme.text(text), width)
                 .into_iter()
                 .map(|l| Line::styled(l, style)),
         )
