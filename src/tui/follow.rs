@@ -268,6 +268,12 @@ pub fn intercept(app: &mut App, key: Key) -> bool {
                         | Action::Interrupt
                         | Action::Suspend
                         | Action::ToggleTimings
+                        // What only this student's screen shows: not part of the presenter's
+                        // state, so a follower may change it.
+                        | Action::ShowWarnings
+                        | Action::CycleTheme
+                        | Action::ToggleDifference
+                        | Action::ToggleZoom
                 )
             );
             if passes {
@@ -330,5 +336,22 @@ mod tests {
         assert!(app.modified());
         press(&mut app, Key::Char('F'));
         assert!(screen(&app).contains("following the presenter"));
+    }
+
+    #[test]
+    fn a_follower_may_change_what_only_its_own_screen_shows() {
+        let mut app = student();
+        let palette = app.palette;
+        press(&mut app, Key::Char('T'));
+        assert_ne!(app.palette, palette, "the theme is the student's own");
+        press(&mut app, Key::Char('c'));
+        assert!(app.show_difference);
+        press(&mut app, Key::Char('z'));
+        assert!(app.zoom);
+        press(&mut app, Key::Char('w'));
+        assert_eq!(app.mode, Mode::Warnings { offset: 0 });
+        press(&mut app, Key::Esc);
+        // The scene is still the presenter's.
+        assert!(!app.modified());
     }
 }
