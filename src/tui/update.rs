@@ -106,15 +106,7 @@ fn apply(app: &mut App, action: Action) {
     match app.mode.clone() {
         Mode::Normal => normal(app, action),
         Mode::Help { offset } => {
-            app.mode = match action {
-                Action::SelectPrevious => Mode::Help {
-                    offset: offset.saturating_sub(1),
-                },
-                Action::SelectNext => Mode::Help {
-                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
-                },
-                _ => Mode::Normal,
-            }
+            app.mode = scrolled(offset, action).map_or(Mode::Normal, |offset| Mode::Help { offset })
         }
         Mode::SceneText => {
             if action == Action::Cancel {
@@ -122,15 +114,8 @@ fn apply(app: &mut App, action: Action) {
             }
         }
         Mode::Warnings { offset } => {
-            app.mode = match action {
-                Action::SelectPrevious => Mode::Warnings {
-                    offset: offset.saturating_sub(1),
-                },
-                Action::SelectNext => Mode::Warnings {
-                    offset: offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT),
-                },
-                _ => Mode::Normal,
-            }
+            app.mode =
+                scrolled(offset, action).map_or(Mode::Normal, |offset| Mode::Warnings { offset })
         }
         Mode::Editing { row, prompt } => editing(app, action, row, prompt),
         Mode::Presets(picker) => presets(app, action, picker),
@@ -143,6 +128,16 @@ fn apply(app: &mut App, action: Action) {
 /// The warnings view and the help scroll at most this far (drawing stops at the last line
 /// anyway).
 const WARNINGS_SCROLL_LIMIT: u16 = 200;
+
+/// A scrolled view's new offset after `action` (↑ and ↓ scroll), or `None`: any other key
+/// closes it.
+fn scrolled(offset: u16, action: Action) -> Option<u16> {
+    match action {
+        Action::SelectPrevious => Some(offset.saturating_sub(1)),
+        Action::SelectNext => Some(offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT)),
+        _ => None,
+    }
+}
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 fn unless_unsaved(app: &mut App, then: Discard) {
