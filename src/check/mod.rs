@@ -174,20 +174,27 @@ pub fn scaled_scene(scene: &Scene, (alpha, beta, gamma): (f64, f64, f64)) -> Sce
     scaled
 }
 
+impl CaseReport {
+    /// The report of `case` before anything has run.
+    fn empty(case: &str, elements: usize) -> CaseReport {
+        CaseReport {
+            case: case.to_string(),
+            elements,
+            runs: Vec::new(),
+            max_disagreement: None,
+            regularized_disagreement: None,
+            closed_forms: Vec::new(),
+            kkt_residual: None,
+            scaling: None,
+            failures: Vec::new(),
+        }
+    }
+}
+
 /// Runs the suite on one scene: every method against the condensed method, then the closed
 /// forms and the scaling law.
 pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
-    let mut report = CaseReport {
-        case: case.to_string(),
-        elements: scene.mesh.elements,
-        runs: Vec::new(),
-        max_disagreement: None,
-        regularized_disagreement: None,
-        closed_forms: Vec::new(),
-        kkt_residual: None,
-        scaling: None,
-        failures: Vec::new(),
-    };
+    let mut report = CaseReport::empty(case, scene.mesh.elements);
     let (problem, settings) = match scene.validate(case) {
         Ok(valid) => valid,
         Err(e) => {
@@ -451,15 +458,8 @@ fn check_text(name: &str, text: &str) -> CaseReport {
     match Scene::from_toml(text, name) {
         Ok(scene) => check_scene(name, &scene),
         Err(e) => CaseReport {
-            case: name.to_string(),
-            elements: 0,
-            runs: Vec::new(),
-            max_disagreement: None,
-            regularized_disagreement: None,
-            closed_forms: Vec::new(),
-            kkt_residual: None,
-            scaling: None,
             failures: vec![e.to_string()],
+            ..CaseReport::empty(name, 0)
         },
     }
 }

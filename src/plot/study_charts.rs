@@ -5,6 +5,7 @@
 
 use ratatui::Frame;
 use ratatui::buffer::Buffer;
+use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};
 use ratatui::widgets::{Dataset, GraphType};
 
@@ -40,6 +41,29 @@ fn log_axes(x: [f64; 2], y: [f64; 2], x_title: String) -> (AxisSpec, AxisSpec) {
             title: String::new(),
         },
     )
+}
+
+/// The plot area of an ε chart (log axes, ε below), with the current ε marked by a vertical
+/// line; `None` when the panel is too small to plot in.
+fn epsilon_plot(
+    frame: &mut Frame,
+    theme: &Theme,
+    plot: Rect,
+    x: [f64; 2],
+    y: [f64; 2],
+    current_epsilon: Option<f64>,
+) -> Option<PlotArea> {
+    let (x_axis, y_axis) = log_axes(x, y, theme.text("ε").into_owned());
+    let area = PlotArea::new(plot, &x_axis, &y_axis)?;
+    if let Some(epsilon) = current_epsilon.filter(|e| *e > 0.0) {
+        area.vertical_line(
+            frame.buffer_mut(),
+            epsilon.log10(),
+            current_line(theme),
+            theme.current(),
+        );
+    }
+    Some(area)
 }
 
 /// The sweep point at exactly the current ε (the sweep includes it), if any.
@@ -103,19 +127,10 @@ pub fn eps_error_chart(
         }),
     }
     let plot = panel_with_key(frame, theme, &panel, &readout, &[], &key, PLOT_ROWS);
-    let (x_axis, y_axis) = log_axes(x, y, theme.text("ε").into_owned());
-    let Some(area) = PlotArea::new(plot, &x_axis, &y_axis) else {
+    let Some(area) = epsilon_plot(frame, theme, plot, x, y, current_epsilon) else {
         return;
     };
     let buffer = frame.buffer_mut();
-    if let Some(epsilon) = current_epsilon.filter(|e| *e > 0.0) {
-        area.vertical_line(
-            buffer,
-            epsilon.log10(),
-            current_line(theme),
-            theme.current(),
-        );
-    }
     let data: Vec<(f64, f64)> = error.iter().map(|p| area.unit(*p)).collect();
     area.draw_datasets(
         buffer,
@@ -212,19 +227,10 @@ pub fn eps_condition_chart(
         }
     }
     let plot = panel_with_key(frame, theme, &panel, &readout, &[], &key, PLOT_ROWS);
-    let (x_axis, y_axis) = log_axes(x, y, theme.text("ε").into_owned());
-    let Some(area) = PlotArea::new(plot, &x_axis, &y_axis) else {
+    let Some(area) = epsilon_plot(frame, theme, plot, x, y, current_epsilon) else {
         return;
     };
     let buffer = frame.buffer_mut();
-    if let Some(epsilon) = current_epsilon.filter(|e| *e > 0.0) {
-        area.vertical_line(
-            buffer,
-            epsilon.log10(),
-            current_line(theme),
-            theme.current(),
-        );
-    }
     let scaled_unit: Vec<(f64, f64)> = scaled.iter().map(|p| area.unit(*p)).collect();
     let plain_unit: Vec<(f64, f64)> = plain.iter().map(|p| area.unit(*p)).collect();
     // The scaled markers first: the cond₂ curve is drawn over them.
