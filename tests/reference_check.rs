@@ -658,3 +658,44 @@ fn write_hard_scenes_as_regressions() {
         std::fs::write(&path, scene.to_toml()).unwrap();
     }
 }
+
+/// One generated scene in detail (ignored; `BEAMFRIC_DIAGNOSE_SEED=315 cargo test --release
+/// --test reference_check diagnose -- --ignored --nocapture`): every node and every obstacle,
+/// the stable method next to the reference.
+#[test]
+#[ignore = "diagnosis: BEAMFRIC_DIAGNOSE_SEED=N, run with --ignored --nocapture"]
+fn diagnose_one_hard_scene() {
+    let seed = env_number("BEAMFRIC_DIAGNOSE_SEED", 0);
+    let scene = hard_scene(seed);
+    let (p, n) = problem_of(&scene);
+    let mesh = Mesh::new(&p, n);
+    let r = solve_reference(&p, n);
+    let solution = run_method(&p, &mesh, STABLE_METHOD, &SolveOptions::default()).unwrap();
+    let (u, slope) = (r.u_f64(), r.slope_f64());
+    println!("{}", scene.to_toml());
+    for (i, x) in r.nodes.iter().enumerate() {
+        println!(
+            "node {i:3} x {x:<24e} u {:<24e} ref {:<24e} | u' {:<24e} ref {:<24e}",
+            solution.field.deflection[i], u[i], solution.field.slope[i], slope[i]
+        );
+    }
+    for (j, (o, l)) in solution.obstacles.iter().zip(r.lambda_f64()).enumerate() {
+        println!(
+            "obstacle {} x {:e}: force {:e} ref {:e} ({:?}), moment {:e} ref {:e} ({:?}); flags {} {}",
+            j + 1,
+            o.x,
+            o.force,
+            l[0],
+            r.states[j][0],
+            o.moment,
+            l[1],
+            r.states[j][1],
+            o.sliding,
+            o.swivel
+        );
+    }
+    println!("{:?}", compare(&p, &solution, &r));
+    for w in &solution.warnings {
+        println!("warning {:?}: {}", w.code, w.message);
+    }
+}
