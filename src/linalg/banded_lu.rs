@@ -14,6 +14,8 @@
 //! its own size: a deflection of 7e-17 m next to a support is resolved even where the largest
 //! deflection is 2e-2 m, which the sign of a friction force depends on (issue 10 item 2).
 
+use super::double_double::DoubleDouble;
+
 /// A pivot column was zero: the system is singular (to working precision).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SingularColumn {
@@ -120,6 +122,23 @@ impl BandedSystem {
         Some(self.refine(factors, REFINEMENT_STEPS))
     }
 
+    /// The right-hand side as given.
+    pub fn rhs(&self) -> &[f64] {
+        &self.rhs
+    }
+
+    /// Overwrites `b` with A⁻¹ b by the factors of the last solve (for a caller's own
+    /// iterative refinement); false when there was no successful solve since the last reset.
+    pub fn apply_inverse(&self, b: &mut [f64]) -> bool {
+        match &self.factors {
+            Some(factors) if b.len() == self.size => {
+                factors.solve_in_place(b);
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn refine(&self, factors: &Factors, steps: usize) -> Vec<f64> {
         let mut hi = self.rhs.clone();
         factors.solve_in_place(&mut hi);
@@ -156,60 +175,13 @@ impl BandedSystem {
                 for column in first..=last {
                     let a = self.entries[row * width + column + self.lower - row];
                     if a != 0.0 {
-                        sum = sum.minus_product(a, hi[column]);
+                        sum = sum - DoubleDouble::product(a, hi[column]);
                         sum.lo -= a * lo[column];
                     }
                 }
                 sum.value()
             })
             .collect()
-    }
-}
-
-/// A sum carried as an unevaluated pair hi + lo (about 106 bits).
-#[derive(Debug, Clone, Copy)]
-struct DoubleDouble {
-    hi: f64,
-    lo: f64,
-}
-
-impl From<f64> for DoubleDouble {
-    fn from(v: f64) -> DoubleDouble {
-        DoubleDouble { hi: v, lo: 0.0 }
-    }
-}
-
-impl DoubleDouble {
-    /// self − a·b, with a·b exact (fused multiply–add) and the sum error-free (TwoSum).
-    fn minus_product(self, a: f64, b: f64) -> DoubleDouble {
-        let p = -(a * b);
-        let p_error = (-a).mul_add(b, -p);
-        let s = self.hi + p;
-        let v = s - self.hi;
-        let s_error = (self.hi - (s - v)) + (p - v);
-        let lo = self.lo + p_error + s_error;
-        let hi = s + lo;
-        DoubleDouble {
-            hi,
-            lo: lo - (hi - s),
-        }
-    }
-
-    /// self + d (TwoSum, renormalised).
-    fn plus(self, d: f64) -> DoubleDouble {
-        let s = self.hi + d;
-        let v = s - self.hi;
-        let error = (self.hi - (s - v)) + (d - v);
-        let lo = self.lo + error;
-        let hi = s + lo;
-        DoubleDouble {
-            hi,
-            lo: lo - (hi - s),
-        }
-    }
-
-    fn value(self) -> f64 {
-        self.hi + self.lo
     }
 }
 

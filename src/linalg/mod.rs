@@ -10,6 +10,7 @@ pub mod blocktri;
 pub mod boxqp;
 pub mod condition;
 pub mod dense;
+pub mod double_double;
 mod parallel;
 mod two_by_two;
 

@@ -63,13 +63,16 @@ pub struct Problem {
 }
 
 impl Problem {
-    /// f(x) [N/m].
+    /// f(x) [N/m], as f0·(l − x)/l + f1·x/l: each end's weight to a few ulps of itself (l − x
+    /// is exact near x = l), so next to either support the load is accurate to its own size.
+    /// The textbook f0 + (f1 − f0)·x/l loses digits there (f1 = 0 and x = l − 1e-9·l: 2e-7
+    /// relative) and overflows when f1 − f0 does.
     pub fn load_at(&self, x: f64) -> f64 {
         let LinearLoad { f0, f1 } = self.load;
         if f0 == f1 {
             f0
         } else {
-            f0 + (f1 - f0) * (x / self.length)
+            f0 * ((self.length - x) / self.length) + f1 * (x / self.length)
         }
     }
 

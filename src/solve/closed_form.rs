@@ -222,6 +222,7 @@ pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, Solv
     Ok(MethodOutput {
         field,
         lambda,
+        states: None,
         timing,
         warnings: Vec::new(),
         details: MethodDetails::default(),

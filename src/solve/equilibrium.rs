@@ -35,7 +35,7 @@ use crate::model::Problem;
 const CLUSTER: usize = 3;
 
 /// Ulps of the local magnitudes within which a motion is not resolved.
-const MOTION_ULPS: f64 = 16.0;
+const MOTION_ULPS: f64 = 64.0;
 
 /// Ulps of the local forces within which |λ| = g (at the threshold).
 const FORCE_ULPS: f64 = 64.0;
@@ -375,14 +375,20 @@ pub(super) fn check(
                 None
             };
             if let Some(p) = prescribed {
-                // g·c/ε turns the unresolved part of c into a force of (g/ε)·tolerance.
-                let unresolved = if epsilon > 0.0 {
-                    g / epsilon * motion_tolerance
+                let violation = if epsilon > 0.0 {
+                    // g·c/ε turns the unresolved part of c into a force of (g/ε)·tolerance.
+                    let unresolved = g / epsilon * motion_tolerance;
+                    relative(((l - p).abs() - unresolved).max(0.0), force_scale)
                 } else {
-                    0.0
+                    // The natural residual of complementarity: the smaller relative change, of
+                    // λ to g·sign c or of c to zero (then |λ| ≤ g, checked above, is enough),
+                    // that makes the pair consistent. A motion of a few ulps with the other
+                    // sign than λ is then a residual of a few ulps, not of 2g; a real wrong
+                    // state (a motion well above rounding against λ, or a force off its bound)
+                    // is as large as before.
+                    relative((l - p).abs(), force_scale).min(relative(c, local[d]))
                 };
-                residual =
-                    residual.max(relative(((l - p).abs() - unresolved).max(0.0), force_scale));
+                residual = residual.max(violation);
             }
             pair[d] = if moves {
                 FrictionState::Moves

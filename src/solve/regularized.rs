@@ -247,6 +247,7 @@ pub(super) fn regularized_output(
     MethodOutput {
         field,
         lambda,
+        states: None,
         timing,
         warnings,
         details,

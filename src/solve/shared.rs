@@ -15,6 +15,12 @@ pub(crate) struct MethodOutput {
     pub field: NodalField,
     /// (force, moment) per obstacle. The friction states are the certificate's to decide.
     pub lambda: Vec<[f64; 2]>,
+    /// The method's own friction states, when it resolved them beyond what the returned f64
+    /// values show (the condensed method decides in double-double). The certificate uses one
+    /// only where its independent check finds the DOF at the threshold within rounding, i.e.
+    /// where both descriptions fit the returned values; it never overrides a state the check
+    /// decides.
+    pub states: Option<Vec<[super::condensed::FrictionState; 2]>>,
     pub timing: Timing,
     pub warnings: Vec<Warning>,
     pub details: MethodDetails,
@@ -113,6 +119,7 @@ pub(crate) fn dual_output(
     MethodOutput {
         field,
         lambda: qp.x.chunks(2).map(|c| [c[0], c[1]]).collect(),
+        states: None,
         timing,
         warnings,
         details: MethodDetails {

@@ -303,13 +303,15 @@ pub struct ErrorReport {
     pub reference: Reference,
     /// max |u − u_ref| over the nodes [m].
     pub max_abs: Option<f64>,
-    /// max |u − u_ref| / max |u_ref|.
+    /// max |u − u_ref| / max |u_ref| (see [`crate::solve::compare`] for the guard when u is
+    /// nearly zero at every node).
     pub max_rel: Option<f64>,
     /// mean |u − u_ref| over the nodes [m] (the paper's err of section 2.8).
     pub mean_abs: Option<f64>,
     /// mean |u − u_ref| / max |u_ref|.
     pub mean_rel: Option<f64>,
-    /// max |u' − u'_ref| / max |u'_ref|.
+    /// max |u' − u'_ref| / max |u'_ref| (guarded likewise when u' is nearly zero at every
+    /// node).
     pub slope_max_rel: Option<f64>,
 }
 

@@ -170,6 +170,7 @@ pub(super) fn solve(
     Ok(MethodOutput {
         field: solution.field,
         lambda: solution.friction,
+        states: Some(solution.states),
         timing,
         warnings,
         details: MethodDetails {

@@ -3,6 +3,7 @@
 
 #![allow(clippy::needless_range_loop)]
 
+use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
 
 /// Scale factors: every scale is a power of two, so scaling is exact.
@@ -119,5 +120,63 @@ impl Piece {
             let own = t.powi(3) * load / (24.0 * self.stiffness);
             start[1].abs().max(end[1].abs()).max(own)
         }
+    }
+}
+
+/// One piece's transfer coefficients in double-double, computed from the f64 data exactly
+/// (the piece length as the exact difference of its end nodes, the load at the nodes as
+/// f0 + (f1 − f0)·x/l): the residual of the refinement is formed with these, so that the
+/// refined solution is that of the exact relations, not of their rounded coefficients.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ExactPiece {
+    /// t, t²/2EJ, t³/6EJ, t/EJ in the first rows of Φ.
+    t: DoubleDouble,
+    t2_2e: DoubleDouble,
+    t3_6e: DoubleDouble,
+    t_e: DoubleDouble,
+    /// The end state for a zero start state.
+    load_terms: [DoubleDouble; 4],
+}
+
+impl ExactPiece {
+    /// `length` the exact dimensionless length, `stiffness` E·J (dimensionless, a double),
+    /// `load_start`, `load_end` the dimensionless load at the ends.
+    pub(super) fn new(
+        length: DoubleDouble,
+        stiffness: f64,
+        load_start: DoubleDouble,
+        load_end: DoubleDouble,
+    ) -> ExactPiece {
+        let t = length;
+        let e = DoubleDouble::from(stiffness);
+        let t2 = t * t;
+        let t3 = t2 * t;
+        let t4 = t3 * t;
+        let (fa, fb) = (load_start, load_end);
+        let n = DoubleDouble::from;
+        ExactPiece {
+            t,
+            t2_2e: t2 / (e.times(2.0)),
+            t3_6e: t3 / (e.times(6.0)),
+            t_e: t / e,
+            load_terms: [
+                t4 * (fa.times(4.0) + fb) / e.times(120.0),
+                t3 * (fa.times(3.0) + fb) / e.times(24.0),
+                t2 * (fa.times(2.0) + fb) / n(6.0),
+                t * (fa + fb) / n(2.0),
+            ],
+        }
+    }
+
+    /// The end state from the start state y = (u, u', m, m'), in double-double.
+    pub(super) fn transfer(&self, y: [DoubleDouble; 4]) -> [DoubleDouble; 4] {
+        let [u, du, m, v] = y;
+        let q = &self.load_terms;
+        [
+            u + self.t * du + self.t2_2e * m + self.t3_6e * v + q[0],
+            du + self.t_e * m + self.t2_2e * v + q[1],
+            m + self.t * v + q[2],
+            v + q[3],
+        ]
     }
 }

@@ -168,9 +168,8 @@ impl Condensed {
         i: usize,
     ) -> FrictionState {
         let (motion_noise, force_noise) = self.resolution(solution, i);
-        let g = self.thresholds[i / 2][i % 2];
         match pattern[i] {
-            Pattern::Stuck if solution.lambda[i].abs() < g - force_noise => FrictionState::Stuck,
+            Pattern::Stuck if self.force_excess(solution, i) < -force_noise => FrictionState::Stuck,
             Pattern::Stuck => FrictionState::AtThreshold,
             _ if self.friction_value(solution, i).abs() > motion_noise => FrictionState::Moves,
             _ => FrictionState::AtThreshold,
@@ -251,13 +250,6 @@ pub(super) fn solve_with_newton_phases(
         } else if uncertain.iter().any(|&u| u) {
             changes.clear();
         }
-        if std::env::var("CONDENSED_DEBUG").is_ok() {
-            eprintln!(
-                "solve {solves} newton {newton_phase} changes {} uncertain {}",
-                changes.len(),
-                uncertain.iter().filter(|&&u| u).count()
-            );
-        }
         if changes.is_empty() {
             solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
             changes = changes_of(&solution, &pattern);
@@ -294,8 +286,15 @@ pub(super) fn solve_with_newton_phases(
             continue;
         }
         let candidate = condensed.search_point(&solution);
+        // Every moving DOF keeps its sign (to within what the solve resolves): the candidate
+        // minimises the pattern's quadratic, which equals J there and at the current point
+        // (whose moving DOFs have these signs or are zero, and stuck ones are zero), so it is
+        // a descent step as it is. The line search is for reversals only; on a step of
+        // rounding size it would decide by noise and could stall.
+        let keeps_signs = changes.iter().all(|&(i, _)| pattern[i] == Pattern::Stuck);
         let (c, full_step) = match current.take() {
             None => (candidate, true),
+            Some(_) if keeps_signs => (candidate, true),
             Some(c) => {
                 let (next, full) = condensed.line_search(&c, &candidate);
                 if !full && next == c {

@@ -3,10 +3,11 @@
 //! solve says about each DOF (its motion, its force, the state it wants).
 
 use super::CondensedFailure;
-use super::scaling::{Piece, Scales};
+use super::scaling::{ExactPiece, Piece, Scales};
 use super::search::NEWTON_REVERSAL_FRACTIONS;
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
 
 /// What elimination without refinement is trusted to resolve, relative to the largest value
@@ -38,6 +39,8 @@ pub(super) enum Pattern {
 /// The dimensionless problem on the special points.
 pub(super) struct Condensed {
     pub(super) pieces: Vec<Piece>,
+    /// The same pieces' coefficients in double-double, for the refinement's residual.
+    exact_pieces: Vec<ExactPiece>,
     /// For every special point 1..P−1: the obstacle there, if any.
     pub(super) obstacle_at_point: Vec<Option<usize>>,
     /// For every obstacle: its special point.
@@ -56,12 +59,62 @@ pub(super) struct PatternSolution {
     pub(super) end: Vec<[f64; 4]>,
     /// λ per friction DOF (given for moving DOFs, solved for stuck ones).
     pub(super) lambda: Vec<f64>,
+    /// After refinement: every friction DOF's value and force to about 106 bits, and what
+    /// the refinement says of their accuracy.
+    pub(super) exact: Option<ExactValues>,
 }
+
+/// The friction DOFs of a refined solve, in double-double.
+pub(super) struct ExactValues {
+    /// c_i (zero for a stuck DOF).
+    pub(super) motion: Vec<DoubleDouble>,
+    /// λ_i (±g for a moving DOF).
+    pub(super) force: Vec<DoubleDouble>,
+    /// |last correction| of the motion of DOF i (0 when stuck: it is zero by construction):
+    /// the refinement's own estimate of the error left.
+    pub(super) motion_error: Vec<f64>,
+    /// |last correction| of the force of DOF i (0 when moving: it is ±g exactly).
+    pub(super) force_error: Vec<f64>,
+}
+
+/// Most refinement steps with the exact residual.
+const EXACT_REFINEMENT_STEPS: usize = 8;
+
+/// What a refined solve resolves at best, relative to the values around a DOF: a few hundred
+/// units in the last place of double-double (2⁻¹⁰⁶).
+const REFINED_RESOLUTION: f64 = 1.0 / (1u128 << 98) as f64;
 
 impl Condensed {
     pub(super) fn new(problem: &Problem, mesh: &Mesh, scales: &Scales) -> Condensed {
         let length = |x: f64| times_power_of_two(x, -scales.length);
         let load = |f: f64| times_power_of_two(f, -scales.load);
+        let (f0, f1) = (load(problem.load.f0), load(problem.load.f1));
+        // f0 + (f1 − f0)·x/l in double-double, from the scaled f64 data.
+        let exact_load = |x: f64| {
+            if f0 == f1 {
+                DoubleDouble::from(f0)
+            } else {
+                DoubleDouble::difference(f1, f0) * (DoubleDouble::from(x) / problem.length.into())
+                    + f0.into()
+            }
+        };
+        let exact_pieces: Vec<ExactPiece> = mesh
+            .pieces
+            .iter()
+            .map(|piece| {
+                let (a, b) = (mesh.nodes[piece.first_node], mesh.nodes[piece.last_node]);
+                let exact = DoubleDouble::difference(b, a);
+                ExactPiece::new(
+                    DoubleDouble {
+                        hi: length(exact.hi),
+                        lo: length(exact.lo),
+                    },
+                    times_power_of_two(piece.bending_stiffness, -scales.stiffness),
+                    exact_load(a),
+                    exact_load(b),
+                )
+            })
+            .collect();
         let pieces: Vec<Piece> = mesh
             .pieces
             .iter()
@@ -98,6 +151,7 @@ impl Condensed {
             .collect();
         Condensed {
             pieces,
+            exact_pieces,
             obstacle_at_point,
             point_of_obstacle,
             thresholds,
@@ -129,10 +183,11 @@ impl Condensed {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
         if accuracy == Accuracy::RefineLast {
-            let x = system
-                .solve_again_refined()
-                .ok_or(CondensedFailure::Singular { column: 0 })?;
-            return Ok(self.pattern_solution(pattern, &x));
+            let mut x = system.rhs().to_vec();
+            if !system.apply_inverse(&mut x) {
+                return Err(CondensedFailure::Singular { column: 0 });
+            }
+            return Ok(self.refined_solution(pattern, system, x));
         }
         system.reset(4 * pieces - 2);
         for (p, piece) in self.pieces.iter().enumerate() {
@@ -172,13 +227,138 @@ impl Condensed {
                 }
             }
         }
-        let x = if accuracy == Accuracy::Refined {
-            system.solve()
-        } else {
-            system.solve_unrefined()
+        let x = system
+            .solve_unrefined()
+            .map_err(|e| CondensedFailure::Singular { column: e.column })?;
+        if accuracy == Accuracy::Refined {
+            return Ok(self.refined_solution(pattern, system, x));
         }
-        .map_err(|e| CondensedFailure::Singular { column: e.column })?;
         Ok(self.pattern_solution(pattern, &x))
+    }
+
+    /// Column of component c (0..4) of the state at point p; point 0 has only m, m'.
+    fn column(p: usize, c: usize) -> usize {
+        if p == 0 { c - 2 } else { 4 * p - 2 + c }
+    }
+
+    /// Iterative refinement of `x` (a solve of `pattern`'s system, whose factors `system`
+    /// holds) with the residual of the exact piece relations in double-double; the solution
+    /// with its friction DOFs in double-double and their error estimates.
+    fn refined_solution(
+        &self,
+        pattern: &[Pattern],
+        system: &BandedSystem,
+        x: Vec<f64>,
+    ) -> PatternSolution {
+        let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
+        // Per component: the last correction (the error estimate once it stops shrinking).
+        let mut correction_size = vec![f64::INFINITY; x.len()];
+        let mut previous_largest = f64::INFINITY;
+        for _ in 0..EXACT_REFINEMENT_STEPS {
+            let mut d = self.exact_residual(pattern, &x);
+            if !system.apply_inverse(&mut d) {
+                break;
+            }
+            let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !largest.is_finite() || largest > 2.0 * previous_largest {
+                // Diverging (singular to working precision): keep the last iterate.
+                break;
+            }
+            previous_largest = largest;
+            // A component is still converging while its correction shrinks and is above the
+            // double-double resolution of its value; small components converge on their own
+            // scale, so the largest correction alone is no stopping rule.
+            let mut converging = false;
+            for ((xi, di), last) in x.iter_mut().zip(&d).zip(&mut correction_size) {
+                let size = di.abs();
+                converging |=
+                    size < 0.5 * *last && size > f64::EPSILON * f64::EPSILON * xi.hi.abs();
+                *last = size;
+                *xi = xi.plus(*di);
+            }
+            if !converging {
+                break;
+            }
+        }
+        let hi: Vec<f64> = x.iter().map(|v| v.hi).collect();
+        let mut solution = self.pattern_solution(pattern, &hi);
+        let dofs = pattern.len();
+        let mut exact = ExactValues {
+            motion: vec![DoubleDouble::ZERO; dofs],
+            force: vec![DoubleDouble::ZERO; dofs],
+            motion_error: vec![0.0; dofs],
+            force_error: vec![0.0; dofs],
+        };
+        for (i, state) in pattern.iter().enumerate() {
+            let (j, d) = (i / 2, i % 2);
+            let column = Self::column(self.point_of_obstacle[j], d);
+            let g = self.thresholds[j][d];
+            match state {
+                Pattern::Stuck => {
+                    exact.force[i] = x[column];
+                    exact.force_error[i] = correction_size[column];
+                }
+                Pattern::Positive => {
+                    exact.motion[i] = x[column];
+                    exact.motion_error[i] = correction_size[column];
+                    exact.force[i] = g.into();
+                }
+                Pattern::Negative => {
+                    exact.motion[i] = x[column];
+                    exact.motion_error[i] = correction_size[column];
+                    exact.force[i] = (-g).into();
+                }
+            }
+        }
+        solution.exact = Some(exact);
+        solution
+    }
+
+    /// b − A x for the system of `pattern`, with A and b the exact piece relations (each
+    /// piece's coefficients in double-double), rounded once per row: −(Φ y_p + q − y_{p+1}
+    /// + jump) for every transfer row.
+    fn exact_residual(&self, pattern: &[Pattern], x: &[DoubleDouble]) -> Vec<f64> {
+        let pieces = self.pieces.len();
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        let state = |p: usize| -> [DoubleDouble; 4] {
+            std::array::from_fn(|c| {
+                if c < 2 && (p == 0 || stuck(p, c)) {
+                    DoubleDouble::ZERO
+                } else {
+                    x[Self::column(p, c)]
+                }
+            })
+        };
+        let mut residual = vec![0.0; x.len()];
+        for (p, piece) in self.exact_pieces.iter().enumerate() {
+            let last = p + 1 == pieces;
+            let mut end = piece.transfer(state(p));
+            if !last {
+                let next = state(p + 1);
+                for (e, n) in end.iter_mut().zip(next) {
+                    *e = *e - n;
+                }
+                if let Some(j) = self.obstacle_at_point[p + 1] {
+                    // m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2 (as in `solve_pattern`).
+                    for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                        let g = self.thresholds[j][d];
+                        let force = match pattern[2 * j + d] {
+                            Pattern::Stuck => x[Self::column(p + 1, d)],
+                            Pattern::Positive => g.into(),
+                            Pattern::Negative => (-g).into(),
+                        };
+                        end[jump_row] = end[jump_row] + force.times(sign);
+                    }
+                }
+            }
+            let rows = if last { 2 } else { 4 };
+            for r in 0..rows {
+                residual[4 * p + r] = -end[r].value();
+            }
+        }
+        residual
     }
 
     /// The states and forces of a solution `x` of the system of `pattern`.
@@ -218,7 +398,12 @@ impl Condensed {
                 }
             })
             .collect();
-        PatternSolution { start, end, lambda }
+        PatternSolution {
+            start,
+            end,
+            lambda,
+            exact: None,
+        }
     }
 
     /// (u, u') at special point p (the far support is clamped).
@@ -227,7 +412,10 @@ impl Condensed {
     }
 
     /// What rounding can resolve at friction DOF i: (motion, force) below which a value is
-    /// indistinguishable from zero, resp. a force from its threshold.
+    /// indistinguishable from zero, resp. a force from its threshold. After elimination alone:
+    /// 64 ulps of the values around the DOF (the adjacent pieces' own values of its kind, the
+    /// shear or moment on both sides). After refinement: a few hundred double-double ulps of
+    /// them, or four times the refinement's last correction where that is larger.
     pub(super) fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
         const ULPS: f64 = 64.0 * f64::EPSILON;
         let (j, d) = (i / 2, i % 2);
@@ -240,14 +428,28 @@ impl Condensed {
                 d,
             )
         });
-        let motion = ULPS * left.min(right);
+        let motion_scale = left.min(right);
         // m' for the force, m for the moment, on both sides of the obstacle.
         let component = if d == 0 { 3 } else { 2 };
-        let force = ULPS
-            * solution.end[p - 1][component]
-                .abs()
-                .max(solution.start[p][component].abs());
-        (motion, force)
+        let force_scale = solution.end[p - 1][component]
+            .abs()
+            .max(solution.start[p][component].abs());
+        match &solution.exact {
+            None => (ULPS * motion_scale, ULPS * force_scale),
+            Some(exact) => (
+                (REFINED_RESOLUTION * motion_scale).max(4.0 * exact.motion_error[i]),
+                (REFINED_RESOLUTION * force_scale).max(4.0 * exact.force_error[i]),
+            ),
+        }
+    }
+
+    /// |λ_i| − g_i, in double-double after refinement.
+    pub(super) fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
+        let g = self.thresholds[i / 2][i % 2];
+        match &solution.exact {
+            Some(exact) => (exact.force[i].abs() - g.into()).value(),
+            None => solution.lambda[i].abs() - g,
+        }
     }
 
     /// Which decisions of this solve are within what elimination without refinement resolves:
@@ -261,7 +463,22 @@ impl Condensed {
                 .chain(&solution.end)
                 .fold(0.0f64, |m, y| m.max(y[c].abs()))
         };
-        let motion_scale = [largest(0), largest(1)].map(|v| PLAIN_RESOLUTION * v);
+        // The size of the deflections and slopes the pieces carry (their end values, t·u' and
+        // their own response to the load): with every special point's deflection at zero or
+        // at noise level, the largest of the end values alone would be noise.
+        let largest_motion = |d: usize| {
+            self.pieces
+                .iter()
+                .enumerate()
+                .fold(0.0f64, |m, (p, piece)| {
+                    m.max(piece.magnitude(
+                        self.point_values(solution, p),
+                        self.point_values(solution, p + 1),
+                        d,
+                    ))
+                })
+        };
+        let motion_scale = [largest_motion(0), largest_motion(1)].map(|v| PLAIN_RESOLUTION * v);
         // λ1 is a jump of m', λ2 a jump of m.
         let force_scale = [largest(3), largest(2)].map(|v| PLAIN_RESOLUTION * v);
         pattern
@@ -298,7 +515,7 @@ impl Condensed {
         match pattern[i] {
             Pattern::Stuck => {
                 let l = solution.lambda[i];
-                if l.abs() > g + force_noise {
+                if self.force_excess(solution, i) > force_noise {
                     if l > 0.0 {
                         Pattern::Positive
                     } else {
