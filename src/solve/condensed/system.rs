@@ -62,6 +62,12 @@ pub(super) struct PatternSolution {
     /// After refinement: every friction DOF's value and force to about 106 bits, and what
     /// the refinement says of their accuracy.
     pub(super) exact: Option<ExactValues>,
+    /// The largest deflection and slope the pieces carry (their end values, t·u' and their
+    /// own response to the load): with every special point's deflection at zero or at noise
+    /// level, the largest end value alone would be noise.
+    pub(super) largest_motion: [f64; 2],
+    /// The largest shear m' and moment m at the special points (what λ1, λ2 jump).
+    pub(super) largest_force: [f64; 2],
 }
 
 /// The friction DOFs of a refined solve, in double-double.
@@ -79,6 +85,11 @@ pub(super) struct ExactValues {
 
 /// Most refinement steps with the exact residual.
 const EXACT_REFINEMENT_STEPS: usize = 8;
+
+/// A component whose correction is below this fraction of its value has converged (2⁻¹⁰⁰:
+/// the double-double noise of the residual, about 2⁻¹⁰⁶ of the terms, moves corrections
+/// around 2⁻¹⁰³ of the value from step to step).
+const CONVERGED: f64 = 1.0 / (1u128 << 100) as f64;
 
 /// What a refined solve resolves at best, relative to the values around a DOF: a few hundred
 /// units in the last place of double-double (2⁻¹⁰⁶).
@@ -265,14 +276,21 @@ impl Condensed {
                 break;
             }
             previous_largest = largest;
-            // A component is still converging while its correction shrinks and is above the
-            // double-double resolution of its value; small components converge on their own
-            // scale, so the largest correction alone is no stopping rule.
+            // A component needs another step while its correction shrinks fast (refinement
+            // gains digits geometrically; at the noise floor of its rows corrections only
+            // wander, shrinking by 2 or 3 now and then) and the next one, predicted from that
+            // rate, is still above the double-double resolution of its value. Small
+            // components converge on their own scale, so the largest correction alone is no
+            // stopping rule.
             let mut converging = false;
             for ((xi, di), last) in x.iter_mut().zip(&d).zip(&mut correction_size) {
                 let size = di.abs();
-                converging |=
-                    size < 0.5 * *last && size > f64::EPSILON * f64::EPSILON * xi.hi.abs();
+                let next = if last.is_finite() {
+                    size * (size / *last)
+                } else {
+                    size
+                };
+                converging |= size < *last / 16.0 && next > CONVERGED * xi.hi.abs();
                 *last = size;
                 *xi = xi.plus(*di);
             }
@@ -398,12 +416,35 @@ impl Condensed {
                 }
             })
             .collect();
-        PatternSolution {
+        let mut solution = PatternSolution {
             start,
             end,
             lambda,
             exact: None,
-        }
+            largest_motion: [0.0; 2],
+            largest_force: [0.0; 2],
+        };
+        solution.largest_motion = [0, 1].map(|d| {
+            self.pieces
+                .iter()
+                .enumerate()
+                .fold(0.0f64, |m, (p, piece)| {
+                    m.max(piece.magnitude(
+                        self.point_values(&solution, p),
+                        self.point_values(&solution, p + 1),
+                        d,
+                    ))
+                })
+        });
+        // λ1 is a jump of m', λ2 a jump of m.
+        solution.largest_force = [3, 2].map(|c| {
+            solution
+                .start
+                .iter()
+                .chain(&solution.end)
+                .fold(0.0f64, |m, y| m.max(y[c].abs()))
+        });
+        solution
     }
 
     /// (u, u') at special point p (the far support is clamped).
@@ -456,31 +497,8 @@ impl Condensed {
     /// a motion within [`PLAIN_RESOLUTION`] of the largest value of its kind, or a stuck force
     /// that close to its threshold, relative to the largest internal force of its kind.
     pub(super) fn uncertain(&self, solution: &PatternSolution, pattern: &[Pattern]) -> Vec<bool> {
-        let largest = |c: usize| {
-            solution
-                .start
-                .iter()
-                .chain(&solution.end)
-                .fold(0.0f64, |m, y| m.max(y[c].abs()))
-        };
-        // The size of the deflections and slopes the pieces carry (their end values, t·u' and
-        // their own response to the load): with every special point's deflection at zero or
-        // at noise level, the largest of the end values alone would be noise.
-        let largest_motion = |d: usize| {
-            self.pieces
-                .iter()
-                .enumerate()
-                .fold(0.0f64, |m, (p, piece)| {
-                    m.max(piece.magnitude(
-                        self.point_values(solution, p),
-                        self.point_values(solution, p + 1),
-                        d,
-                    ))
-                })
-        };
-        let motion_scale = [largest_motion(0), largest_motion(1)].map(|v| PLAIN_RESOLUTION * v);
-        // λ1 is a jump of m', λ2 a jump of m.
-        let force_scale = [largest(3), largest(2)].map(|v| PLAIN_RESOLUTION * v);
+        let motion_scale = solution.largest_motion.map(|v| PLAIN_RESOLUTION * v);
+        let force_scale = solution.largest_force.map(|v| PLAIN_RESOLUTION * v);
         pattern
             .iter()
             .enumerate()
@@ -510,12 +528,13 @@ impl Condensed {
         pattern: &[Pattern],
         i: usize,
     ) -> Pattern {
-        let (motion_noise, force_noise) = self.resolution(solution, i);
+        // The resolution is asked for only when the value itself does not settle it.
         let g = self.thresholds[i / 2][i % 2];
         match pattern[i] {
             Pattern::Stuck => {
                 let l = solution.lambda[i];
-                if self.force_excess(solution, i) > force_noise {
+                let excess = self.force_excess(solution, i);
+                if excess > 0.0 && excess > self.resolution(solution, i).1 {
                     if l > 0.0 {
                         Pattern::Positive
                     } else {
@@ -532,7 +551,7 @@ impl Condensed {
                     -1.0
                 };
                 let c = self.friction_value(solution, i);
-                if sign * c >= -motion_noise {
+                if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
                     moving
                 } else if sign * (sign * g + self.reversal_stiffness(i) * c) < -g {
                     // Semismooth Newton's prediction λ + σc: a large reversal goes straight to
