@@ -3,9 +3,9 @@
 //!
 //! [`solve`] runs a method and then certifies its answer the same way for every method
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
-//! same mesh, from the same solve the certificate graded with. The layout: `options` (how to solve), `solution` (what comes back),
-//! `certificate` (the common checks), `shared` (what the method modules share); the method
-//! modules depend on those, never on this dispatcher.
+//! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
+//! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
+//! method modules share); the method modules depend on those, never on this dispatcher.
 
 mod certificate;
 mod closed_form;
