@@ -2,8 +2,10 @@
 //! the key (no solve: that is the worker's) and draw the next frame, with the previous result
 //! on screen at n up to 10⁷ for every method. Prints the longest and the median stall per
 //! (n, method), then the time from a key to the frame with its solution at n = 10⁶
-//! (flexibility), through the real solver worker. A measured harness, not a test:
-//! `cargo bench --bench ui_stall` (release build).
+//! (flexibility), through the real solver worker, on Benchmark 1 (the closed form grades the
+//! answer) and on Benchmark 2 (no closed form: the `condensed` reference grades it and is the
+//! chart's reference curve). A measured harness, not a test: `cargo bench --bench ui_stall`
+//! (release build).
 
 use std::sync::mpsc::channel;
 use std::time::{Duration, Instant};
@@ -22,14 +24,18 @@ use ratatui::backend::TestBackend;
 const KEYS: usize = 40;
 
 fn app(elements: usize, method: Method) -> App {
-    let mut scene = Scene::from_toml(preset("benchmark-1").unwrap().text, "b1").unwrap();
+    app_on("benchmark-1", elements, method)
+}
+
+fn app_on(name: &'static str, elements: usize, method: Method) -> App {
+    let mut scene = Scene::from_toml(preset(name).unwrap().text, name).unwrap();
     scene.mesh.elements = elements;
     scene.solver.method = method;
     let look = Look {
         ascii: false,
         color: true,
     };
-    let loaded = LoadedScene::new(scene, SceneSource::Preset("benchmark-1")).unwrap();
+    let loaded = LoadedScene::new(scene, SceneSource::Preset(name)).unwrap();
     App::new(loaded, look, true).unwrap()
 }
 
@@ -78,8 +84,14 @@ fn main() {
         worst.as_secs_f64() * 1e3
     );
 
-    // A key at n = 10⁶ (flexibility) until the frame with its solution is drawn.
-    let mut app = app(1_000_000, Method::Flexibility);
+    key_to_solution("benchmark-1");
+    key_to_solution("benchmark-2");
+}
+
+/// A key at n = 10⁶ (flexibility) on the preset `name` until the frame with its solution is
+/// drawn; prints the median and the longest of 10 keys.
+fn key_to_solution(name: &'static str) {
+    let mut app = app_on(name, 1_000_000, Method::Flexibility);
     update(&mut app, Action::Resize(120, 40));
     app.settle();
     let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
@@ -100,7 +112,7 @@ fn main() {
     }
     times.sort();
     println!(
-        "key to solved frame, n = 10^6, flexibility: median {:.1} ms, longest {:.1} ms",
+        "key to solved frame, n = 10^6, flexibility, {name}: median {:.1} ms, longest {:.1} ms",
         times[5].as_secs_f64() * 1e3,
         times[9].as_secs_f64() * 1e3
     );

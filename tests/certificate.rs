@@ -9,7 +9,8 @@ mod reference;
 use beamfric::fem::Mesh;
 use beamfric::linalg::condition::ConditionKind;
 use beamfric::solve::{
-    ConditionLevel, FrictionState, Method, SolveErrorKind, SolveOptions, WarningCode, solve,
+    ConditionLevel, FrictionState, Method, Solution, SolveErrorKind, SolveOptions, Timing,
+    WarningCode, solve, solve_with_condensed,
 };
 
 use common::{preset_scene, problem};
@@ -78,6 +79,52 @@ fn every_method_agrees_with_the_reference_or_warns_on_the_hard_scenes() {
         }
     }
     assert!(silent.is_empty(), "{}", silent.join("\n"));
+}
+
+/// `solve_with_condensed` (one condensed solve shared by the certificate and the explorer's
+/// reference curve) is `solve` followed by the condensed method without a reference: the same
+/// answer and certificate for every method — with the closed form as the reference
+/// (Benchmark 1), with the condensed one (Benchmarks 2 and 3), and with a refusal whose
+/// suggestion is tried (the enumeration limited to one case) — the same condensed solution
+/// beside it, and none beside the condensed method itself. Only the run times differ.
+#[test]
+fn solve_with_condensed_is_solve_and_the_condensed_reference_in_one() {
+    let untimed = |s: Solution| Solution {
+        timing: Timing::default(),
+        ..s
+    };
+    let quick = SolveOptions {
+        condition: ConditionLevel::Off,
+        ..SolveOptions::default()
+    };
+    let refusing = SolveOptions {
+        max_cases: 1,
+        ..quick
+    };
+    for name in ["benchmark-1", "benchmark-2", "benchmark-3"] {
+        let p = problem(&preset_scene(name));
+        let mesh = Mesh::new(&p, 200);
+        let condensed_alone = SolveOptions {
+            reference: false,
+            ..quick
+        };
+        let condensed = solve(&p, &mesh, Method::Condensed, &condensed_alone)
+            .map(untimed)
+            .unwrap();
+        for options in [quick, refusing] {
+            for method in Method::ALL {
+                let (solution, beside) = solve_with_condensed(&p, &mesh, method, &options);
+                assert_eq!(
+                    solution.map(untimed),
+                    solve(&p, &mesh, method, &options).map(untimed),
+                    "{name}, {method}, max_cases {}",
+                    options.max_cases
+                );
+                let expected = (method != Method::Condensed).then(|| condensed.clone());
+                assert_eq!(beside.map(untimed), expected, "{name}, {method}");
+            }
+        }
+    }
 }
 
 fn hard(name: &str) -> beamfric::scene::Scene {

@@ -1,7 +1,12 @@
 //! The certificate [`solve`](super::solve) attaches to every method's answer, the same way for
 //! every method: the relative KKT residual of (38), the friction state of every obstacle,
 //! condition numbers when asked, the error against a reference (the closed form (50) where it
-//! applies, else the `condensed` method on the same mesh) and warnings in words.
+//! applies, else the `condensed` method on the same mesh) and warnings in words. The reference
+//! of one mesh ([`MeshReference`]) is solved at most once per [`solve`](super::solve) call,
+//! whoever asks for it first.
+
+use std::borrow::Cow;
+use std::cell::OnceCell;
 
 use super::closed_form::closed_form;
 use super::condensed;
@@ -19,12 +24,16 @@ use crate::linalg::condition::{
 };
 use crate::model::{Method, Problem};
 
+/// Certifies a method's `output`. `reference` grades it (and names the alternative of a
+/// non-finite answer); `None` only for the condensed reference's own certificate, which asks
+/// for no reference (method `condensed`, `options.reference` off).
 pub(super) fn certify(
     problem: &Problem,
     mesh: &Mesh,
     method: Method,
     options: &SolveOptions,
     output: MethodOutput,
+    reference: Option<&MeshReference>,
 ) -> Solution {
     let MethodOutput {
         field,
@@ -93,17 +102,26 @@ pub(super) fn certify(
         warnings,
         details,
     };
-    judge_solution(problem, mesh, options, &mut solution);
+    debug_assert!(
+        reference.is_some() || (method == Method::Condensed && !options.reference),
+        "only the condensed reference's own certificate goes without a reference"
+    );
+    judge_solution(problem, options, &mut solution, reference);
     solution
 }
 
 /// The checks on the assembled solution: the non-finite warning first, then the error
 /// against the reference and the accuracy warning.
-fn judge_solution(problem: &Problem, mesh: &Mesh, options: &SolveOptions, solution: &mut Solution) {
+fn judge_solution(
+    problem: &Problem,
+    options: &SolveOptions,
+    solution: &mut Solution,
+    reference: Option<&MeshReference>,
+) {
     if !solution.is_finite() || !solution.kkt_residual.is_finite() {
         // Name a method that works only when it does: the condensed method certified itself.
-        let works = solution.method != Method::Condensed
-            && reference_field_until(problem, mesh, options.cancel).is_some();
+        let works =
+            solution.method != Method::Condensed && reference.is_some_and(|r| r.field().is_some());
         let alternative = if works {
             "; the condensed method works here"
         } else {
@@ -121,8 +139,8 @@ fn judge_solution(problem: &Problem, mesh: &Mesh, options: &SolveOptions, soluti
             ),
         );
     }
-    if options.reference {
-        solution.error = reference_error(problem, mesh, solution, options.cancel);
+    if let (true, Some(reference)) = (options.reference, reference) {
+        solution.error = reference_error(problem, solution, reference);
         if solution.error.is_none() && !options.cancel.is_cancelled() {
             solution.warnings.push(Warning::new(
                 WarningCode::UntrustedReference,
@@ -390,41 +408,110 @@ const REGULARIZED_WARNING: f64 = 1e-8;
 /// The reference nodal field for `problem` on `mesh`: the closed form where it applies, else
 /// the condensed method. `None` only if the condensed method itself fails.
 pub fn reference_field(problem: &Problem, mesh: &Mesh) -> Option<(Reference, NodalField)> {
-    reference_field_until(problem, mesh, Cancellation::NEVER)
+    MeshReference::new(problem, mesh, Cancellation::NEVER)
+        .field()
+        .map(|(reference, field)| (reference, field.into_owned()))
 }
 
-/// [`reference_field`] that gives up (`None`) when `cancel` says the solve is not wanted.
-pub(crate) fn reference_field_until(
-    problem: &Problem,
-    mesh: &Mesh,
+/// The reference of one mesh for one [`solve`](super::solve) call: the closed form where it
+/// applies, else the `condensed` method on the same mesh. The condensed method is solved the
+/// first time something asks for it (the error against the reference, the alternative named
+/// with a non-finite answer, a refusal's suggestion tried, the explorer's reference curve) and
+/// kept for the rest of the call: one call solves it at most once.
+pub(super) struct MeshReference<'a> {
+    problem: &'a Problem,
+    mesh: &'a Mesh,
+    /// Gives up (no reference) when the solve is not wanted any more.
     cancel: Cancellation,
-) -> Option<(Reference, NodalField)> {
-    if let Ok(exact) = closed_form(problem) {
-        return Some((Reference::ClosedForm, exact.nodal_field(mesh)));
+    /// The condensed method's output and whether it certified itself; `None` inside: it
+    /// failed or was cancelled.
+    condensed: OnceCell<Option<CondensedRun>>,
+}
+
+/// The condensed method's answer, before its own certificate.
+struct CondensedRun {
+    output: MethodOutput,
+    /// It certified itself (no warning of its own, every value finite): only then does it
+    /// grade another method.
+    trusted: bool,
+}
+
+impl<'a> MeshReference<'a> {
+    /// Nothing solved yet.
+    pub(super) fn new(problem: &'a Problem, mesh: &'a Mesh, cancel: Cancellation) -> Self {
+        MeshReference {
+            problem,
+            mesh,
+            cancel,
+            condensed: OnceCell::new(),
+        }
     }
-    let options = SolveOptions {
-        condition: ConditionLevel::Off,
-        reference: false,
-        cancel,
-        ..SolveOptions::default()
-    };
-    let output = condensed::solve(problem, mesh, &options).ok()?;
-    // A reference that did not certify itself grades nothing.
-    let certified = output.warnings.is_empty()
-        && output
-            .field
-            .deflection
-            .iter()
-            .chain(&output.field.slope)
-            .all(|v| v.is_finite());
-    certified.then_some((Reference::Condensed, output.field))
+
+    /// The options of the condensed reference: no condition numbers, no reference of its own.
+    fn options(&self) -> SolveOptions {
+        SolveOptions {
+            condition: ConditionLevel::Off,
+            reference: false,
+            cancel: self.cancel,
+            ..SolveOptions::default()
+        }
+    }
+
+    /// The condensed method's run, solved now if nothing asked for it yet.
+    fn condensed_run(&self) -> Option<&CondensedRun> {
+        self.condensed
+            .get_or_init(|| {
+                let output = condensed::solve(self.problem, self.mesh, &self.options()).ok()?;
+                let trusted = output.warnings.is_empty()
+                    && output
+                        .field
+                        .deflection
+                        .iter()
+                        .chain(&output.field.slope)
+                        .all(|v| v.is_finite());
+                Some(CondensedRun { output, trusted })
+            })
+            .as_ref()
+    }
+
+    /// The reference nodal field: the closed form's where it applies, else the condensed
+    /// method's if it certified itself. `None` when it did not, failed or was cancelled.
+    pub(super) fn field(&self) -> Option<(Reference, Cow<'_, NodalField>)> {
+        if let Ok(exact) = closed_form(self.problem) {
+            return Some((
+                Reference::ClosedForm,
+                Cow::Owned(exact.nodal_field(self.mesh)),
+            ));
+        }
+        let run = self.condensed_run()?;
+        run.trusted
+            .then_some((Reference::Condensed, Cow::Borrowed(&run.output.field)))
+    }
+
+    /// The condensed method's certified solution on this mesh, trusted or not, without a
+    /// reference of its own (it is the reference): the solve already made if there was one.
+    /// `None` when it failed or was cancelled.
+    pub(super) fn into_condensed(self) -> Option<Solution> {
+        self.condensed_run();
+        let options = self.options();
+        let CondensedRun { output, .. } = self.condensed.into_inner().flatten()?;
+        let solution = certify(
+            self.problem,
+            self.mesh,
+            Method::Condensed,
+            &options,
+            output,
+            None,
+        );
+        // As any solve: a result no longer wanted is none.
+        (!self.cancel.is_cancelled()).then_some(solution)
+    }
 }
 
 fn reference_error(
     problem: &Problem,
-    mesh: &Mesh,
     solution: &Solution,
-    cancel: Cancellation,
+    reference: &MeshReference,
 ) -> Option<ErrorReport> {
     let closed_form_applies = closed_form(problem).is_ok();
     let is_reference = match solution.method {
@@ -442,7 +529,7 @@ fn reference_error(
             slope_max_rel: None,
         });
     }
-    let (reference, field) = reference_field_until(problem, mesh, cancel)?;
+    let (reference, field) = reference.field()?;
     let mut report = compare(reference, &solution.field, &field, problem.length);
     // A reference that is zero at every node: relative to the natural scale f l⁴/EJ instead
     // of an infinite or undefined ratio.

@@ -2,9 +2,10 @@
 //! return.
 //!
 //! [`solve`] runs a method and then certifies its answer the same way for every method
-//! (`certificate`). The layout: `options` (how to solve), `solution` (what comes back),
-//! `certificate` (the common checks), `shared` (what the method modules share); the method
-//! modules depend on those, never on this dispatcher.
+//! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
+//! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
+//! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
+//! method modules share); the method modules depend on those, never on this dispatcher.
 
 mod certificate;
 mod closed_form;
@@ -22,6 +23,7 @@ mod stiffness_route;
 
 use crate::fem::Mesh;
 use crate::model::Problem;
+use certificate::MeshReference;
 
 pub use crate::model::Method;
 pub use certificate::{compare, reference_field};
@@ -45,10 +47,41 @@ pub fn solve(
     method: Method,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
-    certified(problem, mesh, method, options).map_err(|mut error| {
+    let reference = MeshReference::new(problem, mesh, options.cancel);
+    solve_graded(problem, mesh, method, options, &reference)
+}
+
+/// [`solve`], and the `condensed` method's solution on the same mesh (certified, without a
+/// reference of its own: it is the reference) when `method` is another one — what the
+/// explorer draws under the answer. The condensed method is solved at most once for both: the
+/// certificate grades with that same solve when the closed form does not apply. The second is
+/// `None` when `method` is `condensed` (nothing more is solved) or the condensed method failed.
+pub fn solve_with_condensed(
+    problem: &Problem,
+    mesh: &Mesh,
+    method: Method,
+    options: &SolveOptions,
+) -> (Result<Solution, SolveError>, Option<Solution>) {
+    let reference = MeshReference::new(problem, mesh, options.cancel);
+    let solution = solve_graded(problem, mesh, method, options, &reference);
+    let condensed = (method != Method::Condensed)
+        .then(|| reference.into_condensed())
+        .flatten();
+    (solution, condensed)
+}
+
+/// [`solve`] with the reference of the mesh shared with the caller.
+fn solve_graded(
+    problem: &Problem,
+    mesh: &Mesh,
+    method: Method,
+    options: &SolveOptions,
+    reference: &MeshReference,
+) -> Result<Solution, SolveError> {
+    certified(problem, mesh, method, options, reference).map_err(|mut error| {
         if error.kind != SolveErrorKind::Cancelled
             && error.suggestion != Method::Condensed
-            && !works(problem, mesh, error.suggestion, options)
+            && !works(problem, mesh, error.suggestion, options, reference)
         {
             error.suggestion = Method::Condensed;
         }
@@ -58,12 +91,18 @@ pub fn solve(
 
 /// Does `method` give a finite answer here without warnings — other than a raised mesh and,
 /// for a regularised method, the distance to the exact solution that ε itself causes?
-fn works(problem: &Problem, mesh: &Mesh, method: Method, options: &SolveOptions) -> bool {
+fn works(
+    problem: &Problem,
+    mesh: &Mesh,
+    method: Method,
+    options: &SolveOptions,
+    reference: &MeshReference,
+) -> bool {
     let quick = SolveOptions {
         condition: ConditionLevel::Off,
         ..*options
     };
-    certified(problem, mesh, method, &quick).is_ok_and(|s| {
+    certified(problem, mesh, method, &quick, reference).is_ok_and(|s| {
         s.is_finite()
             && s.warnings.iter().all(|w| {
                 w.code == WarningCode::MeshRaised
@@ -78,6 +117,7 @@ fn certified(
     mesh: &Mesh,
     method: Method,
     options: &SolveOptions,
+    reference: &MeshReference,
 ) -> Result<Solution, SolveError> {
     shared::check_cancel(options, method)?;
     let output = match method {
@@ -90,7 +130,7 @@ fn certified(
         Method::Condensed => condensed::solve(problem, mesh, options)?,
     };
     shared::check_cancel(options, method)?;
-    let solution = certificate::certify(problem, mesh, method, options, output);
+    let solution = certificate::certify(problem, mesh, method, options, output, Some(reference));
     // The certificate's own reference solve may have been cut short.
     shared::check_cancel(options, method)?;
     Ok(solution)

@@ -1,16 +1,17 @@
 //! The keystroke's own solve, off the UI thread: one worker thread that always takes the
 //! newest request (older ones are dropped unseen, so ten quick key presses make one solve of
 //! the final value), and hands back the mesh and solution tagged with what they were computed
-//! for, with the reference solution (`condensed` on the same mesh) the deflection panel draws
-//! under it. The app keeps a result only if it is still the one wanted. In a served session the
-//! worker waits for its turn on the shared cores ([`super::cores`]) before each solve.
+//! for, with the reference solution (`condensed` on the same mesh, solved once for both the
+//! certificate and the chart) the deflection panel draws under it. The app keeps a result only
+//! if it is still the one wanted. In a served session the worker waits for its turn on the
+//! shared cores ([`super::cores`]) before each solve.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::thread::JoinHandle;
 
 use crate::fem::Mesh;
-use crate::solve::{Cancellation, Method, SolveErrorKind, SolveOptions, solve};
+use crate::solve::{Cancellation, SolveErrorKind, solve_with_condensed};
 
 use super::app::{Shown, SolveRequest};
 use super::cores::Share;
@@ -18,19 +19,11 @@ use super::cores::Share;
 /// Computes a request on the spot (headless rendering, tests, and the worker itself).
 pub fn run_solve(request: &SolveRequest) -> Shown {
     let mesh = Mesh::new(&request.problem, request.elements);
-    let solution = solve(&request.problem, &mesh, request.method, &request.options);
+    // With the reference curve of the deflection panel: the stable method on the same mesh,
+    // the same solve the certificate graded with (none when the method is condensed).
+    let (solution, reference) =
+        solve_with_condensed(&request.problem, &mesh, request.method, &request.options);
     let max_deflection = solution.as_ref().map_or(f64::NAN, |s| s.max_deflection());
-    // The reference curve of the deflection panel: the stable method on the same mesh, without
-    // a reference of its own (it is the reference).
-    let reference = (request.method != Method::Condensed)
-        .then(|| {
-            let options = SolveOptions {
-                reference: false,
-                ..request.options
-            };
-            solve(&request.problem, &mesh, Method::Condensed, &options).ok()
-        })
-        .flatten();
     Shown {
         request: request.clone(),
         mesh,
