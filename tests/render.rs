@@ -588,17 +588,44 @@ fn the_warnings_view_shows_every_word() {
     ] {
         let messages = warning_messages(name, keys);
         assert!(!messages.is_empty(), "{name}: the scene has warnings");
-        let keys = format!("{keys} w");
-        for (label, text, ascii) in frames_after(name, &keys, &ALL_SIZES) {
+        let opened = format!("{keys} w");
+        // The view scrolled line by line: every message must be readable whole on some line
+        // offset (at 80x24 five warnings do not fit on one screen).
+        let scrolled: Vec<Vec<(String, String, bool)>> = (1..=16)
+            .map(|lines| {
+                frames_after(
+                    name,
+                    &format!("{opened}{}", " Down".repeat(lines)),
+                    &ALL_SIZES,
+                )
+            })
+            .collect();
+        for (index, (label, text, ascii)) in frames_after(name, &opened, &ALL_SIZES)
+            .into_iter()
+            .enumerate()
+        {
             if !ascii {
                 // Every word of every message, in order, inside the frame's box.
-                let words: Vec<&str> = text
-                    .lines()
-                    .flat_map(|l| l.trim_matches(|c| c == '┃' || c == ' ').split_whitespace())
+                let words_of = |text: &str| -> Vec<String> {
+                    text.lines()
+                        .flat_map(|l| {
+                            l.trim_matches(|c| c == '┃' || c == ' ')
+                                .split_whitespace()
+                                .map(str::to_string)
+                                .collect::<Vec<_>>()
+                        })
+                        .collect()
+                };
+                let pages: Vec<Vec<String>> = std::iter::once(words_of(&text))
+                    .chain(scrolled.iter().map(|frames| words_of(&frames[index].1)))
                     .collect();
                 for message in &messages {
                     let wanted: Vec<&str> = message.split_whitespace().collect();
-                    let found = words.windows(wanted.len()).any(|w| w == wanted.as_slice());
+                    let found = pages.iter().any(|words| {
+                        words
+                            .windows(wanted.len())
+                            .any(|w| w.iter().map(String::as_str).eq(wanted.iter().copied()))
+                    });
                     assert!(
                         found,
                         "{name} {label}: not all of {message:?} visible:\n{text}"

@@ -151,7 +151,64 @@ fn judge_solution(
         if let Some(w) = accuracy_warning(solution, problem) {
             solution.warnings.push(w);
         }
+        if let Some(w) = force_warning(solution, problem, reference) {
+            solution.warnings.push(w);
+        }
     }
+}
+
+/// Relative difference of an exact method's friction forces from the reference's above which
+/// it is reported: the forces are what the nodal check cannot always resolve (next to a piece
+/// 3e10 times stiffer, the split of a moment between its ends is a difference of nearly equal
+/// nodal terms), so they are compared with the reference directly.
+const FORCE_WARNING: f64 = 1e-10;
+
+/// The friction forces of an exact method against the reference's, per kind relative to
+/// max(max |λ_ref|, |f|·l) for forces and max(max |λ_ref|, |f|·l²) for moments.
+fn force_warning(
+    solution: &Solution,
+    problem: &Problem,
+    reference: &MeshReference,
+) -> Option<Warning> {
+    let graded = solution
+        .error
+        .is_some_and(|e| e.reference != Reference::ThisSolution);
+    if solution.method.is_regularized() || !graded || !solution.is_finite() {
+        // A regularised method's forces differ below ε by design (its accuracy warning
+        // speaks for it); the reference itself is not graded.
+        return None;
+    }
+    let exact = reference.friction()?;
+    let load = problem.load.f0.abs().max(problem.load.f1.abs());
+    let l = problem.length;
+    let mut worst = 0.0f64;
+    for (kind, natural) in [(0, load * l), (1, load * l * l)] {
+        let scale = exact
+            .iter()
+            .fold(natural, |m, pair| m.max(pair[kind].abs()));
+        for (o, pair) in solution.obstacles.iter().zip(&exact) {
+            let value = if kind == 0 { o.force } else { o.moment };
+            let difference = (value - pair[kind]).abs();
+            if difference > 0.0 {
+                worst = worst.max(if scale > 0.0 {
+                    difference / scale
+                } else {
+                    f64::INFINITY
+                });
+            }
+        }
+    }
+    (worst > FORCE_WARNING).then(|| {
+        Warning::new(
+            WarningCode::AccuracyLoss,
+            format!(
+                "the friction forces differ from the {} reference by {worst:.1e} (relative \
+                 to the largest force of each kind): digits lost to rounding; the condensed \
+                 method works here",
+                solution.error.map_or("", |e| e.reference.name())
+            ),
+        )
+    })
 }
 
 /// The result at every obstacle: position, nodal values, friction forces and state.
@@ -486,6 +543,16 @@ impl<'a> MeshReference<'a> {
         let run = self.condensed_run()?;
         run.trusted
             .then_some((Reference::Condensed, Cow::Borrowed(&run.output.field)))
+    }
+
+    /// The reference friction forces (force, moment) per obstacle, from the same source as
+    /// [`MeshReference::field`].
+    pub(super) fn friction(&self) -> Option<Vec<[f64; 2]>> {
+        if let Ok(exact) = closed_form(self.problem) {
+            return Some(exact.friction().into_iter().collect());
+        }
+        let run = self.condensed_run()?;
+        run.trusted.then(|| run.output.lambda.clone())
     }
 
     /// The condensed method's certified solution on this mesh, trusted or not, without a
