@@ -163,8 +163,9 @@ fn judge_solution(
 /// nodal terms), so they are compared with the reference directly.
 const FORCE_WARNING: f64 = 1e-10;
 
-/// The friction forces of an exact method against the reference's, per kind relative to
-/// max(max |λ_ref|, |f|·l) for forces and max(max |λ_ref|, |f|·l²) for moments.
+/// The friction forces and states of an exact method against the reference's: the forces
+/// per kind relative to max(max |λ_ref|, |f|·l) for forces and max(max |λ_ref|, |f|·l²) for
+/// moments, the states wherever both decide them (neither is at the threshold).
 fn force_warning(
     solution: &Solution,
     problem: &Problem,
@@ -198,14 +199,58 @@ fn force_warning(
             }
         }
     }
-    (worst > FORCE_WARNING).then(|| {
+    let reference_name = solution.error.map_or("", |e| e.reference.name());
+    // Friction states that both decide, differently.
+    let mut differing = Vec::new();
+    for (j, (o, states)) in solution
+        .obstacles
+        .iter()
+        .zip(reference.states().unwrap_or_default())
+        .enumerate()
+    {
+        for (kind, own, exact) in [
+            ("slides", o.sliding_state, states[0]),
+            ("swivels", o.swivel_state, states[1]),
+        ] {
+            let decided = |s: FrictionState| s != FrictionState::AtThreshold;
+            if decided(own) && decided(exact) && own != exact {
+                let says = |s: FrictionState| {
+                    if s == FrictionState::Moves {
+                        "yes"
+                    } else {
+                        "no"
+                    }
+                };
+                differing.push(format!(
+                    "obstacle {} {kind}: {} here, {} in the reference",
+                    j + 1,
+                    says(own),
+                    says(exact)
+                ));
+            }
+        }
+    }
+    let mut causes = Vec::new();
+    if worst > FORCE_WARNING {
+        causes.push(format!(
+            "the friction forces differ from the {reference_name} reference by {worst:.1e} \
+             (relative to the largest force of each kind)"
+        ));
+    }
+    if let Some(first) = differing.first() {
+        causes.push(format!(
+            "{} friction state{} differ{} from the {reference_name} reference ({first})",
+            differing.len(),
+            if differing.len() == 1 { "" } else { "s" },
+            if differing.len() == 1 { "s" } else { "" },
+        ));
+    }
+    (!causes.is_empty()).then(|| {
         Warning::new(
             WarningCode::AccuracyLoss,
             format!(
-                "the friction forces differ from the {} reference by {worst:.1e} (relative \
-                 to the largest force of each kind): digits lost to rounding; the condensed \
-                 method works here",
-                solution.error.map_or("", |e| e.reference.name())
+                "{}: digits lost to rounding; the condensed method works here",
+                causes.join("; ")
             ),
         )
     })
@@ -553,6 +598,27 @@ impl<'a> MeshReference<'a> {
         }
         let run = self.condensed_run()?;
         run.trusted.then(|| run.output.lambda.clone())
+    }
+
+    /// The reference friction states per obstacle (the closed form's are never at the
+    /// threshold: it decides them exactly).
+    pub(super) fn states(&self) -> Option<Vec<[FrictionState; 2]>> {
+        if let Ok(exact) = closed_form(self.problem) {
+            let state = |moving: bool| {
+                if moving {
+                    FrictionState::Moves
+                } else {
+                    FrictionState::Stuck
+                }
+            };
+            return Some(exact.moving().into_iter().map(|m| m.map(state)).collect());
+        }
+        let run = self.condensed_run()?;
+        if run.trusted {
+            run.output.states.clone()
+        } else {
+            None
+        }
     }
 
     /// The condensed method's certified solution on this mesh, trusted or not, without a
