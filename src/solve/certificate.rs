@@ -174,12 +174,16 @@ fn force_warning(
     let graded = solution
         .error
         .is_some_and(|e| e.reference != Reference::ThisSolution);
-    if solution.method.is_regularized() || !graded || !solution.is_finite() {
+    if solution.method.is_regularized()
+        || solution.method == Method::Condensed
+        || !graded
+        || !solution.is_finite()
+    {
         // A regularised method's forces differ below ε by design (its accuracy warning
-        // speaks for it); the reference itself is not graded.
+        // speaks for it); the condensed method is where these come from.
         return None;
     }
-    let exact = reference.friction()?;
+    let (exact, exact_states) = reference.friction()?;
     let load = problem.load.f0.abs().max(problem.load.f1.abs());
     let l = problem.length;
     let mut worst = 0.0f64;
@@ -199,15 +203,10 @@ fn force_warning(
             }
         }
     }
-    let reference_name = solution.error.map_or("", |e| e.reference.name());
+    let reference_name = Reference::Condensed.name();
     // Friction states that both decide, differently.
     let mut differing = Vec::new();
-    for (j, (o, states)) in solution
-        .obstacles
-        .iter()
-        .zip(reference.states().unwrap_or_default())
-        .enumerate()
-    {
+    for (j, (o, states)) in solution.obstacles.iter().zip(exact_states).enumerate() {
         for (kind, own, exact) in [
             ("slides", o.sliding_state, states[0]),
             ("swivels", o.swivel_state, states[1]),
@@ -530,6 +529,9 @@ pub(super) struct MeshReference<'a> {
     condensed: OnceCell<Option<CondensedRun>>,
 }
 
+/// The reference's (force, moment) and (sliding, swivel) states per obstacle.
+pub(super) type ReferenceFriction = (Vec<[f64; 2]>, Vec<[FrictionState; 2]>);
+
 /// The condensed method's answer, before its own certificate.
 struct CondensedRun {
     output: MethodOutput,
@@ -590,35 +592,14 @@ impl<'a> MeshReference<'a> {
             .then_some((Reference::Condensed, Cow::Borrowed(&run.output.field)))
     }
 
-    /// The reference friction forces (force, moment) per obstacle, from the same source as
-    /// [`MeshReference::field`].
-    pub(super) fn friction(&self) -> Option<Vec<[f64; 2]>> {
-        if let Ok(exact) = closed_form(self.problem) {
-            return Some(exact.friction().into_iter().collect());
-        }
+    /// The reference friction forces (force, moment) and states per obstacle: the condensed
+    /// method's when it certified itself, also where the closed form applies (that formula
+    /// decides a state in f64 from a difference of nearly equal terms and was seen to call a
+    /// swivelling obstacle stuck; the condensed method decides in double-double).
+    pub(super) fn friction(&self) -> Option<ReferenceFriction> {
         let run = self.condensed_run()?;
-        run.trusted.then(|| run.output.lambda.clone())
-    }
-
-    /// The reference friction states per obstacle (the closed form's are never at the
-    /// threshold: it decides them exactly).
-    pub(super) fn states(&self) -> Option<Vec<[FrictionState; 2]>> {
-        if let Ok(exact) = closed_form(self.problem) {
-            let state = |moving: bool| {
-                if moving {
-                    FrictionState::Moves
-                } else {
-                    FrictionState::Stuck
-                }
-            };
-            return Some(exact.moving().into_iter().map(|m| m.map(state)).collect());
-        }
-        let run = self.condensed_run()?;
-        if run.trusted {
-            run.output.states.clone()
-        } else {
-            None
-        }
+        let states = run.output.states.clone()?;
+        run.trusted.then(|| (run.output.lambda.clone(), states))
     }
 
     /// The condensed method's certified solution on this mesh, trusted or not, without a

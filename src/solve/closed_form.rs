@@ -201,11 +201,6 @@ impl ClosedForm {
     pub fn friction(&self) -> Option<[f64; 2]> {
         self.obstacle.map(|o| [o.force, o.moment])
     }
-
-    /// (slides, swivels) at the obstacle, if there is one.
-    pub fn moving(&self) -> Option<[bool; 2]> {
-        self.obstacle.map(|o| [o.sliding, o.swivel])
-    }
 }
 
 pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, SolveError> {
