@@ -298,7 +298,11 @@ fn run_loop<S: Screen>(
                 }
                 Event::Resize(width, height) => {
                     last_input = Instant::now();
-                    screen.resize(width, height)?;
+                    // A terminal that cannot be resized any more has gone away (a closed
+                    // pty can report a size change just before its reads fail).
+                    if screen.resize(width, height).is_err() {
+                        return Ok(Ending::Hangup);
+                    }
                     update::update(app, Action::Resize(width, height));
                 }
                 Event::Hangup => return Ok(Ending::Hangup),
