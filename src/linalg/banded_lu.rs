@@ -114,14 +114,6 @@ impl BandedSystem {
         Ok(x)
     }
 
-    /// The last solve again, refined as [`BandedSystem::solve`] does, reusing its factors
-    /// (the system must not have changed since): the price of refinement without a second
-    /// factorisation. `None` when there was no successful solve since the last reset.
-    pub fn solve_again_refined(&self) -> Option<Vec<f64>> {
-        let factors = self.factors.as_ref()?;
-        Some(self.refine(factors, REFINEMENT_STEPS))
-    }
-
     /// The right-hand side as given.
     pub fn rhs(&self) -> &[f64] {
         &self.rhs

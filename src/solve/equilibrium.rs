@@ -468,22 +468,20 @@ fn interior_residual(
             ];
             // Arrays, not vectors: this runs for every node (10⁶ allocations cost more than
             // the arithmetic).
-            let value_terms = [
-                n[0] * ends[0],
-                n[1] * ends[1],
-                n[2] * ends[2],
-                n[3] * ends[3],
-                particular[0],
-                particular[1],
-            ];
-            let slope_terms = [
-                dn[0] * ends[0],
-                dn[1] * ends[1],
-                dn[2] * ends[2],
-                dn[3] * ends[3],
-                particular[2],
-                particular[3],
-            ];
+            let value_terms: [f64; 6] = std::array::from_fn(|i| {
+                if i < 4 {
+                    n[i] * ends[i]
+                } else {
+                    particular[i - 4]
+                }
+            });
+            let slope_terms: [f64; 6] = std::array::from_fn(|i| {
+                if i < 4 {
+                    dn[i] * ends[i]
+                } else {
+                    particular[i - 2]
+                }
+            });
             for (kind, (terms, value)) in [(value_terms, u[node]), (slope_terms, t[node])]
                 .into_iter()
                 .enumerate()

@@ -57,10 +57,13 @@
 //! elimination alone; a decision within 1e-6 of the largest value of its kind waits: Newton
 //! changes the other DOFs first, and when only such decisions are left (or the pattern looks
 //! consistent), the same factors are refined and the decision is taken on the refined values;
-//! the monotone search refines every step with an uncertain decision. When the refined
-//! |motion| is within what rounding can resolve locally (64 ulps of the adjacent pieces' own
-//! values of that kind), or |force| within 64 ulps of the threshold, the DOF is reported
-//! [`FrictionState::AtThreshold`] rather than a coin toss ([`CondensedSolution::states`]).
+//! the monotone search refines every step with an uncertain decision. The refinement's residual
+//! is that of the exact piece relations in double-double (`linalg::double_double`), so the
+//! refined values are those of the exact discrete problem, and the force is compared with its
+//! threshold in double-double. When the refined |motion|, or |force| − threshold, is within
+//! the refinement's own error estimate (its last correction) or 2⁻⁹⁸ of the values around the
+//! DOF, the DOF is reported [`FrictionState::AtThreshold`] rather than a coin toss
+//! ([`CondensedSolution::states`]).
 //!
 //! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
 //! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,

@@ -19,10 +19,8 @@ pub(super) const PLAIN_RESOLUTION: f64 = 1e-6;
 pub(super) enum Accuracy {
     /// Elimination alone: each value to rounding of the largest ones.
     Plain,
-    /// Elimination and iterative refinement: each value to its own last bits.
-    Refined,
     /// The pattern of the previous solve again (the system is unchanged), refined from its
-    /// factors.
+    /// factors with the exact piece relations: each value to its own last bits.
     RefineLast,
 }
 
@@ -72,8 +70,6 @@ pub(super) struct PatternSolution {
 
 /// The friction DOFs of a refined solve, in double-double.
 pub(super) struct ExactValues {
-    /// c_i (zero for a stuck DOF).
-    pub(super) motion: Vec<DoubleDouble>,
     /// λ_i (±g for a moving DOF).
     pub(super) force: Vec<DoubleDouble>,
     /// |last correction| of the motion of DOF i (0 when stuck: it is zero by construction):
@@ -189,7 +185,7 @@ impl Condensed {
     ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
         // Column of component c (0..4) of the state at point p; point 0 has only m, m'.
-        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let column = Self::column;
         let stuck = |p: usize, d: usize| {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
@@ -241,9 +237,6 @@ impl Condensed {
         let x = system
             .solve_unrefined()
             .map_err(|e| CondensedFailure::Singular { column: e.column })?;
-        if accuracy == Accuracy::Refined {
-            return Ok(self.refined_solution(pattern, system, x));
-        }
         Ok(self.pattern_solution(pattern, &x))
     }
 
@@ -302,7 +295,6 @@ impl Condensed {
         let mut solution = self.pattern_solution(pattern, &hi);
         let dofs = pattern.len();
         let mut exact = ExactValues {
-            motion: vec![DoubleDouble::ZERO; dofs],
             force: vec![DoubleDouble::ZERO; dofs],
             motion_error: vec![0.0; dofs],
             force_error: vec![0.0; dofs],
@@ -317,12 +309,10 @@ impl Condensed {
                     exact.force_error[i] = correction_size[column];
                 }
                 Pattern::Positive => {
-                    exact.motion[i] = x[column];
                     exact.motion_error[i] = correction_size[column];
                     exact.force[i] = g.into();
                 }
                 Pattern::Negative => {
-                    exact.motion[i] = x[column];
                     exact.motion_error[i] = correction_size[column];
                     exact.force[i] = (-g).into();
                 }
@@ -382,7 +372,7 @@ impl Condensed {
     /// The states and forces of a solution `x` of the system of `pattern`.
     fn pattern_solution(&self, pattern: &[Pattern], x: &[f64]) -> PatternSolution {
         let pieces = self.pieces.len();
-        let column = |p: usize, c: usize| if p == 0 { c - 2 } else { 4 * p - 2 + c };
+        let column = Self::column;
         let stuck = |p: usize, d: usize| {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
