@@ -11,7 +11,7 @@ pub mod boxqp;
 pub mod condition;
 pub mod dense;
 pub mod double_double;
-mod parallel;
+pub(crate) mod parallel;
 mod two_by_two;
 
 pub use block::{BlockMatrix, BlockTridiagonal};

@@ -1,11 +1,12 @@
-//! The factorization's sweeps over independent stretches, on two threads when the work is
+//! Independent jobs (the factorization's sweeps over independent stretches, the certificate's
+//! check of interior nodes) on two threads when the work is
 //! large enough to pay for one.
 
 /// Below this many blocks the sweeps run on one thread (spawning costs more than it saves).
 const PARALLEL_BLOCKS: usize = 100_000;
 
 /// Runs `work` on every job, on two threads when there is enough work (balanced by size).
-pub(super) fn run_jobs<J: Send, R: Send>(
+pub(crate) fn run_jobs<J: Send, R: Send>(
     jobs: Vec<J>,
     size: impl Fn(&J) -> usize,
     work: impl Fn(J) -> R + Sync,

@@ -29,6 +29,7 @@
 use super::condensed::FrictionState;
 use crate::fem::{Mesh, NodalField};
 use crate::fem::{element_load, element_stiffness};
+use crate::linalg::parallel::run_jobs;
 use crate::model::Problem;
 
 /// Longest run of consecutive special points balanced as one rigid body.
@@ -88,6 +89,43 @@ fn exponent(x: f64) -> i32 {
     }
 }
 
+/// Nodal values in dimensionless units: 2^exponent times the SI values, read through one exact
+/// factor (or, when 2^exponent is not a normal number, a scaled copy).
+struct Dimensionless<'a> {
+    values: std::borrow::Cow<'a, [f64]>,
+    factor: f64,
+}
+
+impl<'a> Dimensionless<'a> {
+    fn new(values: &'a [f64], exponent: i32) -> Dimensionless<'a> {
+        if (-1000..=1000).contains(&exponent) {
+            Dimensionless {
+                values: values.into(),
+                factor: scaled(1.0, exponent),
+            }
+        } else {
+            Dimensionless {
+                values: values.iter().map(|&v| scaled(v, exponent)).collect(),
+                factor: 1.0,
+            }
+        }
+    }
+    fn at(&self, node: usize) -> f64 {
+        self.values[node] * self.factor
+    }
+    /// The largest |value| over `nodes`.
+    fn largest(&self, nodes: std::ops::RangeInclusive<usize>) -> f64 {
+        self.values[nodes]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            * self.factor
+    }
+    /// The values of `nodes` in SI units and the factor to dimensionless units.
+    fn raw(&self, nodes: std::ops::Range<usize>) -> (&[f64], f64) {
+        (&self.values[nodes], self.factor)
+    }
+}
+
 /// The problem in dimensionless units: every scale a power of two.
 struct Units {
     length: i32,
@@ -123,13 +161,19 @@ impl Units {
     fn f(&self, f: f64) -> f64 {
         scaled(f, -self.load)
     }
+    fn u_exponent(&self) -> i32 {
+        self.stiffness - self.load - 4 * self.length
+    }
+    fn slope_exponent(&self) -> i32 {
+        self.stiffness - self.load - 3 * self.length
+    }
     /// u over F L⁴ / EJ.
     fn u(&self, u: f64) -> f64 {
-        scaled(u, self.stiffness - self.load - 4 * self.length)
+        scaled(u, self.u_exponent())
     }
     /// u' over F L³ / EJ.
     fn slope(&self, t: f64) -> f64 {
-        scaled(t, self.stiffness - self.load - 3 * self.length)
+        scaled(t, self.slope_exponent())
     }
     /// λ1 over F L, λ2 over F L².
     fn force(&self, v: f64, kind: usize) -> f64 {
@@ -176,9 +220,11 @@ pub(super) fn check(
         };
     }
     let units = Units::of(problem);
-    let u: Vec<f64> = field.deflection.iter().map(|&v| units.u(v)).collect();
-    let t: Vec<f64> = field.slope.iter().map(|&v| units.slope(v)).collect();
-    let x: Vec<f64> = mesh.nodes.iter().map(|&v| units.x(v)).collect();
+    // The nodal values in dimensionless units, read through one exact factor each (no copies
+    // of 10⁶ values: allocating them cost more than the check).
+    let u = Dimensionless::new(&field.deflection, units.u_exponent());
+    let t = Dimensionless::new(&field.slope, units.slope_exponent());
+    let x = |node: usize| units.x(mesh.nodes[node]);
     let lam: Vec<[f64; 2]> = lambda
         .iter()
         .map(|l| [units.force(l[0], 0), units.force(l[1], 1)])
@@ -195,15 +241,22 @@ pub(super) fn check(
         .collect();
     let load_at = |node: usize| units.f(problem.load_at(mesh.nodes[node]));
 
-    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    // The magnitude of (u, u') on each piece, each kind also seen through the other.
-    let piece_magnitude: Vec<[f64; 2]> = mesh
+    // The largest |u| and |u'| on each piece, in one pass over its nodes.
+    let piece_largest: Vec<[f64; 2]> = mesh
         .pieces
         .iter()
         .map(|p| {
             let nodes = p.first_node..=p.last_node;
-            let length = x[p.last_node] - x[p.first_node];
-            let (mu, mt) = (largest(&u[nodes.clone()]), largest(&t[nodes]));
+            [u.largest(nodes.clone()), t.largest(nodes)]
+        })
+        .collect();
+    // The magnitude of (u, u') on each piece, each kind also seen through the other.
+    let piece_magnitude: Vec<[f64; 2]> = mesh
+        .pieces
+        .iter()
+        .zip(&piece_largest)
+        .map(|(p, &[mu, mt])| {
+            let length = x(p.last_node) - x(p.first_node);
             [mu.max(mt * length), mt.max(mu / length)]
         })
         .collect();
@@ -225,10 +278,10 @@ pub(super) fn check(
         .enumerate()
         .map(|(i, p)| {
             let (a, b) = (p.first_node, p.last_node);
-            let length = x[b] - x[a];
+            let length = x(b) - x(a);
             let stiffness = element_stiffness(units.ej(p.bending_stiffness), length);
             let load = element_load(length, load_at(a), load_at(b));
-            let c = [u[a], t[a], u[b], t[b]];
+            let c = [u.at(a), t.at(a), u.at(b), t.at(b)];
             let (na, nb) = (special_noise[i], special_noise[i + 1]);
             let noise = [na[0], na[1], nb[0], nb[1]];
             let mut forces = [0.0; 4];
@@ -247,8 +300,8 @@ pub(super) fn check(
                 forces,
                 magnitude,
                 load,
-                a: x[a],
-                b: x[b],
+                a: x(a),
+                b: x(b),
             }
         })
         .collect();
@@ -300,7 +353,7 @@ pub(super) fn check(
     }
     residual = residual.max(interior_residual(
         mesh,
-        (&x, &u, &t),
+        (&u, &t),
         &piece_magnitude,
         &units,
         problem,
@@ -311,7 +364,7 @@ pub(super) fn check(
     // dimensionless units l is 1 up to a power of two.
     // Floored by the natural scales f l⁴/EJ and f l³/EJ (stiffest stretch): when every value
     // of a kind is rounding noise (all stuck), the noise is no yardstick.
-    let span = x[x.len() - 1] - x[0];
+    let span = x(mesh.nodes.len() - 1) - x(0);
     let natural = {
         let f = units
             .f(problem.load.f0)
@@ -323,9 +376,12 @@ pub(super) fn check(
             .fold(0.0f64, |m, p| m.max(units.ej(p.bending_stiffness)));
         if ej > 0.0 { f * span.powi(3) / ej } else { 0.0 }
     };
+    let [largest_u, largest_t] = piece_largest
+        .iter()
+        .fold([0.0f64; 2], |m, l| [m[0].max(l[0]), m[1].max(l[1])]);
     let global = [
-        largest(&u).max(largest(&t) * span).max(natural * span),
-        largest(&t).max(largest(&u) / span).max(natural),
+        largest_u.max(largest_t * span).max(natural * span),
+        largest_t.max(largest_u / span).max(natural),
     ];
     let mut states = Vec::with_capacity(k);
     for (j, &node) in mesh.obstacle_nodes.iter().enumerate() {
@@ -335,11 +391,13 @@ pub(super) fn check(
         };
         let around = [&mesh.pieces[s - 1], &mesh.pieces[s]];
         let (mut local_u, mut local_t, mut longest) = (0.0f64, 0.0f64, 0.0f64);
-        for p in around {
-            let nodes = p.first_node..=p.last_node;
-            local_u = local_u.max(largest(&u[nodes.clone()]));
-            local_t = local_t.max(largest(&t[nodes]));
-            longest = longest.max(x[p.last_node] - x[p.first_node]);
+        for (p, [mu, mt]) in around
+            .into_iter()
+            .zip([piece_largest[s - 1], piece_largest[s]])
+        {
+            local_u = local_u.max(mu);
+            local_t = local_t.max(mt);
+            longest = longest.max(x(p.last_node) - x(p.first_node));
         }
         let f = load_at(node).abs();
         let ej = units.ej(around[0].bending_stiffness.min(around[1].bending_stiffness));
@@ -357,7 +415,7 @@ pub(super) fn check(
             left.forces[2].abs() + right.forces[0].abs(),
             left.forces[3].abs() + right.forces[1].abs(),
         ];
-        let c = [u[node], t[node]];
+        let c = [u.at(node), t.at(node)];
         let mut pair = [FrictionState::Stuck; 2];
         for d in 0..2 {
             let (c, l, g) = (c[d], lam[j][d], g[j][d]);
@@ -408,93 +466,115 @@ pub(super) fn check(
     Equilibrium { residual, states }
 }
 
-/// The Hermite basis and its derivative at ξ (η = 1 − ξ) on a piece of length h, in factored
-/// form: each function is computed to a few ulps of its own value.
-fn hermite_factored(xi: f64, eta: f64, h: f64) -> ([f64; 4], [f64; 4]) {
-    (
-        [
-            eta * eta * (1.0 + 2.0 * xi),
-            h * xi * eta * eta,
-            xi * xi * (1.0 + 2.0 * eta),
-            -h * xi * xi * eta,
-        ],
-        [
-            -6.0 * xi * eta / h,
-            eta * (eta - 2.0 * xi),
-            6.0 * xi * eta / h,
-            xi * (xi - 2.0 * eta),
-        ],
-    )
-}
-
 /// The largest relative difference between an interior node and its piece's exact local
 /// solution (Hermite interpolation of the end values plus the clamped–clamped response to
 /// the linear load), value and slope.
 fn interior_residual(
     mesh: &Mesh,
-    (x, u, t): (&[f64], &[f64], &[f64]),
+    (u, t): (&Dimensionless, &Dimensionless),
     magnitude: &[[f64; 2]],
     units: &Units,
     problem: &Problem,
 ) -> f64 {
+    // Stretches of at most CHUNK interior nodes of one piece, shared out over two threads when
+    // there are many (linalg::parallel decides).
+    const CHUNK: usize = 1 << 16;
+    let jobs: Vec<(usize, std::ops::Range<usize>)> = mesh
+        .pieces
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.elements() >= 2)
+        .flat_map(|(piece, p)| {
+            (p.first_node + 1..p.last_node)
+                .step_by(CHUNK)
+                .map(move |start| (piece, start..(start + CHUNK).min(p.last_node)))
+        })
+        .collect();
+    let results = run_jobs(
+        jobs,
+        |(_, range)| range.len(),
+        |(piece, range)| {
+            stretch_residual(
+                mesh,
+                (u, t),
+                magnitude[piece],
+                units,
+                problem,
+                (piece, range),
+            )
+        },
+    );
+    let overflow = results.iter().any(|&(_, overflow)| overflow);
+    let worst = results.iter().fold(0.0f64, |m, &(w, _)| m.max(w));
+    if overflow { 1.0 } else { worst.min(1.0) }
+}
+
+/// [`interior_residual`] on the interior nodes `range` of piece `piece`: the largest relative
+/// difference, and whether a scale overflowed (the residual is then 1, as `relative` says).
+fn stretch_residual(
+    mesh: &Mesh,
+    (u, t): (&Dimensionless, &Dimensionless),
+    [u_piece, t_piece]: [f64; 2],
+    units: &Units,
+    problem: &Problem,
+    (piece, range): (usize, std::ops::Range<usize>),
+) -> (f64, bool) {
     let mut worst = 0.0f64;
-    for (piece, p) in mesh.pieces.iter().enumerate() {
-        if p.elements() < 2 {
-            continue;
-        }
+    let mut overflow = false;
+    {
+        let p = &mesh.pieces[piece];
         let (a, b) = (p.first_node, p.last_node);
-        let length = x[b] - x[a];
+        let (xa, xb) = (mesh.nodes[a], mesh.nodes[b]);
+        let length = units.x(xb) - units.x(xa);
         let ej = units.ej(p.bending_stiffness);
-        let (fa, fb) = (
-            units.f(problem.load_at(mesh.nodes[a])),
-            units.f(problem.load_at(mesh.nodes[b])),
-        );
-        let ends = [u[a], t[a], u[b], t[b]];
+        let (fa, fb) = (units.f(problem.load_at(xa)), units.f(problem.load_at(xb)));
+        let (ua, ta, ub, tb) = (u.at(a), t.at(a), u.at(b), t.at(b));
         // Clamped–clamped response to f = fa (1 − ξ) + fb ξ: L⁴/EJ (fa P(1 − ξ) + fb P(ξ)),
-        // P(s) = s²(1 − s)²(s + 2)/120, P'(s) = −s(1 − s)(5s² + 5s − 4)/120.
-        let p = |s: f64, r: f64| s * s * r * r * (s + 2.0) / 120.0;
-        let dp = |s: f64, r: f64| -s * r * (5.0 * s * s + 5.0 * s - 4.0) / 120.0;
+        // P(s) = s²(1 − s)²(s + 2)/120, P'(s) = −s(1 − s)(5s² + 5s − 4)/120: below with the
+        // constant factors taken out of the loop.
         let l4 = (length * length) * (length * length) / ej;
-        let per_length = 1.0 / length;
-        for node in a + 1..b {
-            // ξ and 1 − ξ each from its own end: no cancellation next to either end.
-            let (xi, eta) = ((x[node] - x[a]) * per_length, (x[b] - x[node]) * per_length);
-            let (n, dn) = hermite_factored(xi, eta, length);
-            let particular = [
-                l4 * fa * p(eta, xi),
-                l4 * fb * p(xi, eta),
-                -l4 / length * fa * dp(eta, xi),
-                l4 / length * fb * dp(xi, eta),
+        let (value_a, value_b) = (l4 / 120.0 * fa, l4 / 120.0 * fb);
+        let (slope_a, slope_b) = (value_a / length, value_b / length);
+        let (six_per_length, h) = (6.0 / length, length);
+        let per_length = 1.0 / (xb - xa);
+        let (u_raw, u_scale) = u.raw(range.clone());
+        let (t_raw, t_scale) = t.raw(range.clone());
+        let nodes = &mesh.nodes[range];
+        for ((&x, &u_si), &t_si) in nodes.iter().zip(u_raw).zip(t_raw) {
+            // ξ and 1 − ξ each from its own end: no cancellation next to either end. The
+            // Hermite basis in factored form: each function to a few ulps of its own value.
+            let (xi, eta) = ((x - xa) * per_length, (xb - x) * per_length);
+            let (xi2, eta2, xe) = (xi * xi, eta * eta, xi * eta);
+            let value_terms = [
+                eta2 * (1.0 + 2.0 * xi) * ua,
+                h * xe * eta * ta,
+                xi2 * (1.0 + 2.0 * eta) * ub,
+                -h * xe * xi * tb,
+                value_a * xe * xe * (eta + 2.0),
+                value_b * xe * xe * (xi + 2.0),
             ];
-            // Arrays, not vectors: this runs for every node (10⁶ allocations cost more than
-            // the arithmetic).
-            let value_terms: [f64; 6] = std::array::from_fn(|i| {
-                if i < 4 {
-                    n[i] * ends[i]
-                } else {
-                    particular[i - 4]
-                }
-            });
-            let slope_terms: [f64; 6] = std::array::from_fn(|i| {
-                if i < 4 {
-                    dn[i] * ends[i]
-                } else {
-                    particular[i - 2]
-                }
-            });
-            for (kind, (terms, value)) in [(value_terms, u[node]), (slope_terms, t[node])]
-                .into_iter()
-                .enumerate()
-            {
+            let slope_terms = [
+                -six_per_length * xe * ua,
+                eta * (eta - 2.0 * xi) * ta,
+                six_per_length * xe * ub,
+                xi * (xi - 2.0 * eta) * tb,
+                slope_a * xe * (5.0 * eta2 + 5.0 * eta - 4.0),
+                -slope_b * xe * (5.0 * xi2 + 5.0 * xi - 4.0),
+            ];
+            for (terms, value, piece_scale) in [
+                (value_terms, u_si * u_scale, u_piece),
+                (slope_terms, t_si * t_scale, t_piece),
+            ] {
                 let exact: f64 = terms.iter().sum();
                 // Relative to the piece's own magnitude too: a method resolves a value near a
                 // clamped end to an ulp of the piece's values, not of that small value.
-                let scale: f64 = terms.iter().map(|v| v.abs()).sum::<f64>()
-                    + value.abs()
-                    + magnitude[piece][kind];
-                worst = worst.max(relative(value - exact, scale));
+                let scale: f64 =
+                    terms.iter().map(|v| v.abs()).sum::<f64>() + value.abs() + piece_scale;
+                overflow |= !(scale < f64::INFINITY);
+                // 0/0 (everything zero) is NaN, which max ignores: a residual of 0.
+                worst = worst.max((value - exact).abs() / scale);
             }
         }
     }
-    worst
+    (worst, overflow)
 }
