@@ -5,6 +5,7 @@ use super::scaling::Scales;
 use super::system::{Condensed, PatternSolution};
 use crate::fem::{Mesh, NodalField};
 use crate::linalg::banded_lu::times_power_of_two;
+use crate::linalg::double_double::DoubleDouble;
 
 /// Every node from its own piece: Hermite interpolation of the piece's end values plus the
 /// piece's exact clamped–clamped response to its linear load, in SI units.
@@ -24,35 +25,42 @@ pub(super) fn nodal_field(
         let [ua, sa] = condensed.point_values(solution, p);
         let [ub, sb] = condensed.point_values(solution, p + 1);
         let (first, last) = (mesh_piece.first_node, mesh_piece.last_node);
-        let a = mesh.nodes[first];
-        let to_local = 1.0 / (mesh.nodes[last] - a);
+        let (a, b) = (mesh.nodes[first], mesh.nodes[last]);
+        let to_local = 1.0 / (b - a);
+        // a + b as an unevaluated sum: 1 − 2ξ = (a + b − 2x)/(b − a) to a few ulps of itself,
+        // where the load's bubble has its largest curvature (issue 10: a slope there is a
+        // difference of terms up to 10⁴ times larger when computed from a rounded ξ).
+        let ends_sum = DoubleDouble::difference(a, -b);
         let (t, e) = (piece.length, piece.stiffness);
         let (fa, fb) = (piece.load_start, piece.load_end);
-        // The Hermite cubic of the end values, ua + ξ(c1 + ξ(c2 + ξ c3)), and the clamped–
-        // clamped response P ξ²(1 − ξ)²(α + βξ) to the load f = fa(1 − ξ) + fb ξ.
-        let rise = ub - ua;
-        let (c1, c2, c3) = (
-            t * sa,
-            3.0 * rise - t * (2.0 * sa + sb),
-            t * (sa + sb) - 2.0 * rise,
-        );
+        // The Hermite cubic of the end values in factored form (each basis function to a few
+        // ulps of itself, ξ and η = 1 − ξ each from its own end), plus the clamped–clamped
+        // response P ξ²η²(α + βξ) to the load f = fa η + fb ξ.
         let bubble_scale = t * t * t * t / (120.0 * e);
         let (alpha, beta) = (3.0 * fa + 2.0 * fb, fb - fa);
+        let (slope_a, slope_b) = (t * sa, t * sb);
+        let rise = ub - ua;
         let slope_scale = slope_factor / t;
         field.deflection[first] = ua * u_factor;
         field.slope[first] = sa * slope_factor;
         let nodes = &mesh.nodes[first + 1..last];
         let deflection = &mut field.deflection[first + 1..last];
         let slope = &mut field.slope[first + 1..last];
-        for ((x, u_out), s_out) in nodes.iter().zip(deflection).zip(slope) {
-            let xi = (x - a) * to_local;
-            let rest = 1.0 - xi;
+        for ((&x, u_out), s_out) in nodes.iter().zip(deflection).zip(slope) {
+            let (xi, eta) = ((x - a) * to_local, (b - x) * to_local);
+            // s − 2x is exact where it is small (Sterbenz): one rounding of a + b − 2x.
+            let eta_minus_xi = ((ends_sum.hi - 2.0 * x) + ends_sum.lo) * to_local;
+            let (xi2, eta2, xe) = (xi * xi, eta * eta, xi * eta);
             let load = alpha + beta * xi;
-            let bubble = xi * xi * rest * rest;
-            let u = ua + xi * (c1 + xi * (c2 + xi * c3)) + bubble_scale * bubble * load;
-            let du = c1
-                + xi * (2.0 * c2 + 3.0 * xi * c3)
-                + bubble_scale * (2.0 * xi * rest * (1.0 - 2.0 * xi) * load + bubble * beta);
+            let bubble = xe * xe;
+            let u = eta2 * (1.0 + 2.0 * xi) * ua
+                + xe * (eta * slope_a - xi * slope_b)
+                + xi2 * (1.0 + 2.0 * eta) * ub
+                + bubble_scale * bubble * load;
+            let du = 6.0 * xe * rise
+                + eta * (eta - 2.0 * xi) * slope_a
+                + xi * (xi - 2.0 * eta) * slope_b
+                + bubble_scale * (2.0 * xe * eta_minus_xi * load + bubble * beta);
             *u_out = u * u_factor;
             *s_out = du * slope_scale;
         }
