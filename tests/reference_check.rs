@@ -5,10 +5,17 @@
 //! - Default tests: the reference is right (Benchmark 1 to 1e-25, the CSV reference values,
 //!   zero load, exact scaling, precision independence, certificates on the hard scenes) and
 //!   the harness agrees with an ordinary method on ordinary scenes.
+//! - The ε-reference (tests/reference/epsilon.rs, the regularised problem (40)–(43) of paper
+//!   2.7.1): precision independence, convergence to the exact reference as ε → 0, Benchmark 1
+//!   by a 2×2 hand solve; `regularized_methods_agree_with_the_epsilon_reference_*`: issue 10's
+//!   acceptance for `regularized` and `regularized-newton` (1e-8 or a warning) on the
+//!   regression scenes and presets at ε = 1e-10 and 1e-6.
 //! - `measure_every_method_on_hard_scenes` (ignored; run with
 //!   `cargo test --test reference_check -- --ignored --nocapture measure`): every method on
-//!   the regression scenes and `BEAMFRIC_HARD_SCENES` (default 2000) generated scenes; prints
-//!   the worst errors per method and the worst scenes as TOML.
+//!   the regression scenes and `BEAMFRIC_HARD_SCENES` (default 2000) generated scenes, the
+//!   exact methods against the exact reference, the regularised ones at `BEAMFRIC_EPSILON`
+//!   (default 1e-10) against the ε-reference; prints the worst errors per method and the
+//!   worst scenes as TOML.
 //! - `scan_stable_method_on_hard_scenes` (ignored): the stable method alone, one line per
 //!   failing scene, the scene written to `target/tmp/scan/`; `write_hard_scenes_as_regressions`
 //!   (ignored) keeps a seed as a regression scene.
@@ -28,6 +35,7 @@ use beamfric::solve::{Method, SolveOptions, solve};
 use proptest::prelude::*;
 
 use common::{preset_scene, problem, reference_values};
+use reference::epsilon::{Start, solve_epsilon_reference_from};
 use reference::mp::{F, Mp, abs, is_zero, to_f64};
 use reference::*;
 
@@ -372,6 +380,303 @@ fn ordinary_presets_agree_with_the_dual_method() {
     }
 }
 
+/// The scenes of the ε-reference self-tests: the regression scenes, a few generated ones and
+/// the four ordinary presets.
+fn epsilon_self_test_scenes() -> Vec<(String, Scene)> {
+    let mut scenes = regression_scenes();
+    scenes.extend((100..104).map(|s| (format!("seed {s}"), hard_scene(s))));
+    for name in [
+        "benchmark-1",
+        "benchmark-2",
+        "benchmark-3",
+        "eight-obstacles",
+    ] {
+        scenes.push((name.to_string(), preset_scene(name)));
+    }
+    scenes
+}
+
+/// max |a − b| / max |b| in the working precision (0 when b is all zero and a = b).
+fn relative_vector(a: &[F], b: &[F], mp: &Mp) -> f64 {
+    let scale = b
+        .iter()
+        .map(abs)
+        .fold(mp.zero(), |m, x| if x > m { x } else { m });
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| abs(&(x - y)))
+        .fold(mp.zero(), |m, x| if x > m { x } else { m });
+    if is_zero(&worst) {
+        0.0
+    } else if is_zero(&scale) {
+        f64::INFINITY
+    } else {
+        to_f64(&(worst / scale))
+    }
+}
+
+#[test]
+fn the_epsilon_reference_does_not_depend_on_the_precision() {
+    // 384 against 768 bits, certified at both, same states, the same 60 digits.
+    for (name, scene) in epsilon_self_test_scenes() {
+        let (p, n) = problem_of(&scene);
+        let mesh = Mesh::new(&p, n);
+        for epsilon in [1e-10, 1e-6] {
+            let low = solve_epsilon_reference(&p, &mesh, epsilon, 384)
+                .unwrap_or_else(|e| panic!("{name}, ε = {epsilon:e}: {e}"));
+            let high = solve_epsilon_reference(&p, &mesh, epsilon, 768)
+                .unwrap_or_else(|e| panic!("{name}, ε = {epsilon:e}: {e}"));
+            assert!(
+                low.certificate.verified && high.certificate.verified,
+                "{name}, ε = {epsilon:e}: {:?} / {:?}",
+                low.certificate,
+                high.certificate
+            );
+            assert_eq!(low.states, high.states, "{name}, ε = {epsilon:e}");
+            let mp = Mp { precision: 384 };
+            let flat = |l: &[[F; 2]], k: usize| l.iter().map(|x| x[k].clone()).collect::<Vec<F>>();
+            for (what, a, b) in [
+                ("u", low.u.clone(), high.u.clone()),
+                ("slope", low.slope.clone(), high.slope.clone()),
+                ("force", flat(&low.lambda, 0), flat(&high.lambda, 0)),
+                ("moment", flat(&low.lambda, 1), flat(&high.lambda, 1)),
+            ] {
+                let error = relative_vector(&a, &b, &mp);
+                assert!(error < 1e-60, "{name}, ε = {epsilon:e}, {what}: {error:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_epsilon_reference_does_not_depend_on_the_start() {
+    // φ is strictly convex: Newton from c = 0 must find what it finds from the exact solution
+    // (on scenes where it stops within its cap from zero; on some hard scenes it needs more
+    // than 500 steps, so the reference starts from the exact solution).
+    let mut scenes: Vec<(String, Scene)> = (5..8)
+        .map(|s| (format!("seed {s}"), hard_scene(s)))
+        .collect();
+    for name in [
+        "benchmark-1",
+        "benchmark-2",
+        "benchmark-3",
+        "eight-obstacles",
+    ] {
+        scenes.push((name.to_string(), preset_scene(name)));
+    }
+    let mp = Mp {
+        precision: reference::mp::DEFAULT_PRECISION,
+    };
+    for (name, scene) in scenes {
+        let (p, n) = problem_of(&scene);
+        let mesh = Mesh::new(&p, n);
+        for epsilon in [1e-10, 1e-6] {
+            let [a, b] = [Start::Exact, Start::Zero].map(|start| {
+                solve_epsilon_reference_from(&p, &mesh, epsilon, mp.precision, start)
+                    .unwrap_or_else(|e| panic!("{name}, ε = {epsilon:e}, {start:?}: {e}"))
+            });
+            assert!(a.certificate.verified && b.certificate.verified, "{name}");
+            assert_eq!(a.states, b.states, "{name}, ε = {epsilon:e}");
+            let flat = |l: &[[F; 2]]| l.iter().flatten().cloned().collect::<Vec<F>>();
+            for (what, x, y) in [
+                ("u", &a.u, &b.u),
+                ("slope", &a.slope, &b.slope),
+                ("forces", &flat(&a.lambda), &flat(&b.lambda)),
+            ] {
+                let error = relative_vector(x, y, &mp);
+                assert!(error < 1e-60, "{name}, ε = {epsilon:e}, {what}: {error:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_epsilon_reference_tends_to_the_exact_one() {
+    // The ε-solution differs from the exact one by O(ε): a stuck DOF moves by |λ|ε/g ≤ ε, a
+    // moving one keeps its force ±g while it moves by more than ε. So the nodal error is at
+    // most about ε and never grows as ε shrinks, and the states are the exact ones wherever ε
+    // is below the exact motion.
+    let mut scenes: Vec<(String, Scene)> = [
+        "benchmark-1",
+        "benchmark-2",
+        "benchmark-3",
+        "eight-obstacles",
+    ]
+    .iter()
+    .map(|name| (name.to_string(), preset_scene(name)))
+    .collect();
+    scenes.extend(
+        regression_scenes()
+            .into_iter()
+            .filter(|(name, _)| name == "sign-change-symmetric" || name == "near-right-support"),
+    );
+    for (name, scene) in scenes {
+        let (p, n) = problem_of(&scene);
+        let mesh = Mesh::new(&p, n);
+        let exact = solve_reference(&p, n);
+        let mp = Mp {
+            precision: exact.precision,
+        };
+        let mut previous = f64::INFINITY;
+        for epsilon in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
+            let r = solve_epsilon_reference(&p, &mesh, epsilon, exact.precision).unwrap();
+            assert!(r.certificate.verified, "{name}: {:?}", r.certificate);
+            let error = relative_vector(&r.u, &exact.u, &mp).max(relative_vector(
+                &r.slope,
+                &exact.slope,
+                &mp,
+            ));
+            let absolute = |a: &[F], b: &[F]| {
+                a.iter()
+                    .zip(b)
+                    .map(|(x, y)| to_f64(&abs(&(x - y))))
+                    .fold(0f64, f64::max)
+            };
+            let (du, dt) = (absolute(&r.u, &exact.u), absolute(&r.slope, &exact.slope));
+            // Measured: |Δu| ≤ 0.047 ε, |Δu'| ≤ 0.25 ε on these (l = 1); the relative error
+            // shrinks exactly in proportion on the presets, and stays at rounding on
+            // near-right-support until ε falls below its tiny exact slide (~1e-8 m).
+            assert!(
+                du <= epsilon && dt <= epsilon && error <= previous * (1.0 + 1e-6),
+                "{name}, ε = {epsilon:e}: |Δu| {du:e}, |Δu'| {dt:e}, relative {error:e} after \
+                 {previous:e}"
+            );
+            previous = error;
+            // The states of the exact problem, wherever ε does not hide them: a motion above
+            // 10 ε moves, a force clearly below its threshold stays stuck.
+            let motion = exact.motion_f64();
+            let lambda = exact.lambda_f64();
+            for (j, (a, b)) in r.states.iter().zip(&exact.states).enumerate() {
+                for k in 0..2 {
+                    let g = [
+                        p.obstacles[j].sliding_threshold,
+                        p.obstacles[j].swivel_threshold,
+                    ][k];
+                    let decided = match b[k] {
+                        FrictionState::Moves => motion[j][k].abs() > 10.0 * epsilon,
+                        FrictionState::Stuck => epsilon <= 1e-8 && lambda[j][k].abs() < 0.999 * g,
+                        FrictionState::AtThreshold => false,
+                    };
+                    assert!(
+                        !decided || a[k] == b[k],
+                        "{name}, ε = {epsilon:e}, obstacle {j}: {a:?} / {b:?}"
+                    );
+                }
+            }
+        }
+        assert!(previous < 1e-9, "{name}: {previous:e} at ε = 1e-12");
+    }
+}
+
+/// Benchmark 1 seen from the obstacle: the exact 2×2 stiffness of the two clamped stretches
+/// a = 0.8, b = l − 0.8 and their fixed-end load, in the working precision (K11, K12, K22,
+/// r0, r1) — as in [`benchmark_1_closed_form`], with K22 = EJ (4/a + 4/b).
+fn benchmark_1_stiffness(mp: &Mp) -> [F; 5] {
+    let n = |x: f64| mp.num(x);
+    let problem = problem(&preset_scene("benchmark-1"));
+    let ej = n(problem.stiffness[0].bending_stiffness);
+    let (a, b, f) = (n(0.8), n(1.0) - n(0.8), n(5e4));
+    let cube = |x: &F| x * x * x;
+    [
+        &ej * (n(12.0) / cube(&a) + n(12.0) / cube(&b)),
+        &ej * (n(6.0) / (&b * &b) - n(6.0) / (&a * &a)),
+        &ej * (n(4.0) / &a + n(4.0) / &b),
+        &f * (&a + &b) / n(2.0),
+        &f * (&b * &b - &a * &a) / n(12.0),
+    ]
+}
+
+#[test]
+fn the_epsilon_reference_solves_benchmark_1_by_hand() {
+    // With the pattern of regions known, (43) seen from the obstacle is a 2×2 system, solved
+    // here by Cramer's rule: (K + D) (u, u') = r − d, D = g/ε on middle DOFs, d = ±g on outer
+    // ones. The preset slides (u ≈ 5.7e-3 > ε, d1 = g1) with the swivel in the middle region;
+    // with thresholds of 1e20 both DOFs are in the middle; with zero thresholds the beam is
+    // unconstrained (u = f x²(l − x)²/(24 EJ) at every node).
+    let mp = Mp {
+        precision: reference::mp::DEFAULT_PRECISION,
+    };
+    let n = |x: f64| mp.num(x);
+    let [k11, k12, k22, r0, r1] = benchmark_1_stiffness(&mp);
+    for (g1, g2) in [(1e2, 5e4), (1e20, 1e20), (0.0, 0.0)] {
+        let mut scene = preset_scene("benchmark-1");
+        scene.obstacles[0].sliding = g1;
+        scene.obstacles[0].swivel = g2;
+        let p = problem(&scene);
+        for epsilon in [1e-10, 1e-6, 1e-3] {
+            let eps = n(epsilon);
+            let (g1, g2) = (n(g1), n(g2));
+            // Sliding outside (positive) unless g1 is huge, swivel in the middle.
+            let sliding_outside = g1 < n(1e10);
+            let (a11, rhs0) = if sliding_outside {
+                (k11.clone(), &r0 - &g1)
+            } else {
+                (&k11 + &g1 / &eps, r0.clone())
+            };
+            let a22 = &k22 + &g2 / &eps;
+            let det = &a11 * &a22 - &k12 * &k12;
+            let u = (&rhs0 * &a22 - &k12 * &r1) / &det;
+            let t = (&a11 * &r1 - &k12 * &rhs0) / &det;
+            // (A zero threshold adds nothing in any region.)
+            assert!(
+                (is_zero(&g2) || abs(&t) <= eps) && (u > eps) == sliding_outside,
+                "the pattern assumed"
+            );
+            for elements in [1, 2, 3, 20, 57] {
+                let mesh = Mesh::new(&p, elements);
+                let r = solve_epsilon_reference(&p, &mesh, epsilon, mp.precision).unwrap();
+                assert!(r.certificate.verified, "{:?}", r.certificate);
+                let [ru, rt] = &r.motion[0];
+                let what = format!("g = {g1}, {g2}, ε = {epsilon:e}, n = {elements}");
+                assert!(relative(ru, &u) < 1e-25, "{what}: u {:e}", relative(ru, &u));
+                if is_zero(&g2) {
+                    assert!(
+                        relative(rt, &t) < 1e-25,
+                        "{what}: u' {:e}",
+                        relative(rt, &t)
+                    );
+                } else {
+                    // u' is ε λ2/g2: compare the moment, relative to its size.
+                    let moment = &g2 * &t / &eps;
+                    let error = relative(&r.lambda[0][1], &moment);
+                    assert!(error < 1e-25, "{what}: moment {error:e}");
+                }
+                let force = if sliding_outside {
+                    g1.clone()
+                } else {
+                    &g1 * &u / &eps
+                };
+                assert!(
+                    relative(&r.lambda[0][0], &force) < 1e-25 || is_zero(&g1),
+                    "{what}: force"
+                );
+                let expected = if is_zero(&g1) {
+                    [FrictionState::Moves, FrictionState::Moves]
+                } else if sliding_outside {
+                    [FrictionState::Moves, FrictionState::Stuck]
+                } else {
+                    [FrictionState::Stuck, FrictionState::Stuck]
+                };
+                assert_eq!(r.states[0], expected, "{what}");
+                if is_zero(&g1) {
+                    // Unconstrained: the clamped beam under a uniform load at every node.
+                    let ej = n(p.stiffness[0].bending_stiffness);
+                    let f = n(5e4);
+                    for (i, x) in r.nodes.iter().enumerate() {
+                        let x = n(*x);
+                        let y = n(1.0) - &x;
+                        let exact_u = &f * &x * &x * &y * &y / (n(24.0) * &ej);
+                        let exact_t = &f * &x * &y * (&y - &x) / (n(12.0) * &ej);
+                        assert!(relative(&r.u[i], &exact_u) < 1e-25 || is_zero(&exact_u));
+                        assert!(relative(&r.slope[i], &exact_t) < 1e-25 || is_zero(&exact_t));
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The program's solution by `method`, or why there is none.
 fn run_method(
     problem: &Problem,
@@ -402,6 +707,8 @@ struct Tally {
     worst_silent_field: (f64, String),
     worst_silent_force: (f64, String),
     examples: Vec<(f64, String, String)>,
+    /// Of the scenes counted as warned: how many carried each warning code.
+    warning_codes: std::collections::BTreeMap<String, usize>,
 }
 
 fn note(slot: &mut (f64, String), value: f64, name: &str) {
@@ -409,6 +716,10 @@ fn note(slot: &mut (f64, String), value: f64, name: &str) {
         *slot = (value, name.to_string());
     }
 }
+
+/// Agreement bound of the regularised methods with the ε-reference (issue 10: "the
+/// regularised methods agree with the exact ε-solution to 1e-8 or warn").
+const REGULARIZED_TOLERANCE: f64 = 1e-8;
 
 #[test]
 #[ignore = "measurement: run with --ignored --nocapture (minutes)"]
@@ -432,6 +743,7 @@ fn measure_every_method_on_hard_scenes() {
     std::fs::create_dir_all(&dir).unwrap();
     let mut ties = 0;
     let mut uncertified = 0;
+    let (mut epsilon_ties, mut epsilon_uncertified, mut epsilon_solves) = (0, 0, 0);
     for (name, scene) in &scenes {
         let (p, n) = problem_of(scene);
         let mesh = Mesh::new(&p, n);
@@ -443,7 +755,38 @@ fn measure_every_method_on_hard_scenes() {
             continue;
         }
         ties += usize::from(r.has_tie());
+        // The regularised methods against the ε-problem they solve.
+        let epsilon_reference = match solve_epsilon_reference(
+            &p,
+            &mesh,
+            options.epsilon,
+            reference::mp::DEFAULT_PRECISION,
+        ) {
+            Ok(e) if e.certificate.verified => {
+                epsilon_ties += usize::from(e.has_tie());
+                epsilon_solves = epsilon_solves.max(e.solves);
+                Some(e)
+            }
+            Ok(e) => {
+                epsilon_uncertified += 1;
+                println!("ε-reference not certified on {name}: {:?}", e.certificate);
+                None
+            }
+            Err(why) => {
+                epsilon_uncertified += 1;
+                println!("ε-reference failed on {name}: {why}");
+                None
+            }
+        };
         for (method, tally) in &mut tallies {
+            let (r, tolerance) = if method.is_regularized() {
+                match &epsilon_reference {
+                    Some(e) => (e, REGULARIZED_TOLERANCE),
+                    None => continue,
+                }
+            } else {
+                (&r, tolerance)
+            };
             tally.scenes += 1;
             let solution = match run_method(&p, &mesh, *method, &options) {
                 Ok(s) => s,
@@ -456,7 +799,7 @@ fn measure_every_method_on_hard_scenes() {
                     continue;
                 }
             };
-            let c = compare(&p, &solution, &r);
+            let c = compare(&p, &solution, r);
             let (field, force) = (c.field_error(), c.force_error());
             note(&mut tally.worst_field, field, name);
             note(&mut tally.worst_force, force, name);
@@ -466,6 +809,9 @@ fn measure_every_method_on_hard_scenes() {
                 tally.agree += 1;
             } else if c.warned() {
                 tally.wrong_with_warning += 1;
+                for code in &c.warnings {
+                    *tally.warning_codes.entry(format!("{code:?}")).or_default() += 1;
+                }
             } else {
                 tally.wrong_silently += 1;
                 tally.silent_values += usize::from(!(field <= tolerance && force <= tolerance));
@@ -493,15 +839,20 @@ fn measure_every_method_on_hard_scenes() {
     }
     println!(
         "\n{} scenes ({} regression + {count} generated from seed {first_seed}); reference \
-         uncertified on {uncertified}, exact ties in {ties}; agreement = 1e-10 in u/slope and \
-         forces with right flags; regularised methods at eps = {:e} are measured against the \
-         exact (eps = 0) problem\n",
+         uncertified on {uncertified}, exact ties in {ties}; exact methods are measured against \
+         the exact (eps = 0) reference, agreement = 1e-10 in u/slope and forces with right \
+         flags; regularised methods at eps = {:e} against the eps-reference (the same \
+         eps-problem (40)-(43) in multi-precision, tests/reference/epsilon.rs; uncertified or \
+         failed on {epsilon_uncertified}, ties in {epsilon_ties}, at most {epsilon_solves} \
+         Newton steps), agreement = {REGULARIZED_TOLERANCE:e} (issue 10) with right flags, \
+         'moves' meaning |motion| > eps\n",
         scenes.len(),
         scenes.len() - count as usize,
         options.epsilon
     );
     println!(
-        "columns: agree = within 1e-10 with right flags; warned = not, but warned; silent = \
+        "columns: agree = within the tolerance (1e-10 exact, 1e-8 regularised) with right \
+         flags; warned = not, but warned; silent = \
          not, without a warning (s.val: of those, values off, not only flags); flags = scenes \
          with a wrong flag (gross: one f64 could resolve, see compare.rs); worst u/F = worst u-or-slope / force-or-moment error over all \
          solved scenes; silent u/F = the same over the silent ones"
@@ -544,10 +895,11 @@ fn measure_every_method_on_hard_scenes() {
     }
     for (method, t) in &mut tallies {
         println!(
-            "\n{}: worst u/slope on {}, worst force on {}",
+            "\n{}: worst u/slope on {}, worst force on {}; warnings of the warned: {:?}",
             method.name(),
             t.worst_field.1,
-            t.worst_force.1
+            t.worst_force.1,
+            t.warning_codes
         );
         t.examples
             .sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap_or(std::cmp::Ordering::Equal));
@@ -559,6 +911,84 @@ fn measure_every_method_on_hard_scenes() {
             let file = dir.join(format!("{}-{}.toml", method.name(), name.replace(' ', "-")));
             std::fs::write(&file, scene.to_toml()).unwrap();
             println!("  --- {name} ({}):\n{}", file.display(), scene.to_toml());
+        }
+    }
+}
+
+/// Every silent failure of the regularised methods against the ε-reference, flag by flag
+/// (ignored; `BEAMFRIC_HARD_SCENES=2000 BEAMFRIC_EPSILON=1e-10 cargo test --release --test
+/// reference_check silent -- --ignored --nocapture`): for each wrong flag the reference's
+/// |c|/ε − 1 and λ/g next to the program's, and whether f64 could resolve it (gross).
+#[test]
+#[ignore = "diagnosis: run with --ignored --nocapture"]
+fn diagnose_silent_regularized_failures() {
+    let count = env_number("BEAMFRIC_HARD_SCENES", 2000);
+    let epsilon: f64 = std::env::var("BEAMFRIC_EPSILON")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1e-10);
+    let options = SolveOptions {
+        epsilon,
+        max_cases: env_number("BEAMFRIC_MAX_CASES", 6561),
+        ..SolveOptions::default()
+    };
+    let mut scenes: Vec<(String, Scene)> = regression_scenes();
+    scenes.extend((0..count).map(|s| (format!("seed {s}"), hard_scene(s))));
+    for (name, scene) in &scenes {
+        let (p, n) = problem_of(scene);
+        let mesh = Mesh::new(&p, n);
+        let Ok(r) = solve_epsilon_reference(&p, &mesh, epsilon, reference::mp::DEFAULT_PRECISION)
+        else {
+            println!("{name}: no ε-reference");
+            continue;
+        };
+        for method in [Method::Regularized, Method::RegularizedNewton] {
+            let Ok(solution) = run_method(&p, &mesh, method, &options) else {
+                continue;
+            };
+            let c = compare(&p, &solution, &r);
+            if c.agrees(REGULARIZED_TOLERANCE, REGULARIZED_TOLERANCE) || c.warned() {
+                continue;
+            }
+            println!(
+                "{name} {method}: u {:.1e} slope {:.1e} force {:.1e} moment {:.1e}, gross flags {}, kkt {:.1e}, k = {}",
+                c.u,
+                c.slope,
+                c.force,
+                c.moment,
+                c.gross_flag_errors,
+                solution.kkt_residual,
+                p.obstacles.len()
+            );
+            let motion = r.motion_f64();
+            let lambda = r.lambda_f64();
+            for (j, o) in solution.obstacles.iter().enumerate() {
+                let node = mesh.obstacle_nodes[j];
+                let mine = [solution.field.deflection[node], solution.field.slope[node]];
+                let forces = [o.force, o.moment];
+                let states = [o.sliding_state, o.swivel_state];
+                let g = [
+                    p.obstacles[j].sliding_threshold,
+                    p.obstacles[j].swivel_threshold,
+                ];
+                for k in 0..2 {
+                    let flag = [o.sliding, o.swivel][k];
+                    if r.states[j][k].accepts(flag) {
+                        continue;
+                    }
+                    println!(
+                        "    obstacle {} {}: reference {} |c|/ε−1 {:.3e} λ/g {:.17} | program {:?} |c|/ε−1 {:.3e} λ/g {:.17}",
+                        j + 1,
+                        ["sliding", "swivel"][k],
+                        r.states[j][k].word(),
+                        motion[j][k].abs() / epsilon - 1.0,
+                        lambda[j][k] / g[k],
+                        states[k],
+                        mine[k].abs() / epsilon - 1.0,
+                        forces[k] / g[k]
+                    );
+                }
+            }
         }
     }
 }
@@ -590,6 +1020,87 @@ fn stable_method_agrees_on_regression_scenes_and_presets() {
             failures.extend(check_stable(preset.name, &scene).err());
         }
     }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The two regularised methods on one scene at `epsilon`, against the ε-reference: within
+/// [`REGULARIZED_TOLERANCE`] in u, u', forces and moments with every flag f64 can resolve
+/// right, or a warning. A refusal is an answer too (the enumeration refuses 9^k cases above
+/// `max_cases`, 6561 here to keep the test fast). Returns the failures, one line each, and
+/// how many solves were refused.
+fn check_regularized(name: &str, scene: &Scene, epsilon: f64) -> (Vec<String>, usize) {
+    let (p, n) = problem_of(scene);
+    let mesh = Mesh::new(&p, n);
+    let r = match solve_epsilon_reference(&p, &mesh, epsilon, reference::mp::DEFAULT_PRECISION) {
+        Ok(r) if r.certificate.verified => r,
+        Ok(r) => {
+            return (
+                vec![format!(
+                    "{name}, ε = {epsilon:e}: ε-reference {:?}",
+                    r.certificate
+                )],
+                0,
+            );
+        }
+        Err(e) => {
+            return (
+                vec![format!("{name}, ε = {epsilon:e}: ε-reference: {e}")],
+                0,
+            );
+        }
+    };
+    let options = SolveOptions {
+        epsilon,
+        max_cases: 6561,
+        ..SolveOptions::default()
+    };
+    let (mut failures, mut refused) = (Vec::new(), 0);
+    for method in [Method::RegularizedNewton, Method::Regularized] {
+        match run_method(&p, &mesh, method, &options) {
+            Ok(solution) => {
+                let c = compare(&p, &solution, &r);
+                let accepted = c.agrees_to_resolution(REGULARIZED_TOLERANCE, REGULARIZED_TOLERANCE);
+                if !accepted && !c.warned() {
+                    failures.push(format!(
+                        "{name}, ε = {epsilon:e}, {method}: u {:.1e} slope {:.1e} force {:.1e} \
+                         moment {:.1e}, gross flags {} {:?}, kkt {:.1e}, details {:?}",
+                        c.u,
+                        c.slope,
+                        c.force,
+                        c.moment,
+                        c.gross_flag_errors,
+                        c.flag_errors,
+                        solution.kkt_residual,
+                        solution.details
+                    ));
+                }
+            }
+            Err(why) if why.starts_with("refused") => refused += 1,
+            Err(why) => failures.push(format!("{name}, ε = {epsilon:e}, {method}: {why}")),
+        }
+    }
+    (failures, refused)
+}
+
+#[test]
+fn regularized_methods_agree_with_the_epsilon_reference_on_regression_scenes_and_presets() {
+    // Issue 10: "the regularised methods agree with the exact ε-solution to 1e-8 or warn".
+    let mut scenes = regression_scenes();
+    for preset in scene::PRESETS {
+        let scene = preset_scene(preset.name);
+        if scene.mesh.elements <= 2000 && scene.obstacles.len() <= 40 {
+            scenes.push((preset.name.to_string(), scene));
+        }
+    }
+    let (mut failures, mut refused) = (Vec::new(), 0);
+    for (name, scene) in &scenes {
+        for epsilon in [1e-10, 1e-6] {
+            let (f, r) = check_regularized(name, scene, epsilon);
+            failures.extend(f);
+            refused += r;
+        }
+    }
+    assert!(refused < 2 * scenes.len(), "every solve refused");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

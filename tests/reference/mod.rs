@@ -3,6 +3,9 @@
 //!
 //! - [`mp`]: the multi-precision number (dashu-float, 384 bits by default).
 //! - [`solver`]: assembly and the exact friction solve with its certificate.
+//! - [`epsilon`]: the same assembly, the regularised ε-problem of paper 2.7.1, (40)–(43), by
+//!   semismooth Newton with exact line searches (the problem `regularized` and
+//!   `regularized-newton` solve).
 //! - [`compare`]: a program solution against the reference (relative errors, flags).
 //! - [`scenes`]: the seeded hard-scene generator, its proptest strategy, the regression scenes
 //!   of `tests/scenes/hard/`.
@@ -15,10 +18,12 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod compare;
+pub mod epsilon;
 pub mod mp;
 pub mod scenes;
 pub mod solver;
 
 pub use compare::{Comparison, FIELD_TOLERANCE, FORCE_TOLERANCE, compare};
+pub use epsilon::solve_epsilon_reference;
 pub use scenes::{hard_scene, hard_scenes, problem_of, regression_scenes};
 pub use solver::{Certificate, FrictionState, RefSolution, solve_reference, solve_reference_with};

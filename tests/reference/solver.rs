@@ -90,6 +90,9 @@ pub struct RefSolution {
     pub motion: Vec<[F; 2]>,
     /// (sliding, swivel) state per obstacle.
     pub states: Vec<[FrictionState; 2]>,
+    /// The regularisation ε of the problem solved (0: the exact problem (38); > 0: the
+    /// ε-problem of [`super::epsilon`], where "moves" means |motion| > ε).
+    pub epsilon: f64,
     pub certificate: Certificate,
     /// Linear solves used (warm start and active set).
     pub solves: usize,
@@ -166,13 +169,13 @@ pub fn solve_reference_with(
 }
 
 /// A c = b with A symmetric banded: `band[j][d]` = A[j][j + d], d = 0..=3.
-struct System {
-    band: Vec<[F; 4]>,
-    b: Vec<F>,
+pub(super) struct System {
+    pub(super) band: Vec<[F; 4]>,
+    pub(super) b: Vec<F>,
 }
 
 impl System {
-    fn dofs(&self) -> usize {
+    pub(super) fn dofs(&self) -> usize {
         self.b.len()
     }
 
@@ -182,7 +185,7 @@ impl System {
     }
 
     /// (A c)_i and Σ_m |A_im c_m|.
-    fn row_product(&self, i: usize, c: &[F], mp: &Mp) -> (F, F) {
+    pub(super) fn row_product(&self, i: usize, c: &[F], mp: &Mp) -> (F, F) {
         let mut sum = mp.zero();
         let mut magnitude = mp.zero();
         let lo = i.saturating_sub(3);
@@ -197,11 +200,11 @@ impl System {
 }
 
 /// Index of the DOF (`kind` 0: value, 1: slope) of interior node `node`.
-fn dof(node: usize, kind: usize) -> usize {
+pub(super) fn dof(node: usize, kind: usize) -> usize {
     2 * (node - 1) + kind
 }
 
-fn assemble(problem: &Problem, mesh: &Mesh, mp: &Mp) -> System {
+pub(super) fn assemble(problem: &Problem, mesh: &Mesh, mp: &Mp) -> System {
     let nodes = mesh.nodes.len();
     let dofs = 2 * (nodes - 2);
     let mut band: Vec<[F; 4]> = (0..dofs)
@@ -259,13 +262,29 @@ fn assemble(problem: &Problem, mesh: &Mesh, mp: &Mp) -> System {
 /// Solves A c = rhs with the DOFs in `fixed` held at zero (their rows and columns replaced by
 /// the identity), by a banded LDLᵀ factorization without pivoting (A is SPD).
 fn solve_masked(system: &System, fixed: &[bool], rhs: &[F], mp: &Mp) -> Result<Vec<F>, String> {
+    solve_banded(system, fixed, None, rhs, mp)
+}
+
+/// Solves (A + diag(`added`)) c = rhs with the DOFs in `fixed` held at zero, by the banded
+/// LDLᵀ factorization of [`solve_masked`] (`added` ≥ 0 keeps the matrix SPD and the band:
+/// the ε-reference adds g/ε on the diagonal of the friction DOFs in the middle region).
+pub(super) fn solve_banded(
+    system: &System,
+    fixed: &[bool],
+    added: Option<&[F]>,
+    rhs: &[F],
+    mp: &Mp,
+) -> Result<Vec<F>, String> {
     let n = system.dofs();
     let entry = |i: usize, j: usize| -> F {
         // i ≤ j ≤ i + 3
         if fixed[i] || fixed[j] {
             if i == j { mp.num(1.0) } else { mp.zero() }
         } else {
-            system.band[i][j - i].clone()
+            match added {
+                Some(added) if i == j => &system.band[i][0] + &added[i],
+                _ => system.band[i][j - i].clone(),
+            }
         }
     };
     // lower[i][d] = L[i][i − d], d = 1..=3 (index 0 unused).
@@ -309,14 +328,14 @@ fn solve_masked(system: &System, fixed: &[bool], rhs: &[F], mp: &Mp) -> Result<V
 }
 
 /// The 2k friction DOFs in the paper's order (g1, g2 of obstacle 1, …).
-struct Friction {
-    dof: Vec<usize>,
-    kind: Vec<usize>,
-    g: Vec<F>,
+pub(super) struct Friction {
+    pub(super) dof: Vec<usize>,
+    pub(super) kind: Vec<usize>,
+    pub(super) g: Vec<F>,
 }
 
 impl Friction {
-    fn new(problem: &Problem, mesh: &Mesh, mp: &Mp) -> Friction {
+    pub(super) fn new(problem: &Problem, mesh: &Mesh, mp: &Mp) -> Friction {
         let mut friction = Friction {
             dof: Vec::new(),
             kind: Vec::new(),
@@ -337,7 +356,7 @@ impl Friction {
         friction
     }
 
-    fn len(&self) -> usize {
+    pub(super) fn len(&self) -> usize {
         self.dof.len()
     }
 }
@@ -664,6 +683,7 @@ fn finish(
         lambda,
         motion,
         states,
+        epsilon: 0.0,
         certificate: Certificate {
             stationarity,
             bound_excess,
