@@ -167,7 +167,9 @@ pub fn compare(problem: &Problem, solution: &Solution, reference: &RefSolution) 
             // to its threshold relative to the forces of its kind (a threshold of 1e-319 of
             // the forces is not one f64 can tell from zero).
             let tie = match state {
-                FrictionState::Moves => motion[i][k].abs() <= TIE_TOLERANCE * scale,
+                FrictionState::Moves => {
+                    motion[i][k].abs() - reference.epsilon <= TIE_TOLERANCE * scale
+                }
                 _ => threshold - lambda[i][k].abs() <= TIE_TOLERANCE * force_scale[k],
             };
             if !state.accepts(flag) && !(program_state == ProgramState::AtThreshold && tie) {
