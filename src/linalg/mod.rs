@@ -5,6 +5,7 @@
 //! condition numbers (dense eigenvalues through faer, Lanczos estimates for large N).
 
 pub mod banded_lu;
+pub mod banded_lu_dd;
 mod block;
 pub mod blocktri;
 pub mod boxqp;

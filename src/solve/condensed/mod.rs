@@ -63,7 +63,10 @@
 //! threshold in double-double. When the refined |motion|, or |force| − threshold, is within
 //! the refinement's own error estimate (its last correction) or 2⁻⁹⁸ of the values around the
 //! DOF, the DOF is reported [`FrictionState::AtThreshold`] rather than a coin toss
-//! ([`CondensedSolution::states`]).
+//! ([`CondensedSolution::states`]). Where refinement with the f64 factors diverges (their
+//! matrix is too far from the exact relations: obstacles a few 1e-9·l from a clamp next to
+//! long pieces), the exact relations themselves are factored in double-double
+//! (`linalg::banded_lu_dd`) and refinement goes on with those factors.
 //!
 //! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
 //! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,

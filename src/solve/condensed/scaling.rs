@@ -168,6 +168,17 @@ impl ExactPiece {
         }
     }
 
+    /// Φ of [`ExactPiece::transfer`]: the end state is Φ y + the load terms.
+    pub(super) fn transfer_matrix(&self) -> [[DoubleDouble; 4]; 4] {
+        let (zero, one) = (DoubleDouble::ZERO, DoubleDouble::from(1.0));
+        [
+            [one, self.t, self.t2_2e, self.t3_6e],
+            [zero, one, self.t_e, self.t2_2e],
+            [zero, zero, one, self.t],
+            [zero, zero, zero, one],
+        ]
+    }
+
     /// The end state from the start state y = (u, u', m, m'), in double-double.
     pub(super) fn transfer(&self, y: [DoubleDouble; 4]) -> [DoubleDouble; 4] {
         let [u, du, m, v] = y;

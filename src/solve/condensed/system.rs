@@ -7,6 +7,7 @@ use super::scaling::{ExactPiece, Piece, Scales};
 use super::search::NEWTON_REVERSAL_FRACTIONS;
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::linalg::banded_lu_dd::DoubleDoubleBanded;
 use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
 
@@ -86,6 +87,15 @@ const EXACT_REFINEMENT_STEPS: usize = 8;
 /// the double-double noise of the residual, about 2⁻¹⁰⁶ of the terms, moves corrections
 /// around 2⁻¹⁰³ of the value from step to step).
 const CONVERGED: f64 = 1.0 / (1u128 << 100) as f64;
+
+/// How a run of refinement steps ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Refinement {
+    /// Converged, or stopped gaining.
+    Settled,
+    /// The corrections grew (or could not be computed): the factors are too inaccurate.
+    Diverged,
+}
 
 /// What a refined solve resolves at best, relative to the values around a DOF: a few hundred
 /// units in the last place of double-double (2⁻¹⁰⁶).
@@ -257,38 +267,22 @@ impl Condensed {
         let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
         // Per component: the last correction (the error estimate once it stops shrinking).
         let mut correction_size = vec![f64::INFINITY; x.len()];
-        let mut previous_largest = f64::INFINITY;
-        for _ in 0..EXACT_REFINEMENT_STEPS {
-            let mut d = self.exact_residual(pattern, &x);
-            if !system.apply_inverse(&mut d) {
-                break;
-            }
-            let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if !largest.is_finite() || largest > 2.0 * previous_largest {
-                // Diverging (singular to working precision): keep the last iterate.
-                break;
-            }
-            previous_largest = largest;
-            // A component needs another step while its correction shrinks fast (refinement
-            // gains digits geometrically; at the noise floor of its rows corrections only
-            // wander, shrinking by 2 or 3 now and then) and the next one, predicted from that
-            // rate, is still above the double-double resolution of its value. Small
-            // components converge on their own scale, so the largest correction alone is no
-            // stopping rule.
-            let mut converging = false;
-            for ((xi, di), last) in x.iter_mut().zip(&d).zip(&mut correction_size) {
-                let size = di.abs();
-                let next = if last.is_finite() {
-                    size * (size / *last)
-                } else {
-                    size
-                };
-                converging |= size < *last / 16.0 && next > CONVERGED * xi.hi.abs();
-                *last = size;
-                *xi = xi.plus(*di);
-            }
-            if !converging {
-                break;
+        let with_f64_factors = self.refine(pattern, &mut x, &mut correction_size, |d| {
+            system.apply_inverse(d)
+        });
+        if with_f64_factors == Refinement::Diverged {
+            // The f64 factors are too far from the exact relations: factor those themselves,
+            // in double-double (banded_lu_dd), and go on from the last iterate.
+            let mut matrix = self.exact_matrix(pattern);
+            if matrix.factor().is_ok() {
+                correction_size.fill(f64::INFINITY);
+                self.refine(pattern, &mut x, &mut correction_size, |d| {
+                    let solved = matrix.solve(d);
+                    for (d, s) in d.iter_mut().zip(solved) {
+                        *d = s.value();
+                    }
+                    true
+                });
             }
         }
         let hi: Vec<f64> = x.iter().map(|v| v.hi).collect();
@@ -320,6 +314,90 @@ impl Condensed {
         }
         solution.exact = Some(exact);
         solution
+    }
+
+    /// Refinement steps x += A⁻¹ (b − A x) with the exact residual and `apply_inverse` for
+    /// A⁻¹, until no component converges any more or the corrections grow.
+    fn refine(
+        &self,
+        pattern: &[Pattern],
+        x: &mut [DoubleDouble],
+        correction_size: &mut [f64],
+        mut apply_inverse: impl FnMut(&mut [f64]) -> bool,
+    ) -> Refinement {
+        let mut previous_largest = f64::INFINITY;
+        for _ in 0..EXACT_REFINEMENT_STEPS {
+            let mut d = self.exact_residual(pattern, x);
+            if !apply_inverse(&mut d) {
+                return Refinement::Diverged;
+            }
+            let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !largest.is_finite() || largest > 2.0 * previous_largest {
+                // Diverging (singular to working precision): keep the last iterate.
+                return Refinement::Diverged;
+            }
+            previous_largest = largest;
+            // A component needs another step while its correction shrinks fast (refinement
+            // gains digits geometrically; at the noise floor of its rows corrections only
+            // wander, shrinking by 2 or 3 now and then) and the next one, predicted from that
+            // rate, is still above the double-double resolution of its value. Small
+            // components converge on their own scale, so the largest correction alone is no
+            // stopping rule.
+            let mut converging = false;
+            for ((xi, di), last) in x.iter_mut().zip(&d).zip(correction_size.iter_mut()) {
+                let size = di.abs();
+                let next = if last.is_finite() {
+                    size * (size / *last)
+                } else {
+                    size
+                };
+                converging |= size < *last / 16.0 && next > CONVERGED * xi.hi.abs();
+                *last = size;
+                *xi = xi.plus(*di);
+            }
+            if !converging {
+                break;
+            }
+        }
+        Refinement::Settled
+    }
+
+    /// The matrix of `solve_pattern` with the exact piece relations' coefficients, in
+    /// double-double.
+    fn exact_matrix(&self, pattern: &[Pattern]) -> DoubleDoubleBanded {
+        let pieces = self.pieces.len();
+        let column = Self::column;
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        let one = DoubleDouble::from(1.0);
+        let mut matrix = DoubleDoubleBanded::new(4 * pieces - 2, 5, 5);
+        for (p, piece) in self.exact_pieces.iter().enumerate() {
+            let phi = piece.transfer_matrix();
+            let row = 4 * p;
+            let last = p + 1 == pieces;
+            let rows = if last { 2 } else { 4 };
+            for r in 0..rows {
+                for (c, &value) in phi[r].iter().enumerate() {
+                    let known_zero = c < 2 && (p == 0 || stuck(p, c));
+                    if value.hi != 0.0 && !known_zero {
+                        matrix.add(row + r, column(p, c), value);
+                    }
+                }
+                let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
+                if !last && !next_is_known_zero {
+                    matrix.add(row + r, column(p + 1, r), -one);
+                }
+            }
+            if !last && let Some(j) = self.obstacle_at_point[p + 1] {
+                for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                    if pattern[2 * j + d] == Pattern::Stuck {
+                        matrix.add(row + jump_row, column(p + 1, d), DoubleDouble::from(sign));
+                    }
+                }
+            }
+        }
+        matrix
     }
 
     /// b − A x for the system of `pattern`, with A and b the exact piece relations (each
