@@ -570,7 +570,7 @@ fn stretch_residual(
                 // clamped end to an ulp of the piece's values, not of that small value.
                 let scale: f64 =
                     terms.iter().map(|v| v.abs()).sum::<f64>() + value.abs() + piece_scale;
-                overflow |= !(scale < f64::INFINITY);
+                overflow |= !scale.is_finite();
                 // 0/0 (everything zero) is NaN, which max ignores: a residual of 0.
                 worst = worst.max((value - exact).abs() / scale);
             }

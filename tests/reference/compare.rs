@@ -172,7 +172,8 @@ pub fn compare(problem: &Problem, solution: &Solution, reference: &RefSolution) 
                 }
                 _ => threshold - lambda[i][k].abs() <= TIE_TOLERANCE * force_scale[k],
             };
-            if !state.accepts(flag) && !(program_state == ProgramState::AtThreshold && tie) {
+            let right = state.accepts(flag) || (program_state == ProgramState::AtThreshold && tie);
+            if !right {
                 let gross = match state {
                     // Past ε (0 for the exact problem) by more than f64 resolves.
                     FrictionState::Moves => motion[i][k].abs() - reference.epsilon >= 1e-12 * scale,
