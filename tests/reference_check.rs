@@ -358,16 +358,19 @@ fn the_regression_scenes_are_valid_and_the_symmetric_one_ties() {
     assert!(r.motion_f64()[0][0] > 0.0);
 }
 
+/// The ordinary presets the harness and the ε-reference are tried on.
+const ORDINARY_PRESETS: [&str; 4] = [
+    "benchmark-1",
+    "benchmark-2",
+    "benchmark-3",
+    "eight-obstacles",
+];
+
 #[test]
 fn ordinary_presets_agree_with_the_dual_method() {
     // The harness itself: on ordinary scenes the exact methods agree to the 1e-10
     // (measured: flexibility 3e-15 … 2.8e-13, dual 4e-15 … 2.7e-12).
-    for name in [
-        "benchmark-1",
-        "benchmark-2",
-        "benchmark-3",
-        "eight-obstacles",
-    ] {
+    for name in ORDINARY_PRESETS {
         let scene = preset_scene(name);
         let (p, n) = problem_of(&scene);
         let r = solve_reference(&p, n);
@@ -385,12 +388,7 @@ fn ordinary_presets_agree_with_the_dual_method() {
 fn epsilon_self_test_scenes() -> Vec<(String, Scene)> {
     let mut scenes = regression_scenes();
     scenes.extend((100..104).map(|s| (format!("seed {s}"), hard_scene(s))));
-    for name in [
-        "benchmark-1",
-        "benchmark-2",
-        "benchmark-3",
-        "eight-obstacles",
-    ] {
+    for name in ORDINARY_PRESETS {
         scenes.push((name.to_string(), preset_scene(name)));
     }
     scenes
@@ -457,12 +455,7 @@ fn the_epsilon_reference_does_not_depend_on_the_start() {
     let mut scenes: Vec<(String, Scene)> = (5..8)
         .map(|s| (format!("seed {s}"), hard_scene(s)))
         .collect();
-    for name in [
-        "benchmark-1",
-        "benchmark-2",
-        "benchmark-3",
-        "eight-obstacles",
-    ] {
+    for name in ORDINARY_PRESETS {
         scenes.push((name.to_string(), preset_scene(name)));
     }
     let mp = Mp {
@@ -497,15 +490,10 @@ fn the_epsilon_reference_tends_to_the_exact_one() {
     // moving one keeps its force ±g while it moves by more than ε. So the nodal error is at
     // most about ε and never grows as ε shrinks, and the states are the exact ones wherever ε
     // is below the exact motion.
-    let mut scenes: Vec<(String, Scene)> = [
-        "benchmark-1",
-        "benchmark-2",
-        "benchmark-3",
-        "eight-obstacles",
-    ]
-    .iter()
-    .map(|name| (name.to_string(), preset_scene(name)))
-    .collect();
+    let mut scenes: Vec<(String, Scene)> = ORDINARY_PRESETS
+        .iter()
+        .map(|name| (name.to_string(), preset_scene(name)))
+        .collect();
     scenes.extend(
         regression_scenes()
             .into_iter()

@@ -378,36 +378,18 @@ fn finish(
     let tau = to_f64(&mp.tie_tolerance());
     let verified = stationarity <= tau && complementarity;
 
-    let nodes = mesh.nodes.len();
-    let mut u = Vec::with_capacity(nodes);
-    let mut slope = Vec::with_capacity(nodes);
-    for node in 0..nodes {
-        if node == 0 || node == nodes - 1 {
-            u.push(mp.zero());
-            slope.push(mp.zero());
-        } else {
-            u.push(c[dof(node, 0)].clone());
-            slope.push(c[dof(node, 1)].clone());
-        }
-    }
-    let lambda = (0..problem.obstacles.len())
-        .map(|o| [lambda[2 * o].clone(), lambda[2 * o + 1].clone()])
-        .collect();
-    RefSolution {
-        precision: mp.precision,
-        nodes: mesh.nodes.clone(),
-        u,
-        slope,
-        lambda,
-        motion,
-        states,
-        epsilon: to_f64(epsilon),
-        certificate: Certificate {
+    RefSolution::package(
+        (mesh, mp),
+        &c,
+        &lambda,
+        (motion, states),
+        to_f64(epsilon),
+        Certificate {
             stationarity,
             bound_excess: 0.0,
             complementarity,
             verified,
         },
         solves,
-    }
+    )
 }

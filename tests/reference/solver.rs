@@ -99,6 +99,41 @@ pub struct RefSolution {
 }
 
 impl RefSolution {
+    /// The solution from the DOF vector `c` (u, u' of the interior nodes; the clamped ends
+    /// are zero) and the friction forces `lambda` (force, moment per obstacle, in order).
+    pub(super) fn package(
+        (mesh, mp): (&Mesh, &Mp),
+        c: &[F],
+        lambda: &[F],
+        (motion, states): (Vec<[F; 2]>, Vec<[FrictionState; 2]>),
+        epsilon: f64,
+        certificate: Certificate,
+        solves: usize,
+    ) -> RefSolution {
+        let nodes = mesh.nodes.len();
+        let at = |node: usize, kind: usize| {
+            if node == 0 || node == nodes - 1 {
+                mp.zero()
+            } else {
+                c[dof(node, kind)].clone()
+            }
+        };
+        RefSolution {
+            precision: mp.precision,
+            nodes: mesh.nodes.clone(),
+            u: (0..nodes).map(|node| at(node, 0)).collect(),
+            slope: (0..nodes).map(|node| at(node, 1)).collect(),
+            lambda: (0..motion.len())
+                .map(|o| [lambda[2 * o].clone(), lambda[2 * o + 1].clone()])
+                .collect(),
+            motion,
+            states,
+            epsilon,
+            certificate,
+            solves,
+        }
+    }
+
     /// u at the nodes, rounded to f64.
     pub fn u_f64(&self) -> Vec<f64> {
         self.u.iter().map(to_f64).collect()
@@ -660,36 +695,18 @@ fn finish(
     let tolerance = to_f64(&tau);
     let verified = stationarity <= tolerance && bound_excess <= tolerance && complementarity;
 
-    let nodes = mesh.nodes.len();
-    let mut u = Vec::with_capacity(nodes);
-    let mut slope = Vec::with_capacity(nodes);
-    for node in 0..nodes {
-        if node == 0 || node == nodes - 1 {
-            u.push(mp.zero());
-            slope.push(mp.zero());
-        } else {
-            u.push(c[dof(node, 0)].clone());
-            slope.push(c[dof(node, 1)].clone());
-        }
-    }
-    let lambda = (0..problem.obstacles.len())
-        .map(|o| [lambda[2 * o].clone(), lambda[2 * o + 1].clone()])
-        .collect();
-    RefSolution {
-        precision: mp.precision,
-        nodes: mesh.nodes.clone(),
-        u,
-        slope,
-        lambda,
-        motion,
-        states,
-        epsilon: 0.0,
-        certificate: Certificate {
+    RefSolution::package(
+        (mesh, mp),
+        &c,
+        &lambda,
+        (motion, states),
+        0.0,
+        Certificate {
             stationarity,
             bound_excess,
             complementarity,
             verified,
         },
         solves,
-    }
+    )
 }

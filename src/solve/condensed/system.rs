@@ -5,6 +5,7 @@
 use super::CondensedFailure;
 use super::scaling::{ExactPiece, Piece, Scales};
 use super::search::NEWTON_REVERSAL_FRACTIONS;
+use super::search::{BAND_LOWER, BAND_UPPER};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::linalg::banded_lu_dd::DoubleDoubleBanded;
@@ -87,6 +88,10 @@ const EXACT_REFINEMENT_STEPS: usize = 8;
 /// the double-double noise of the residual, about 2⁻¹⁰⁶ of the terms, moves corrections
 /// around 2⁻¹⁰³ of the value from step to step).
 const CONVERGED: f64 = 1.0 / (1u128 << 100) as f64;
+
+/// The jumps at an obstacle, (DOF kind, transfer row, sign): m'⁺ = m'⁻ − λ1 (row 3),
+/// m⁺ = m⁻ + λ2 (row 2).
+const JUMPS: [(usize, usize, f64); 2] = [(0, 3, -1.0), (1, 2, 1.0)];
 
 /// How a run of refinement steps ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -186,7 +191,8 @@ impl Condensed {
     /// its flexibility (t u', t² m/2EJ, t³ m'/6EJ), and row equilibration sees them at their
     /// own scale instead of next to the 1 of a value that is zero anyway.
     /// Rows: per piece its four transfer rows (two for the last piece: the far end is
-    /// clamped), in the order of the columns, so the band is (5, 5).
+    /// clamped), in the order of the columns, so the band is (3, 3) ([`BAND_LOWER`],
+    /// [`BAND_UPPER`]); the matrix is [`Condensed::assemble_matrix`]'s.
     pub(super) fn solve_pattern(
         &self,
         pattern: &[Pattern],
@@ -194,11 +200,6 @@ impl Condensed {
         system: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
         let pieces = self.pieces.len();
-        // Column of component c (0..4) of the state at point p; point 0 has only m, m'.
-        let column = Self::column;
-        let stuck = |p: usize, d: usize| {
-            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
-        };
         if accuracy == Accuracy::RefineLast {
             let mut x = system.rhs().to_vec();
             if !system.apply_inverse(&mut x) {
@@ -207,39 +208,28 @@ impl Condensed {
             return Ok(self.refined_solution(pattern, system, x));
         }
         system.reset(4 * pieces - 2);
+        self.assemble_matrix(
+            pattern,
+            |p| self.pieces[p].transfer_matrix(),
+            |v| v,
+            |row, column, value| system.add(row, column, value),
+        );
         for (p, piece) in self.pieces.iter().enumerate() {
-            let phi = piece.transfer_matrix();
             let q = piece.load_terms();
-            let row = 4 * p;
-            let last = p + 1 == pieces;
-            let rows = if last { 2 } else { 4 };
-            for r in 0..rows {
-                for (c, &value) in phi[r].iter().enumerate() {
-                    // u, u' at the left support and stuck DOFs are zero.
-                    let known_zero = c < 2 && (p == 0 || stuck(p, c));
-                    if value != 0.0 && !known_zero {
-                        system.add(row + r, column(p, c), value);
-                    }
-                }
-                system.add_rhs(row + r, -q[r]);
-                // The next state (a stuck value is a known zero: nothing to subtract).
-                let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
-                if !last && !next_is_known_zero {
-                    system.add(row + r, column(p + 1, r), -1.0);
-                }
+            let rows = if p + 1 == pieces { 2 } else { 4 };
+            for (r, q) in q.iter().enumerate().take(rows) {
+                system.add_rhs(4 * p + r, -q);
             }
-            if !last && let Some(j) = self.obstacle_at_point[p + 1] {
-                // Jumps: m⁺ = m⁻ + λ2, m'⁺ = m'⁻ − λ1; a stuck DOF's reaction is the unknown
-                // in the column of its (zero) value.
-                for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+            // A moving DOF's known force ±g enters its jump row's right-hand side.
+            if p + 1 < pieces
+                && let Some(j) = self.obstacle_at_point[p + 1]
+            {
+                for (d, jump_row, sign) in JUMPS {
+                    let g = self.thresholds[j][d];
                     match pattern[2 * j + d] {
-                        Pattern::Stuck => system.add(row + jump_row, column(p + 1, d), sign),
-                        Pattern::Positive => {
-                            system.add_rhs(row + jump_row, -sign * self.thresholds[j][d])
-                        }
-                        Pattern::Negative => {
-                            system.add_rhs(row + jump_row, sign * self.thresholds[j][d])
-                        }
+                        Pattern::Stuck => {}
+                        Pattern::Positive => system.add_rhs(4 * p + jump_row, -sign * g),
+                        Pattern::Negative => system.add_rhs(4 * p + jump_row, sign * g),
                     }
                 }
             }
@@ -365,39 +355,59 @@ impl Condensed {
     /// The matrix of `solve_pattern` with the exact piece relations' coefficients, in
     /// double-double.
     fn exact_matrix(&self, pattern: &[Pattern]) -> DoubleDoubleBanded {
+        let mut matrix = DoubleDoubleBanded::new(4 * self.pieces.len() - 2, BAND_LOWER, BAND_UPPER);
+        self.assemble_matrix(
+            pattern,
+            |p| self.exact_pieces[p].transfer_matrix(),
+            DoubleDouble::from,
+            |row, column, value| matrix.add(row, column, value),
+        );
+        matrix
+    }
+
+    /// The matrix of `pattern`'s system (the layout of `solve_pattern`): `add(row, column,
+    /// value)` for every entry, with `transfer(p)` piece p's Φ and `constant` the entry ±1.
+    /// Rows: per piece its four transfer rows (two for the last piece: the far end is
+    /// clamped), Φ y_p − y_{p+1} + jump; a known zero (u, u' at the left support, a stuck
+    /// DOF) has no column, and a stuck DOF's reaction takes the column of its value.
+    fn assemble_matrix<T>(
+        &self,
+        pattern: &[Pattern],
+        transfer: impl Fn(usize) -> [[T; 4]; 4],
+        constant: impl Fn(f64) -> T,
+        mut add: impl FnMut(usize, usize, T),
+    ) {
         let pieces = self.pieces.len();
         let column = Self::column;
         let stuck = |p: usize, d: usize| {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
-        let one = DoubleDouble::from(1.0);
-        let mut matrix = DoubleDoubleBanded::new(4 * pieces - 2, 5, 5);
-        for (p, piece) in self.exact_pieces.iter().enumerate() {
-            let phi = piece.transfer_matrix();
+        for p in 0..pieces {
+            let phi = transfer(p);
             let row = 4 * p;
             let last = p + 1 == pieces;
             let rows = if last { 2 } else { 4 };
-            for r in 0..rows {
-                for (c, &value) in phi[r].iter().enumerate() {
+            for (r, phi_row) in phi.into_iter().enumerate().take(rows) {
+                // Φ is upper triangular.
+                for (c, value) in phi_row.into_iter().enumerate().skip(r) {
                     let known_zero = c < 2 && (p == 0 || stuck(p, c));
-                    if value.hi != 0.0 && !known_zero {
-                        matrix.add(row + r, column(p, c), value);
+                    if !known_zero {
+                        add(row + r, column(p, c), value);
                     }
                 }
                 let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
                 if !last && !next_is_known_zero {
-                    matrix.add(row + r, column(p + 1, r), -one);
+                    add(row + r, column(p + 1, r), constant(-1.0));
                 }
             }
             if !last && let Some(j) = self.obstacle_at_point[p + 1] {
-                for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                for (d, jump_row, sign) in JUMPS {
                     if pattern[2 * j + d] == Pattern::Stuck {
-                        matrix.add(row + jump_row, column(p + 1, d), DoubleDouble::from(sign));
+                        add(row + jump_row, column(p + 1, d), constant(sign));
                     }
                 }
             }
         }
-        matrix
     }
 
     /// b − A x for the system of `pattern`, with A and b the exact piece relations (each
@@ -428,7 +438,7 @@ impl Condensed {
                 }
                 if let Some(j) = self.obstacle_at_point[p + 1] {
                     // m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2 (as in `solve_pattern`).
-                    for (d, jump_row, sign) in [(0, 3, -1.0), (1, 2, 1.0)] {
+                    for (d, jump_row, sign) in JUMPS {
                         let g = self.thresholds[j][d];
                         let force = match pattern[2 * j + d] {
                             Pattern::Stuck => x[Self::column(p + 1, d)],
