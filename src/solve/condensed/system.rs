@@ -370,7 +370,7 @@ impl Condensed {
     /// Rows: per piece its four transfer rows (two for the last piece: the far end is
     /// clamped), Φ y_p − y_{p+1} + jump; a known zero (u, u' at the left support, a stuck
     /// DOF) has no column, and a stuck DOF's reaction takes the column of its value.
-    fn assemble_matrix<T>(
+    fn assemble_matrix<T: Copy>(
         &self,
         pattern: &[Pattern],
         transfer: impl Fn(usize) -> [[T; 4]; 4],
@@ -387,12 +387,12 @@ impl Condensed {
             let row = 4 * p;
             let last = p + 1 == pieces;
             let rows = if last { 2 } else { 4 };
-            for (r, phi_row) in phi.into_iter().enumerate().take(rows) {
+            for r in 0..rows {
                 // Φ is upper triangular.
-                for (c, value) in phi_row.into_iter().enumerate().skip(r) {
+                for c in r..4 {
                     let known_zero = c < 2 && (p == 0 || stuck(p, c));
                     if !known_zero {
-                        add(row + r, column(p, c), value);
+                        add(row + r, column(p, c), phi[r][c]);
                     }
                 }
                 let next_is_known_zero = r < 2 && !last && stuck(p + 1, r);
