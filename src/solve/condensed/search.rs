@@ -63,13 +63,18 @@ impl Condensed {
         let mut slope = 0.0;
         let mut kinks = Vec::new();
         for (i, (&ci, &di)) in c.iter().zip(&d).enumerate() {
-            slope -= r[i] * di;
             let g = self.thresholds[i / 2][i % 2];
-            if di == 0.0 || g == 0.0 {
+            if di == 0.0 {
+                continue;
+            }
+            if g == 0.0 {
+                slope -= r[i] * di;
                 continue;
             }
             let direction = if ci != 0.0 { sign(ci) } else { sign(di) };
-            slope += g * direction * di;
+            // One term per DOF, (g·sign − r)·d: exactly zero for a DOF that moves on at its
+            // threshold, so a large moving DOF cannot round away the slope of the others.
+            slope += (g * direction - r[i]) * di;
             if ci != 0.0 && sign(ci) != sign(di) {
                 let t = -ci / di;
                 if t < 1.0 {
@@ -89,7 +94,8 @@ impl Condensed {
                     stop = Some((at - slope / q, None));
                     break;
                 }
-                slope += q * (t - at) + jump;
+                // The jump first: past a DOF's own kink it often cancels the slope.
+                slope = (slope + jump) + q * (t - at);
                 at = t;
                 if slope >= 0.0 {
                     stop = Some((t, Some(i)));
