@@ -24,7 +24,9 @@
 //! that does not move is stuck when |λ| is below its threshold by more than rounding of the
 //! local forces, and "at the threshold" otherwise: both descriptions fit. For the regularised
 //! methods the motion must also exceed ε, and complementarity is that of the ε-problem,
-//! λ = g·clamp(c/ε, −1, 1).
+//! λ = g·clamp(c/ε, −1, 1); a DOF below ε is "at the threshold" when |λ| = g is within both
+//! the unresolved motion turned into force (g/ε times it) and the method's relative loss on
+//! the forces meeting there.
 
 use super::condensed::FrictionState;
 use crate::fem::{Mesh, NodalField};
@@ -425,7 +427,16 @@ pub(super) fn check(
                 .epsilon
                 .map_or(0.0, |e| [units.u(e), units.slope(e)][d]);
             let force_scale = g.max(l.abs()).max(meeting[d]);
-            let force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
+            let mut force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
+            if epsilon > 0.0 {
+                // A regularised method's λ = g·c/ε is as uncertain as its c near ε (the unresolved
+                // motion turned into force) and as its equilibrium (its relative loss on the
+                // forces meeting here). Only when both leave |λ| = g open is a stuck DOF "at the
+                // threshold": each alone is pessimistic, for large deflections or large forces.
+                let through_motion = g / epsilon * motion_tolerance;
+                let through_forces = judging.motion_resolution * force_scale;
+                force_tolerance = force_tolerance.max(through_motion.min(through_forces));
+            }
             // Feasibility |λ| ≤ g.
             residual = residual.max(relative((l.abs() - g).max(0.0), force_scale));
             let moves = c.abs() > motion_tolerance + epsilon;
