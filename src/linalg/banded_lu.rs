@@ -184,16 +184,33 @@ struct Factors {
     size: usize,
     lower: usize,
     upper: usize,
-    width: usize,
     entries: Vec<f64>,
     /// The power of two each row was scaled by.
     row_scale: Vec<f64>,
+    /// 1 / U_jj: a division per row would sit on the substitution's critical path.
+    inverse_diagonal: Vec<f64>,
     pivot: Vec<usize>,
 }
 
+/// The band of the condensed method's systems (`solve::condensed::search`): [`Factors`]
+/// works on it with the band as constants, which lets the compiler unroll the inner loops.
+const CONDENSED_BAND: (usize, usize) = (3, 3);
+
 impl Factors {
-    fn new(system: &BandedSystem, mut entries: Vec<f64>) -> Result<Factors, SingularColumn> {
-        let (n, kl, ku) = (system.size, system.lower, system.upper);
+    fn new(system: &BandedSystem, entries: Vec<f64>) -> Result<Factors, SingularColumn> {
+        match (system.lower, system.upper) {
+            CONDENSED_BAND => Self::new_with_band(system, entries, CONDENSED_BAND),
+            band => Self::new_with_band(system, entries, band),
+        }
+    }
+
+    #[inline(always)]
+    fn new_with_band(
+        system: &BandedSystem,
+        mut entries: Vec<f64>,
+        (kl, ku): (usize, usize),
+    ) -> Result<Factors, SingularColumn> {
+        let n = system.size;
         let width = 2 * kl + ku + 1;
         let given = kl + ku + 1;
         entries.clear();
@@ -221,6 +238,7 @@ impl Factors {
             }
         }
         let mut pivot = vec![0; n];
+        let mut inverse_diagonal = vec![0.0; n];
         let reach = kl + ku;
         let at = |row: usize, column: usize| row * width + column + kl - row;
         for j in 0..n {
@@ -245,10 +263,11 @@ impl Factors {
                 let (head, tail) = entries.split_at_mut(b);
                 head[a..a + span].swap_with_slice(&mut tail[..span]);
             }
-            let diagonal = entries[at(j, j)];
+            let inverse = 1.0 / entries[at(j, j)];
+            inverse_diagonal[j] = inverse;
             for r in j + 1..=last_row {
                 let multiplier_at = at(r, j);
-                let factor = entries[multiplier_at] / diagonal;
+                let factor = entries[multiplier_at] * inverse;
                 entries[multiplier_at] = factor;
                 if factor == 0.0 {
                     continue;
@@ -266,9 +285,9 @@ impl Factors {
         }
         Ok(Factors {
             size: n,
+            inverse_diagonal,
             lower: kl,
             upper: ku,
-            width,
             entries,
             row_scale,
             pivot,
@@ -277,7 +296,15 @@ impl Factors {
 
     /// Overwrites b with A⁻¹ b.
     fn solve_in_place(&self, b: &mut [f64]) {
-        let (n, kl, width) = (self.size, self.lower, self.width);
+        match (self.lower, self.upper) {
+            CONDENSED_BAND => self.solve_with_band(b, CONDENSED_BAND),
+            band => self.solve_with_band(b, band),
+        }
+    }
+
+    #[inline(always)]
+    fn solve_with_band(&self, b: &mut [f64], (kl, ku): (usize, usize)) {
+        let (n, width) = (self.size, 2 * kl + ku + 1);
         let at = |row: usize, column: usize| row * width + column + kl - row;
         for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
             *v *= scale;
@@ -291,15 +318,22 @@ impl Factors {
                 }
             }
         }
-        let reach = kl + self.upper;
+        let reach = kl + ku;
         for i in (0..n).rev() {
             let last = (i + reach).min(n - 1);
             let row = &self.entries[at(i, i + 1)..at(i, i + 1) + (last - i)];
-            let sum = row
+            // The terms of x_{i+2}, … first and x_{i+1}, computed just before, last: only one
+            // product and one subtraction wait for it (the substitution is latency-bound).
+            let far = row
                 .iter()
                 .zip(&b[i + 1..=last])
+                .skip(1)
                 .fold(b[i], |sum, (a, x)| sum - a * x);
-            b[i] = sum / self.entries[at(i, i)];
+            let sum = match row.first() {
+                Some(&a) => far - a * b[i + 1],
+                None => far,
+            };
+            b[i] = sum * self.inverse_diagonal[i];
         }
     }
 }
