@@ -1093,17 +1093,13 @@ fn regularized_methods_agree_with_the_epsilon_reference_on_regression_scenes_and
 }
 
 proptest! {
-    // A fixed seed unless PROPTEST_RNG_SEED says otherwise: CI sees the same 32 scenes every
-    // run (the stable method still fails about 7 in 10 000 random ones, listed in the issue 10
-    // note, so a random draw would make CI fail now and then); exploring is the scan's job.
+    // Fresh random scenes on every run (PROPTEST_RNG_SEED=N repeats a draw): the stable method
+    // failed 0 of 10 000 random scenes and 0 of the 2000 fixed seeds at the last measurement
+    // (issue 10 note), so a failure here is a new case; its message names the seed, to be
+    // kept in `tests/scenes/hard/` once fixed.
     #![proptest_config(ProptestConfig {
         cases: env_number("BEAMFRIC_PROPTEST_CASES", 32) as u32,
         failure_persistence: None,
-        rng_seed: if std::env::var("PROPTEST_RNG_SEED").is_ok() {
-            ProptestConfig::default().rng_seed
-        } else {
-            proptest::test_runner::RngSeed::Fixed(2026)
-        },
         ..ProptestConfig::default()
     })]
 
