@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 use crate::fem::{Mesh, PointValues};
 use crate::format::{duration, sci};
 use crate::linalg::condition::ConditionNumber;
-use crate::solve::{Reference, Solution, SolveError};
+use crate::solve::{Method, Reference, Solution, SolveError};
 
 /// What the output needs to know besides the solution.
 pub struct SolveContext<'a> {
@@ -252,14 +252,32 @@ fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
     }
     if show_time {
         let t = &solution.timing;
-        lines.push(format!(
-            "time             {} (assembly {}, factorization {}, dual solve {}, reconstruction {})",
-            duration(t.total()),
-            duration(t.assembly),
-            duration(t.factorization),
-            duration(t.dual_solve),
-            duration(t.reconstruction)
-        ));
+        // The stage on the friction DOFs by what the method does there; stages a method does
+        // not have (0 s) are left out rather than shown as 0.0 µs.
+        let friction_stage = match solution.method {
+            Method::Condensed => "friction search",
+            Method::Regularized | Method::RegularizedNewton => "friction DOFs",
+            _ => "dual solve",
+        };
+        let stages: Vec<String> = [
+            ("assembly", t.assembly),
+            ("factorization", t.factorization),
+            (friction_stage, t.dual_solve),
+            ("reconstruction", t.reconstruction),
+        ]
+        .iter()
+        .filter(|(_, d)| !d.is_zero())
+        .map(|(name, d)| format!("{name} {}", duration(*d)))
+        .collect();
+        lines.push(if stages.is_empty() {
+            format!("time             {}", duration(t.total()))
+        } else {
+            format!(
+                "time             {} ({})",
+                duration(t.total()),
+                stages.join(", ")
+            )
+        });
     }
 }
 

@@ -225,3 +225,28 @@ fn a_non_finite_solution_is_reported_not_shown() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_time_line_names_the_stages_a_method_has() {
+    let time_line = |method: &str| {
+        let out = beamfric(&["solve", "--scene", "benchmark-1", "--method", method]);
+        assert!(out.status.success(), "{method}");
+        String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .find(|l| l.starts_with("time "))
+            .unwrap_or_else(|| panic!("{method}: no time line"))
+            .to_string()
+    };
+    // The condensed method has no assembly, factorization or reconstruction stage of its own:
+    // its time is the friction search (which solves and refines every pattern).
+    let condensed = time_line("condensed");
+    assert!(condensed.contains("(friction search "), "{condensed}");
+    for absent in ["assembly", "factorization", "dual solve", "reconstruction"] {
+        assert!(!condensed.contains(absent), "{condensed}");
+    }
+    let dual = time_line("dual");
+    for stage in ["assembly", "factorization", "dual solve", "reconstruction"] {
+        assert!(dual.contains(stage), "{dual}");
+    }
+    assert!(time_line("regularized").contains("friction DOFs"));
+}
