@@ -239,8 +239,19 @@ pub(super) fn check(
                 units.force(o.sliding_threshold, 0),
                 units.force(o.swivel_threshold, 1),
             ]
+            // A threshold past the largest double in these units (1e20 N against loads of
+            // 1e-300) is one no force reaches: the largest double says the same without an
+            // infinity that would make every scale infinite.
+            .map(|g| g.min(f64::MAX))
         })
         .collect();
+    // What the SI values themselves can carry: below the smallest normal double (2^-1022 m,
+    // rad, N, N m) a value has fewer than 53 bits, so an absolute 2^-1022 is its rounding.
+    let subnormal = [units.u(f64::MIN_POSITIVE), units.slope(f64::MIN_POSITIVE)];
+    let subnormal_force = [
+        units.force(f64::MIN_POSITIVE, 0),
+        units.force(f64::MIN_POSITIVE, 1),
+    ];
     let load_at = |node: usize| units.f(problem.load_at(mesh.nodes[node]));
 
     // The largest |u| and |u'| on each piece, in one pass over its nodes.
@@ -259,7 +270,11 @@ pub(super) fn check(
         .zip(&piece_largest)
         .map(|(p, &[mu, mt])| {
             let length = x(p.last_node) - x(p.first_node);
-            [mu.max(mt * length), mt.max(mu / length)]
+            // Never below what the SI values carry: an ulp of it is their subnormal rounding.
+            [
+                mu.max(mt * length).max(subnormal[0] / f64::EPSILON),
+                mt.max(mu / length).max(subnormal[1] / f64::EPSILON),
+            ]
         })
         .collect();
     // What rounding leaves unresolved in (u, u') at each special point: an ulp of the local
@@ -343,9 +358,11 @@ pub(super) fn check(
                 if let Some(j) = *at {
                     let arm = pieces[s].a - x0;
                     force += lam[j][0];
-                    force_scale += lam[j][0].abs();
+                    force_scale += lam[j][0].abs() + subnormal_force[0];
                     moment += lam[j][1] + arm * lam[j][0];
-                    moment_scale += lam[j][1].abs() + (arm * lam[j][0]).abs();
+                    moment_scale += lam[j][1].abs()
+                        + subnormal_force[1]
+                        + (arm * (lam[j][0].abs() + subnormal_force[0]));
                 }
             }
             residual = residual
@@ -406,10 +423,12 @@ pub(super) fn check(
         let local = [
             local_u
                 .max(local_t * longest)
-                .max(f * longest.powi(4) / ej / 384.0),
+                .max(f * longest.powi(4) / ej / 384.0)
+                .max(subnormal[0] / f64::EPSILON),
             local_t
                 .max(local_u / longest)
-                .max(f * longest.powi(3) / ej / 120.0),
+                .max(f * longest.powi(3) / ej / 120.0)
+                .max(subnormal[1] / f64::EPSILON),
         ];
         // The forces that meet at the point: what λ is computed against.
         let (left, right) = (&pieces[s - 1], &pieces[s]);
@@ -426,7 +445,10 @@ pub(super) fn check(
             let epsilon = judging
                 .epsilon
                 .map_or(0.0, |e| [units.u(e), units.slope(e)][d]);
-            let force_scale = g.max(l.abs()).max(meeting[d]);
+            let force_scale = g
+                .max(l.abs())
+                .max(meeting[d])
+                .max(subnormal_force[d] / f64::EPSILON);
             let mut force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
             if epsilon > 0.0 {
                 // A regularised method's λ = g·c/ε is as uncertain as its c near ε (the unresolved
