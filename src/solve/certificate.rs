@@ -73,6 +73,7 @@ pub(super) fn certify(
     let Equilibrium {
         residual: kkt_residual,
         mut states,
+        unresolved_force,
     } = equilibrium::check(problem, mesh, &field, &lambda, judging);
     // Where the returned values fit both descriptions, the method's own finer decision.
     if let Some(method_states) = method_states {
@@ -89,6 +90,19 @@ pub(super) fn certify(
     let obstacles = obstacle_results(problem, mesh, &field, &lambda, &states);
     if let Some(w) = kkt_warning(kkt_residual, method) {
         warnings.push(w);
+    }
+    if let Some(epsilon) = judging.epsilon
+        && unresolved_force > REGULARIZED_WARNING
+    {
+        warnings.push(Warning::new(
+            WarningCode::AccuracyLoss,
+            format!(
+                "inside ε = {epsilon:e} a friction force is g·c/ε, and this method resolves c \
+                 only well enough to know such a force to {unresolved_force:.1e} of the largest \
+                 force of its kind: digits lost to rounding; a larger ε, or the condensed \
+                 method, works here"
+            ),
+        ));
     }
     let mut solution = Solution {
         method,

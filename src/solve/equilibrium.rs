@@ -26,7 +26,9 @@
 //! methods the motion must also exceed ε, and complementarity is that of the ε-problem,
 //! λ = g·clamp(c/ε, −1, 1); a DOF below ε is "at the threshold" when |λ| = g is within both
 //! the unresolved motion turned into force (g/ε times it) and the method's relative loss on
-//! the forces meeting there.
+//! the forces meeting there; the smaller of the two, relative to the largest force of its
+//! kind, is what the certificate reports as the regularised forces' uncertainty
+//! (`accuracy-loss` above 1e-8).
 
 use super::condensed::FrictionState;
 use crate::fem::{Mesh, NodalField};
@@ -50,6 +52,11 @@ pub(super) struct Equilibrium {
     pub residual: f64,
     /// (sliding, swivel) state per obstacle.
     pub states: Vec<[FrictionState; 2]>,
+    /// For a regularised method: the largest uncertainty of a force g·c/ε of a DOF inside ε
+    /// (the unresolved part of c turned into force, at most the method's relative loss on the
+    /// forces meeting there), relative to the largest force of its kind (or |f|·l, |f|·l²);
+    /// 0 for the exact methods.
+    pub unresolved_force: f64,
 }
 
 /// How a method's answer is judged.
@@ -219,6 +226,7 @@ pub(super) fn check(
         return Equilibrium {
             residual: f64::NAN,
             states: vec![[FrictionState::AtThreshold; 2]; k],
+            unresolved_force: 0.0,
         };
     }
     let units = Units::of(problem);
@@ -402,6 +410,18 @@ pub(super) fn check(
         largest_u.max(largest_t * span).max(natural * span),
         largest_t.max(largest_u / span).max(natural),
     ];
+    // The largest force of each kind, or the load's natural force and moment over the span.
+    let kind_scale: [f64; 2] = {
+        let f = units
+            .f(problem.load.f0)
+            .abs()
+            .max(units.f(problem.load.f1).abs());
+        [0, 1].map(|d| {
+            lam.iter()
+                .fold(f * span.powi(d as i32 + 1), |m, l| m.max(l[d].abs()))
+        })
+    };
+    let mut unresolved_force = 0.0f64;
     let mut states = Vec::with_capacity(k);
     for (j, &node) in mesh.obstacle_nodes.iter().enumerate() {
         let Some(s) = special_of(node).filter(|&s| s > 0) else {
@@ -458,6 +478,13 @@ pub(super) fn check(
                 let through_motion = g / epsilon * motion_tolerance;
                 let through_forces = judging.motion_resolution * force_scale;
                 force_tolerance = force_tolerance.max(through_motion.min(through_forces));
+                if c.abs() <= epsilon + motion_tolerance && kind_scale[d] > 0.0 {
+                    // Inside ε the force is g·c/ε: as uncertain as c, and as the equilibrium
+                    // of the forces meeting here (not of g, which may be far larger).
+                    let uncertain =
+                        through_motion.min(judging.motion_resolution * meeting[d].max(l.abs()));
+                    unresolved_force = unresolved_force.max(uncertain / kind_scale[d]);
+                }
             }
             // Feasibility |λ| ≤ g.
             residual = residual.max(relative((l.abs() - g).max(0.0), force_scale));
@@ -496,7 +523,11 @@ pub(super) fn check(
         }
         states.push(pair);
     }
-    Equilibrium { residual, states }
+    Equilibrium {
+        residual,
+        states,
+        unresolved_force,
+    }
 }
 
 /// The largest relative difference between an interior node and its piece's exact local
