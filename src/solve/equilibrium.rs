@@ -456,6 +456,12 @@ pub(super) fn check(
             left.forces[2].abs() + right.forces[0].abs(),
             left.forces[3].abs() + right.forces[1].abs(),
         ];
+        // The same with every term of the two pieces' end forces at its own size (K c and the
+        // load before they cancel): what a relative loss of the method is a loss of.
+        let meeting_terms = [
+            left.magnitude[2] + right.magnitude[0],
+            left.magnitude[3] + right.magnitude[1],
+        ];
         let c = [u.at(node), t.at(node)];
         let mut pair = [FrictionState::Stuck; 2];
         for d in 0..2 {
@@ -481,8 +487,8 @@ pub(super) fn check(
                 if c.abs() <= epsilon + motion_tolerance && kind_scale[d] > 0.0 {
                     // Inside ε the force is g·c/ε: as uncertain as c, and as the equilibrium
                     // of the forces meeting here (not of g, which may be far larger).
-                    let uncertain =
-                        through_motion.min(judging.motion_resolution * meeting[d].max(l.abs()));
+                    let uncertain = through_motion
+                        .min(judging.motion_resolution * meeting_terms[d].max(l.abs()));
                     unresolved_force = unresolved_force.max(uncertain / kind_scale[d]);
                 }
             }
