@@ -433,3 +433,26 @@ fn point_values_follow_the_finite_element_solution() {
     let node = solution.field.at(&mesh, mesh.nodes[317]);
     assert_eq!(node.deflection, solution.field.deflection[317]);
 }
+
+#[test]
+fn a_matrix_with_an_infinite_entry_has_no_condition_number() {
+    // A regularised case matrix with g/ε past the largest double: the eigensolver spun for
+    // 3 s on 110 unknowns before it gave up (hostile pass, issue 10); there is no condition
+    // number to report, and the certificate says it is not known.
+    use beamfric::linalg::condition::{dense_condition, dense_extremes};
+    let n = 110;
+    let mut a = vec![0.0; n * n];
+    for i in 0..n {
+        a[i * n + i] = 2.0;
+        if i + 1 < n {
+            a[i * n + i + 1] = -1.0;
+            a[(i + 1) * n + i] = -1.0;
+        }
+    }
+    assert!(dense_condition(&a, n).is_some());
+    a[5 * n + 5] = f64::INFINITY;
+    assert_eq!(dense_extremes(&a, n), None);
+    assert_eq!(dense_condition(&a, n), None);
+    a[5 * n + 5] = f64::NAN;
+    assert_eq!(dense_condition(&a, n), None);
+}

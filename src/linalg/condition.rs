@@ -63,6 +63,9 @@ impl ConditionNumber {
 
 /// Extreme eigenvalues (min, max) of a dense symmetric row-major matrix.
 pub fn dense_extremes(a: &[f64], n: usize) -> Option<(f64, f64)> {
+    if a.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
     let m = Mat::from_fn(n, n, |i, j| a[i * n + j]);
     let values = m.self_adjoint_eigenvalues(Side::Lower).ok()?;
     Some((*values.first()?, *values.last()?))
@@ -76,7 +79,8 @@ const RESOLVED_EIGENVALUE: f64 = 1e3;
 /// λ_max(A)·λ_max(A⁻¹) with A⁻¹ from a Cholesky factorization, which is accurate when the
 /// ill-conditioning comes from a diagonal scaling such as the regularised g/ε (`Estimate`);
 /// else, when A is not positive definite in floating point, the rigorous
-/// λ_max / (max(λ_min, 0) + n·eps·λ_max) (`LowerBound`). `None` only if the eigensolver fails.
+/// λ_max / (max(λ_min, 0) + n·eps·λ_max) (`LowerBound`). `None` if an entry is not finite (the
+/// eigensolver would spin on it for seconds) or the eigensolver fails.
 pub fn dense_condition(a: &[f64], n: usize) -> Option<ConditionNumber> {
     let (min, max) = dense_extremes(a, n)?;
     if !(max > 0.0 && max.is_finite()) {
