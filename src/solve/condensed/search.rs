@@ -244,6 +244,10 @@ pub(super) fn solve_with_newton_phases(
     let (mut phase, mut phase_start) = (0, 0);
     // The fewest inconsistent DOFs seen in this phase, and when.
     let mut fewest_changes = (usize::MAX, 0);
+    // Over every Newton phase: the solved pattern with the fewest inconsistent DOFs, where the
+    // monotone search starts (any start is a point it then only improves; from all stuck it
+    // frees the DOFs a line search at a time, O(k) solves when hundreds move).
+    let mut best_start: (usize, Option<Vec<Pattern>>) = (usize::MAX, None);
     // Patterns this phase has solved, by fingerprint (hashing 8000 states with SipHash cost
     // 2 % of a 4000-obstacle solve; a collision would only end a Newton phase early).
     let mut seen: HashSet<u64> = HashSet::new();
@@ -286,6 +290,9 @@ pub(super) fn solve_with_newton_phases(
             // Plain semismooth Newton: every inconsistent DOF changes at once. Fast when it
             // works; on a repeated pattern or too many steps, restart the monotone search.
             seen.insert(fingerprint(&pattern));
+            if changes.len() < best_start.0 {
+                best_start = (changes.len(), Some(pattern.clone()));
+            }
             for &(i, wanted) in &changes {
                 pattern[i] = wanted;
             }
@@ -305,7 +312,12 @@ pub(super) fn solve_with_newton_phases(
                 pattern = vec![Pattern::Stuck; dofs];
                 match newton_phases.get(phase) {
                     Some(&fraction) => condensed.reversal_fraction.set(fraction),
-                    None => newton_phase = false,
+                    None => {
+                        newton_phase = false;
+                        if let Some(start) = best_start.1.take() {
+                            pattern = start;
+                        }
+                    }
                 }
             }
             continue;
