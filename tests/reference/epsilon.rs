@@ -52,7 +52,7 @@ use beamfric::model::Problem;
 use super::mp::{F, Mp, abs, is_negative, is_zero, to_f64};
 use super::solver::{
     Certificate, Friction, FrictionState, RefSolution, System, assemble, dof, solve_banded,
-    solve_reference_with,
+    solve_reference_with, stationarity,
 };
 
 /// Most Newton steps (each one band solve) before the solver gives up.
@@ -311,7 +311,6 @@ fn finish(
         epsilon,
         ..
     } = eps_problem;
-    let n = system.dofs();
     let lambda: Vec<F> = (0..friction.len())
         .map(|i| {
             let x = &c[friction.dof[i]];
@@ -330,28 +329,7 @@ fn finish(
         .collect();
 
     // Stationarity b − A c − λ(c).
-    let mut force_at: Vec<F> = (0..n).map(|_| mp.zero()).collect();
-    for (i, l) in lambda.iter().enumerate() {
-        force_at[friction.dof[i]] = l.clone();
-    }
-    let mut worst_residual = mp.zero();
-    let mut worst_scale = mp.zero();
-    for j in 0..n {
-        let (product, magnitude) = system.row_product(j, &c, mp);
-        let residual = abs(&(&system.b[j] - product - &force_at[j]));
-        let size = abs(&system.b[j]) + magnitude + abs(&force_at[j]);
-        if residual > worst_residual {
-            worst_residual = residual;
-        }
-        if size > worst_scale {
-            worst_scale = size;
-        }
-    }
-    let stationarity = if is_zero(&worst_residual) {
-        0.0
-    } else {
-        to_f64(&(worst_residual / worst_scale))
-    };
+    let stationarity = stationarity(system, friction, &c, &lambda, mp);
     let complementarity = eps_problem.in_regions(&c, regions);
     let tolerance = eps_problem.tolerance();
 

@@ -604,6 +604,40 @@ impl ActiveSet<'_> {
     }
 }
 
+/// Relative stationarity max_j |b − A c − Bᵀλ|_j / max_j (|b_j| + |A_j||c| + |λ at j|): the
+/// residual of the exact problem (λ the friction forces) or of the ε-problem (λ = λ(c)).
+pub(super) fn stationarity(
+    system: &System,
+    friction: &Friction,
+    c: &[F],
+    lambda: &[F],
+    mp: &Mp,
+) -> f64 {
+    let n = system.dofs();
+    let mut force_at: Vec<F> = (0..n).map(|_| mp.zero()).collect();
+    for (i, l) in lambda.iter().enumerate() {
+        force_at[friction.dof[i]] = l.clone();
+    }
+    let mut worst_residual = mp.zero();
+    let mut worst_scale = mp.zero();
+    for j in 0..n {
+        let (product, magnitude) = system.row_product(j, c, mp);
+        let residual = abs(&(&system.b[j] - product - &force_at[j]));
+        let size = abs(&system.b[j]) + magnitude + abs(&force_at[j]);
+        if residual > worst_residual {
+            worst_residual = residual;
+        }
+        if size > worst_scale {
+            worst_scale = size;
+        }
+    }
+    if is_zero(&worst_residual) {
+        0.0
+    } else {
+        to_f64(&(worst_residual / worst_scale))
+    }
+}
+
 fn finish(
     problem: &Problem,
     mesh: &Mesh,
@@ -614,34 +648,11 @@ fn finish(
     solves: usize,
 ) -> RefSolution {
     let Outcome { c, lambda, slots } = outcome;
-    let n = system.dofs();
     let tau = mp.tie_tolerance();
     let scale = |kind: usize| max_abs(c.iter().skip(kind).step_by(2), mp);
     let motion_tolerance = [&tau * scale(0), &tau * scale(1)];
 
-    // Stationarity b − A c − Bᵀλ.
-    let mut force_at: Vec<F> = (0..n).map(|_| mp.zero()).collect();
-    for (i, l) in lambda.iter().enumerate() {
-        force_at[friction.dof[i]] = l.clone();
-    }
-    let mut worst_residual = mp.zero();
-    let mut worst_scale = mp.zero();
-    for j in 0..n {
-        let (product, magnitude) = system.row_product(j, &c, mp);
-        let residual = abs(&(&system.b[j] - product - &force_at[j]));
-        let size = abs(&system.b[j]) + magnitude + abs(&force_at[j]);
-        if residual > worst_residual {
-            worst_residual = residual;
-        }
-        if size > worst_scale {
-            worst_scale = size;
-        }
-    }
-    let stationarity = if is_zero(&worst_residual) {
-        0.0
-    } else {
-        to_f64(&(worst_residual / worst_scale))
-    };
+    let stationarity = stationarity(system, friction, &c, &lambda, mp);
 
     let mut bound_excess = 0f64;
     let mut complementarity = true;
