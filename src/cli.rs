@@ -339,7 +339,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
         settings.elements,
         args.method,
         &epsilons,
-        crate::solve::Cancellation::NEVER,
+        &crate::solve::Cancellation::NEVER,
         &|done, total, what| progress.report(done, total, what),
     );
     progress.finish();
@@ -388,7 +388,7 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
         &sizes,
         args.repeat,
         settings.epsilon,
-        crate::solve::Cancellation::NEVER,
+        &crate::solve::Cancellation::NEVER,
         &|done, total, what| progress.report(done, total, what),
     )
     .expect("never cancelled");

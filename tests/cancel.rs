@@ -3,6 +3,7 @@
 
 mod common;
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use beamfric::fem::Mesh;
@@ -17,9 +18,9 @@ fn crowded_scene() -> Scene {
 fn a_cancelled_solve_stops_inside_its_loops() {
     let (problem, settings) = crowded_scene().validate("crowded").unwrap();
     let mesh = Mesh::new(&problem, settings.elements);
-    let newest: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(1)));
+    let newest = Arc::new(AtomicU64::new(1));
     let options = SolveOptions {
-        cancel: Cancellation::watching(newest, 1),
+        cancel: Cancellation::watching(Arc::clone(&newest), 1),
         ..SolveOptions::default()
     };
     let outcome = std::thread::scope(|scope| {

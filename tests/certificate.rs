@@ -99,19 +99,19 @@ fn solve_with_condensed_is_solve_and_the_condensed_reference_in_one() {
     };
     let refusing = SolveOptions {
         max_cases: 1,
-        ..quick
+        ..quick.clone()
     };
     for name in ["benchmark-1", "benchmark-2", "benchmark-3"] {
         let p = problem(&preset_scene(name));
         let mesh = Mesh::new(&p, 200);
         let condensed_alone = SolveOptions {
             reference: false,
-            ..quick
+            ..quick.clone()
         };
         let condensed = solve(&p, &mesh, Method::Condensed, &condensed_alone)
             .map(untimed)
             .unwrap();
-        for options in [quick, refusing] {
+        for options in [quick.clone(), refusing.clone()] {
             for method in Method::ALL {
                 let (solution, beside) = solve_with_condensed(&p, &mesh, method, &options);
                 assert_eq!(

@@ -181,7 +181,10 @@ proptest! {
             }
             // ε well below the solution's own scale, for both kinds of DOF.
             let epsilon = 1e-10 * scale_u.min(scale_slope.max(f64::MIN_POSITIVE));
-            let options = SolveOptions { epsilon, ..base };
+            let options = SolveOptions {
+                epsilon,
+                ..base.clone()
+            };
             let solution = match solve(&problem, &mesh, method, &options) {
                 Ok(s) => s,
                 Err(e) => {

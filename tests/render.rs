@@ -413,7 +413,7 @@ fn benchmark_1_epsilon_charts() {
         20,
         beamfric::solve::Method::Regularized,
         &[1e-6, 1.0],
-        beamfric::solve::Cancellation::NEVER,
+        &beamfric::solve::Cancellation::NEVER,
         &beamfric::study::silent,
     )
     .unwrap()

@@ -97,7 +97,7 @@ pub fn build(
         &options.sizes,
         options.repeat,
         settings.epsilon,
-        never,
+        &never,
         progress,
     )
     .map_err(|_| "cancelled".to_string())?;
@@ -106,7 +106,7 @@ pub fn build(
         settings.elements,
         Method::Regularized,
         &options.epsilons,
-        never,
+        &never,
         progress,
     )
     .map_err(|_| "cancelled".to_string())?;

@@ -577,7 +577,7 @@ impl<'a> MeshReference<'a> {
         SolveOptions {
             condition: ConditionLevel::Off,
             reference: false,
-            cancel: self.cancel,
+            cancel: self.cancel.clone(),
             ..SolveOptions::default()
         }
     }

@@ -47,7 +47,7 @@ pub fn solve(
     method: Method,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
-    let reference = MeshReference::new(problem, mesh, options.cancel);
+    let reference = MeshReference::new(problem, mesh, options.cancel.clone());
     solve_graded(problem, mesh, method, options, &reference)
 }
 
@@ -62,7 +62,7 @@ pub fn solve_with_condensed(
     method: Method,
     options: &SolveOptions,
 ) -> (Result<Solution, SolveError>, Option<Solution>) {
-    let reference = MeshReference::new(problem, mesh, options.cancel);
+    let reference = MeshReference::new(problem, mesh, options.cancel.clone());
     let solution = solve_graded(problem, mesh, method, options, &reference);
     let condensed = (method != Method::Condensed)
         .then(|| reference.into_condensed())
@@ -100,7 +100,7 @@ fn works(
 ) -> bool {
     let quick = SolveOptions {
         condition: ConditionLevel::Off,
-        ..*options
+        ..options.clone()
     };
     certified(problem, mesh, method, &quick, reference).is_ok_and(|s| {
         s.is_finite()

@@ -1,5 +1,8 @@
 //! How to solve: the options every method reads and their default limits.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use serde::Serialize;
 
 /// Which condition numbers to compute.
@@ -45,7 +48,7 @@ impl ConditionLevel {
 }
 
 /// How to solve.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SolveOptions {
     /// ε of (40) for the regularised methods.
     pub epsilon: f64,
@@ -65,10 +68,10 @@ pub struct SolveOptions {
 /// the enumeration, Newton steps, per-piece sweeps) and give up with
 /// [`super::SolveErrorKind::Cancelled`]. It never changes a result that is computed to the
 /// end, so two options that differ only here compare equal.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Cancellation {
     /// (the newest generation, this solve's generation)
-    watch: Option<(&'static std::sync::atomic::AtomicU64, u64)>,
+    watch: Option<(Arc<AtomicU64>, u64)>,
 }
 
 impl Cancellation {
@@ -76,7 +79,7 @@ impl Cancellation {
     pub const NEVER: Cancellation = Cancellation { watch: None };
 
     /// Cancelled as soon as `newest` no longer holds `generation`.
-    pub fn watching(newest: &'static std::sync::atomic::AtomicU64, generation: u64) -> Self {
+    pub fn watching(newest: Arc<AtomicU64>, generation: u64) -> Self {
         Cancellation {
             watch: Some((newest, generation)),
         }
@@ -84,9 +87,9 @@ impl Cancellation {
 
     /// Has a newer request made this solve pointless?
     pub fn is_cancelled(&self) -> bool {
-        self.watch.is_some_and(|(newest, generation)| {
-            newest.load(std::sync::atomic::Ordering::Relaxed) != generation
-        })
+        self.watch
+            .as_ref()
+            .is_some_and(|(newest, generation)| newest.load(Ordering::Relaxed) != *generation)
     }
 }
 

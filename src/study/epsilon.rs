@@ -55,7 +55,7 @@ pub fn epsilon_sweep(
     elements: usize,
     method: Method,
     epsilons: &[f64],
-    cancel: Cancel,
+    cancel: &Cancel,
     progress: Progress,
 ) -> Result<Result<Vec<EpsPoint>, SolveError>, Cancelled> {
     let mesh = Mesh::new(problem, elements);
@@ -73,7 +73,7 @@ pub fn epsilon_sweep(
         let options = SolveOptions {
             epsilon,
             condition,
-            cancel,
+            cancel: cancel.clone(),
             ..SolveOptions::default()
         };
         let solution = match solve(problem, &mesh, method, &options) {

@@ -64,7 +64,7 @@ pub fn mesh_sweep(
     sizes: &[usize],
     repeat: usize,
     epsilon: f64,
-    cancel: Cancel,
+    cancel: &Cancel,
     progress: Progress,
 ) -> Result<Vec<MeshPoint>, Cancelled> {
     let mut points = Vec::new();
@@ -93,7 +93,7 @@ pub fn mesh_sweep(
             let options = SolveOptions {
                 epsilon,
                 condition: ConditionLevel::Off,
-                cancel,
+                cancel: cancel.clone(),
                 ..SolveOptions::default()
             };
             let mut times = Vec::with_capacity(repeat.max(1));

@@ -45,7 +45,7 @@ pub struct SolveWorker {
     slot: Arc<(Mutex<Slot>, Condvar)>,
     /// The newest generation: a solve of an older one stops inside its loops. Leaked (eight
     /// bytes per worker) so that a `Cancellation` can hold it by `'static` reference.
-    newest: &'static AtomicU64,
+    newest: Arc<AtomicU64>,
     /// The last request handed over, so the same one is not solved twice.
     last: Option<SolveRequest>,
     thread: Option<JoinHandle<()>>,
@@ -65,7 +65,8 @@ impl SolveWorker {
     ) -> SolveWorker {
         let slot: Arc<(Mutex<Slot>, Condvar)> = Arc::default();
         let shared = Arc::clone(&slot);
-        let newest: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
+        let newest = Arc::new(AtomicU64::new(0));
+        let watched = Arc::clone(&newest);
         let thread = std::thread::Builder::new()
             .name("solver".into())
             .spawn(move || {
@@ -98,7 +99,7 @@ impl SolveWorker {
                     let Some((generation, mut request)) = request else {
                         continue;
                     };
-                    request.options.cancel = Cancellation::watching(newest, generation);
+                    request.options.cancel = Cancellation::watching(Arc::clone(&watched), generation);
                     // A panic in a method must not take the explorer down.
                     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                         run_solve(&request)

@@ -51,7 +51,7 @@ impl PanelStudy for EpsilonSweep {
                 inputs.elements,
                 method,
                 &epsilons,
-                cancel,
+                &cancel,
                 &study::silent,
             )
         };

@@ -52,9 +52,9 @@ impl PanelStudy for MeshSweep {
         let epsilon = inputs.epsilon.unwrap_or(1e-6);
         let silent = &study::silent;
         let mut points =
-            study::mesh_sweep(problem, &others, &sizes, repeat, epsilon, cancel, silent)?;
+            study::mesh_sweep(problem, &others, &sizes, repeat, epsilon, &cancel, silent)?;
         points.extend(study::mesh_sweep(
-            problem, &dense, &small, repeat, epsilon, cancel, silent,
+            problem, &dense, &small, repeat, epsilon, &cancel, silent,
         )?);
         Ok(Ok(Arc::new(points) as StudyData))
     }

@@ -2,6 +2,7 @@
 //! cancels the outdated work of its study; a panic in a study becomes a message in its panel.
 //! In a served session each study waits for its turn on the shared cores (`tui::cores`).
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Sender, channel};
 use std::thread::JoinHandle;
@@ -17,7 +18,7 @@ pub struct Worker {
     /// The newest request per study; older ones are cancelled, inside the solve of the point in
     /// progress too. Leaked (eight bytes per study and worker) so that a `Cancellation` can
     /// hold it by `'static` reference.
-    newest: &'static [AtomicU64],
+    newest: Vec<Arc<AtomicU64>>,
     counter: u64,
     /// Requests already sent, so the same one is not sent twice.
     sent: Vec<StudyRequest>,
@@ -56,14 +57,16 @@ impl Worker {
         deliver: impl Fn(StudyResult) + Send + 'static,
     ) -> Worker {
         let (jobs, inbox) = channel::<(u64, StudyRequest)>();
-        let newest: &'static [AtomicU64] =
-            Vec::leak(STUDIES.iter().map(|_| AtomicU64::new(0)).collect());
-        let shared = newest;
+        let newest: Vec<Arc<AtomicU64>> = STUDIES
+            .iter()
+            .map(|_| Arc::new(AtomicU64::new(0)))
+            .collect();
+        let shared = newest.clone();
         let body = move || {
             let mut inject = inject_panic;
             for (id, request) in inbox {
                 let study = request.study;
-                let cancel = Cancellation::watching(&shared[study], id);
+                let cancel = Cancellation::watching(Arc::clone(&shared[study]), id);
                 if cancel.is_cancelled() {
                     continue;
                 }
