@@ -1,14 +1,14 @@
 //! One keystroke of the explorer (issue 3): apply the key, re-solve, draw the frame into a
-//! 120×40 TestBackend — the work done before the next frame appears. Background studies are
+//! 120×40 TestBackend — the work done before the next frame appears. Background sweeps are
 //! excluded (they run on the worker thread; the panels say "computing" meanwhile). Also the
 //! cost of drawing a frame whose every panel has its data.
 
 use beamfric::plot::Look;
 use beamfric::scene::{Scene, preset};
-use beamfric::tui::app::App;
-use beamfric::tui::keymap::Action;
-use beamfric::tui::update::update;
-use beamfric::tui::{studies, view};
+use beamfric::tui::input::keymap::Action;
+use beamfric::tui::state::{App, Options};
+use beamfric::tui::update::{Msg, update};
+use beamfric::tui::{finish_sweeps, settle, view};
 use criterion::{Criterion, criterion_group, criterion_main};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
@@ -26,8 +26,10 @@ fn app(elements: usize) -> App {
             beamfric::scene::SceneSource::Preset("benchmark-1"),
         )
         .unwrap(),
-        look,
-        true,
+        Options {
+            show_timings: true,
+            ..Options::new(look)
+        },
     )
     .unwrap()
 }
@@ -36,7 +38,7 @@ fn keystroke(c: &mut Criterion) {
     let mut group = c.benchmark_group("keystroke-120x40");
     for (label, elements) in [("n=20", 20), ("n=1e4", 10_000)] {
         let mut app = app(elements);
-        update(&mut app, Action::Resize(120, 40));
+        update(&mut app, Msg::Resize(120, 40));
         let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
         let mut up = true;
         group.bench_function(label, |b| {
@@ -48,8 +50,8 @@ fn keystroke(c: &mut Criterion) {
                     Action::Decrease { coarse: false }
                 };
                 up = !up;
-                update(&mut app, action);
-                app.settle();
+                update(&mut app, Msg::Action(action));
+                settle(&mut app);
                 terminal.draw(|frame| view::draw(frame, &app)).unwrap();
             })
         });
@@ -59,9 +61,9 @@ fn keystroke(c: &mut Criterion) {
 
 fn full_frame(c: &mut Criterion) {
     let mut app = app(20);
-    for request in app.pending_studies() {
-        app.accept(studies::run_now(&request));
-    }
+    update(&mut app, Msg::Resize(120, 40));
+    settle(&mut app);
+    finish_sweeps(&mut app);
     let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
     c.bench_function("draw-120x40-all-panels-ready", |b| {
         b.iter(|| {

@@ -13,11 +13,12 @@ use std::time::{Duration, Instant};
 use beamfric::plot::Look;
 use beamfric::scene::{LoadedScene, Scene, SceneSource, preset};
 use beamfric::solve::Method;
-use beamfric::tui::app::App;
-use beamfric::tui::keymap::Action;
-use beamfric::tui::solver::SolveWorker;
-use beamfric::tui::update::update;
-use beamfric::tui::view;
+use beamfric::tui::input::keymap::Action;
+use beamfric::tui::jobs::solve::SolveRequest;
+use beamfric::tui::runtime::worker::{Worker, WorkerOptions};
+use beamfric::tui::state::{App, Options};
+use beamfric::tui::update::{Msg, update};
+use beamfric::tui::{settle, view};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
@@ -36,16 +37,20 @@ fn app_on(name: &'static str, elements: usize, method: Method) -> App {
         color: true,
     };
     let loaded = LoadedScene::new(scene, SceneSource::Preset(name)).unwrap();
-    App::new(loaded, look, true).unwrap()
+    let options = Options {
+        show_timings: true,
+        ..Options::new(look)
+    };
+    App::new(loaded, options).unwrap()
 }
 
 /// The load f0 one fine step up, then down: a change of the scene every key.
-fn key(i: usize) -> Action {
-    if i.is_multiple_of(2) {
+fn key(i: usize) -> Msg {
+    Msg::Action(if i.is_multiple_of(2) {
         Action::Increase { coarse: false }
     } else {
         Action::Decrease { coarse: false }
-    }
+    })
 }
 
 fn main() {
@@ -56,9 +61,9 @@ fn main() {
     for &n in &sizes {
         for method in Method::ALL {
             let mut app = app(n, method);
-            update(&mut app, Action::Resize(120, 40));
+            update(&mut app, Msg::Resize(120, 40));
             // The result of the state before is on screen, as after any earlier key.
-            app.settle();
+            settle(&mut app);
             let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
             terminal.draw(|frame| view::draw(frame, &app)).unwrap();
             let mut stalls: Vec<Duration> = (0..KEYS)
@@ -92,21 +97,23 @@ fn main() {
 /// drawn; prints the median and the longest of 10 keys.
 fn key_to_solution(name: &'static str) {
     let mut app = app_on(name, 1_000_000, Method::Flexibility);
-    update(&mut app, Action::Resize(120, 40));
-    app.settle();
+    update(&mut app, Msg::Resize(120, 40));
+    settle(&mut app);
     let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
     let (sender, results) = channel();
-    let mut worker = SolveWorker::start(move |result| {
-        let _ = sender.send(result);
-    });
+    let mut worker: Worker<SolveRequest> =
+        Worker::start("solver", 1, WorkerOptions::default(), move |result| {
+            let _ = sender.send(result);
+        });
     let mut times = Vec::new();
     for i in 0..10 {
         let start = Instant::now();
         update(&mut app, key(i));
-        worker.want(&app.wanted.clone());
+        worker.want(0, app.exploration.pending_solve());
         terminal.draw(|frame| view::draw(frame, &app)).unwrap();
-        let shown = results.recv().unwrap().unwrap();
-        assert!(app.accept_solution(shown));
+        let solved = results.recv().unwrap().unwrap();
+        update(&mut app, Msg::Solved(Box::new(solved)));
+        assert!(app.exploration.is_current());
         terminal.draw(|frame| view::draw(frame, &app)).unwrap();
         times.push(start.elapsed());
     }

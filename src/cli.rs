@@ -137,9 +137,14 @@ fn explore(
         ascii: ascii || !crate::plot::locale_is_utf8(|name| std::env::var(name).ok()),
         color: colors_wanted(no_color),
     };
-    Ok(exit_code(crate::tui::run(
-        loaded, look, !no_mouse, palette,
-    )?))
+    let options = crate::tui::state::Options {
+        palette,
+        mouse: !no_mouse,
+        show_timings: true,
+        ..crate::tui::state::Options::new(look)
+    };
+    let ending = crate::tui::explore(loaded, options).map_err(|e| e.to_string())?;
+    Ok(exit_code(ending))
 }
 
 /// The exit status after the explorer ended.
@@ -212,7 +217,7 @@ fn serve_command(_args: &ServeArgs) -> Result<ExitCode, String> {
 
 fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
     let loaded = scene::load(&args.scene).map_err(|e| e.to_string())?;
-    let keys = crate::tui::keymap::parse_keys(&args.keys);
+    let keys = crate::tui::input::keys::parse_keys(&args.keys);
     let options = crate::tui::RenderOptions {
         width: args.size.0,
         height: args.size.1,
@@ -224,7 +229,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
         timings: args.timings,
         allow_save: args.allow_save.clone(),
     };
-    let buffer = crate::tui::render(loaded, &keys, options)?;
+    let buffer = crate::tui::render(loaded, &keys, options).map_err(|e| e.to_string())?;
     let text = crate::plot::buffer_to_text(&buffer, args.color);
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     Ok(ExitCode::SUCCESS)

@@ -4,10 +4,13 @@
 use beamfric::plot::{Look, buffer_to_text};
 use beamfric::scene::{LoadedScene, PRESETS, Panel, SceneSource, preset};
 use beamfric::solve::{Method, SolveErrorKind};
-use beamfric::tui::app::{App, Mode};
-use beamfric::tui::keymap::{Key, parse_keys};
-use beamfric::tui::studies::StudyState;
-use beamfric::tui::{RenderOptions, draw_to_buffer, render};
+use beamfric::tui::input::keys::{Key, parse_keys};
+use beamfric::tui::jobs::sweeps::compute_now;
+use beamfric::tui::layout::visible_panels;
+use beamfric::tui::state::sweeps::SweepState;
+use beamfric::tui::state::{App, Mode, Options};
+use beamfric::tui::update::{Msg, update};
+use beamfric::tui::{RenderOptions, draw_to_buffer, render, settled};
 
 const LOOK: Look = Look {
     ascii: false,
@@ -31,10 +34,48 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
     buffer_to_text(&buffer, false)
 }
 
+/// The explorer on a preset at 120 × 40, solved.
 fn app(name: &str) -> App {
-    let mut app = App::new(scene(name), LOOK, false).unwrap();
-    app.settle();
+    app_with(name, Options::new(LOOK))
+}
+
+fn app_with(name: &str, options: Options) -> App {
+    let mut app = settled(App::new(scene(name), options).unwrap());
+    update(&mut app, Msg::Resize(120, 40));
     app
+}
+
+/// The explorer on a preset, saving presets to `dir`.
+fn app_saving_to(name: &str, dir: &std::path::Path) -> App {
+    let options = Options {
+        save_directory: Some(dir.to_path_buf()),
+        ..Options::new(LOOK)
+    };
+    app_with(name, options)
+}
+
+/// Takes finished sweeps; returns whether each was taken (it answered the current state).
+fn take_sweeps(app: &mut App, results: Vec<beamfric::tui::jobs::sweeps::SweepResult>) -> Vec<bool> {
+    results
+        .into_iter()
+        .map(|result| {
+            let sweep = result.sweep;
+            let was_pending = matches!(app.exploration.sweeps[sweep].state, SweepState::Pending(_));
+            update(app, Msg::Swept(result));
+            was_pending && !matches!(app.exploration.sweeps[sweep].state, SweepState::Pending(_))
+        })
+        .collect()
+}
+
+/// Computes every pending sweep and takes it.
+fn finish_pending(app: &mut App) {
+    let results = app
+        .exploration
+        .pending_sweeps()
+        .iter()
+        .map(compute_now)
+        .collect();
+    assert!(take_sweeps(app, results).into_iter().all(|taken| taken));
 }
 
 fn press(app: &mut App, keys: &str) {
@@ -112,15 +153,27 @@ fn frames_are_deterministic() {
 #[test]
 fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
     let mut app = app("benchmark-1");
-    let before = app.solution().unwrap().as_ref().unwrap().obstacles[0];
+    let before = app
+        .exploration
+        .solution()
+        .unwrap()
+        .as_ref()
+        .unwrap()
+        .obstacles[0];
     assert!(before.sliding && (before.force - 100.0).abs() < 1e-9);
     // Row 6 is the sliding threshold; three coarse steps: 100 N → 1e5 N, above the shear.
     press(
         &mut app,
         "Down Down Down Down Down Down S-Right S-Right S-Right",
     );
-    assert_eq!(app.scene.obstacles[0].sliding, 1e5);
-    let after = app.solution().unwrap().as_ref().unwrap().obstacles[0];
+    assert_eq!(app.scene().obstacles[0].sliding, 1e5);
+    let after = app
+        .exploration
+        .solution()
+        .unwrap()
+        .as_ref()
+        .unwrap()
+        .obstacles[0];
     assert!(!after.sliding && !after.swivel);
     assert!(after.force.abs() < 1e5 && after.force > 100.0);
     assert_eq!(after.u, 0.0);
@@ -129,34 +182,51 @@ fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
 #[test]
 fn keys_change_the_state_and_the_solution() {
     let mut app = app("benchmark-1");
-    let u0 = app.solution().unwrap().as_ref().unwrap().max_deflection();
+    let u0 = app
+        .exploration
+        .solution()
+        .unwrap()
+        .as_ref()
+        .unwrap()
+        .max_deflection();
     // Load: one fine step multiplies f (and, with the point still sliding, changes u).
     press(&mut app, "Right");
-    assert!((app.scene.load.f0 / 5e4 - 10f64.powf(0.1)).abs() < 1e-12);
-    assert!(app.solution().unwrap().as_ref().unwrap().max_deflection() > u0);
+    assert!((app.scene().load.f0 / 5e4 - 10f64.powf(0.1)).abs() < 1e-12);
+    assert!(
+        app.exploration
+            .solution()
+            .unwrap()
+            .as_ref()
+            .unwrap()
+            .max_deflection()
+            > u0
+    );
     // A typed exact value; a bad one changes nothing and says why.
     press(&mut app, "Enter 3e4 Enter");
-    assert_eq!(app.scene.load.f0, 3e4);
+    assert_eq!(app.scene().load.f0, 3e4);
     press(&mut app, "Enter abc Enter");
-    assert_eq!(app.scene.load.f0, 3e4);
+    assert_eq!(app.scene().load.f0, 3e4);
     assert!(app.message.as_deref().unwrap().contains("not a number"));
     // A value the scene rules reject: a negative threshold.
     press(&mut app, "Down Down Down Down Down Down Enter -5 Enter");
-    assert_eq!(app.scene.obstacles[0].sliding, 1e2);
+    assert_eq!(app.scene().obstacles[0].sliding, 1e2);
     assert!(app.message.as_deref().unwrap().contains("zero or positive"));
     // Reset (it asks first: the scene has unsaved changes).
     press(&mut app, "r y");
-    assert_eq!(app.scene, scene("benchmark-1").scene);
+    assert_eq!(*app.scene(), scene("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
     assert_eq!(
-        app.solution().unwrap().as_ref().unwrap().method,
+        app.exploration.solution().unwrap().as_ref().unwrap().method,
         Method::Condensed
     );
     press(&mut app, "Up Up Up Up Up Up Up Up Up Up Up Up");
     press(&mut app, "Down Down Down Down Down Down Down Down S-Left");
-    assert_eq!(app.selected_row(), beamfric::tui::params::Row::Epsilon);
-    assert!((app.scene.solver.epsilon - 1e-7).abs() < 1e-20);
+    assert_eq!(
+        app.exploration.selected_row(),
+        beamfric::tui::state::params::Row::Epsilon
+    );
+    assert!((app.scene().solver.epsilon - 1e-7).abs() < 1e-20);
 }
 
 #[test]
@@ -167,22 +237,22 @@ fn obstacles_stay_ordered_inside_and_apart() {
     for _ in 0..100 {
         beamfric::tui::press(&mut app, Key::ShiftRight);
     }
-    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    let xs: Vec<f64> = app.scene().obstacles.iter().map(|o| o.x).collect();
     assert!(xs.windows(2).all(|w| w[0] < w[1]), "{xs:?}");
     assert!(xs[0] < xs[1] - 1e-4);
     // Add obstacles until the gaps are small; every one lands inside, ordered.
     for _ in 0..6 {
         press(&mut app, "a");
     }
-    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    let xs: Vec<f64> = app.scene().obstacles.iter().map(|o| o.x).collect();
     assert_eq!(xs.len(), 10);
     assert!(xs.windows(2).all(|w| w[0] < w[1]) && xs[0] > 0.0 && xs[9] < 1.0);
     // Delete the selected one.
     press(&mut app, "d");
-    assert_eq!(app.scene.obstacles.len(), 9);
+    assert_eq!(app.scene().obstacles.len(), 9);
     // d on a row that is not an obstacle explains itself.
     press(&mut app, "r y Up Up Up Up Up Up Up Up d");
-    assert_eq!(app.scene.obstacles.len(), 4);
+    assert_eq!(app.scene().obstacles.len(), 4);
     assert!(
         app.message
             .as_deref()
@@ -194,12 +264,12 @@ fn obstacles_stay_ordered_inside_and_apart() {
 #[test]
 fn a_method_that_does_not_apply_says_why() {
     let mut app = app("benchmark-3");
-    while app.scene.solver.method != Method::ClosedForm {
+    while app.scene().solver.method != Method::ClosedForm {
         press(&mut app, "m");
     }
-    let error = app.solution().unwrap().as_ref().unwrap_err();
+    let error = app.exploration.solution().unwrap().as_ref().unwrap_err();
     assert_eq!(error.kind, SolveErrorKind::NotApplicable);
-    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40), false);
     assert!(text.contains("closed-form not applicable"), "{text}");
 }
 
@@ -215,18 +285,24 @@ fn presets_load_from_the_picker_and_panels_follow_the_scene() {
         press(&mut app, "Down");
     }
     press(&mut app, "Enter");
-    assert_eq!(app.source, SceneSource::Preset("lesson-epsilon"));
-    assert_eq!(app.panels(), vec![Panel::EpsError, Panel::EpsCond]);
+    assert_eq!(
+        app.exploration.source,
+        SceneSource::Preset("lesson-epsilon")
+    );
+    assert_eq!(
+        app.exploration.panels(),
+        vec![Panel::EpsError, Panel::EpsCond]
+    );
     // Panels the scene does not list are neither drawn nor computed.
     assert!(matches!(
-        app.study_state(Panel::ErrorTime),
-        StudyState::Idle
+        app.exploration.sweep_state(Panel::ErrorTime),
+        SweepState::Idle
     ));
     assert!(matches!(
-        app.study_state(Panel::EpsError),
-        StudyState::Pending(_)
+        app.exploration.sweep_state(Panel::EpsError),
+        SweepState::Pending(_)
     ));
-    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    let text = buffer_to_text(&draw_to_buffer(&app, 120, 40), false);
     assert!(!text.contains("Deflection") && !text.contains("Error vs n"));
     assert!(
         text.contains("computing the ε sweep"),
@@ -237,29 +313,25 @@ fn presets_load_from_the_picker_and_panels_follow_the_scene() {
 #[test]
 fn outdated_study_results_are_never_taken() {
     let mut app = app("benchmark-1");
-    let old = app.pending_studies();
+    let old = app.exploration.pending_sweeps();
     assert_eq!(old.len(), 2);
-    let results: Vec<_> = old.iter().map(beamfric::tui::studies::run_now).collect();
+    let results: Vec<_> = old.iter().map(compute_now).collect();
     // A keystroke that changes the mesh makes both studies outdated.
     press(
         &mut app,
         "Down Down Down Down Down Down Down Down Down Right",
     );
-    assert_eq!(app.scene.mesh.elements, 22);
-    for result in results {
-        assert!(!app.accept(result));
-    }
+    assert_eq!(app.scene().mesh.elements, 22);
+    assert_eq!(take_sweeps(&mut app, results), vec![false, false]);
     assert!(matches!(
-        app.study_state(Panel::EpsError),
-        StudyState::Pending(_)
+        app.exploration.sweep_state(Panel::EpsError),
+        SweepState::Pending(_)
     ));
     // The current ones are taken.
-    for request in app.pending_studies() {
-        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
-    }
+    finish_pending(&mut app);
     assert!(matches!(
-        app.study_state(Panel::EpsError),
-        StudyState::Ready(_)
+        app.exploration.sweep_state(Panel::EpsError),
+        SweepState::Ready(_)
     ));
 }
 
@@ -283,8 +355,8 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
     press(&mut app, "Enter");
     assert!(app.message.as_deref().unwrap().starts_with("saved to"));
     let loaded = beamfric::scene::load(&path_text).unwrap().scene;
-    assert_eq!(loaded.load, app.scene.load);
-    assert_eq!(loaded.obstacles, app.scene.obstacles);
+    assert_eq!(loaded.load, app.scene().load);
+    assert_eq!(loaded.obstacles, app.scene().obstacles);
     // Saving again asks; "n" leaves the file as it was, "y" replaces it.
     press(&mut app, "Right");
     beamfric::tui::press(&mut app, Key::Char('s'));
@@ -299,7 +371,7 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
     press(&mut app, "Enter y");
     assert_eq!(
         beamfric::scene::load(&path_text).unwrap().scene.load,
-        app.scene.load
+        app.scene().load
     );
     // No temporary files are left behind.
     let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
@@ -312,25 +384,25 @@ fn quitting_and_interrupting() {
     for keys in ["q", "C-c"] {
         let mut app = app("benchmark-1");
         press(&mut app, keys);
-        assert!(app.quit, "{keys}");
+        assert!(app.ending.is_some(), "{keys}");
     }
     // Esc never quits by itself; it first closes an overlay.
     let mut app = app("benchmark-1");
     press(&mut app, "Esc");
-    assert!(!app.quit);
+    assert!(app.ending.is_none());
     press(&mut app, "? Esc");
-    assert!(!app.quit && app.mode == Mode::Normal);
+    assert!(app.ending.is_none() && app.mode == Mode::Normal);
 }
 
 #[test]
 fn unsaved_changes_are_never_thrown_away_without_asking() {
-    use beamfric::tui::app::Discard;
+    use beamfric::tui::state::Discard;
     let mut app = app("benchmark-1");
     assert!(!app.modified());
     press(&mut app, "Right");
     assert!(app.modified());
-    let edited = app.scene.clone();
-    let title = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    let edited = app.scene().clone();
+    let title = buffer_to_text(&draw_to_buffer(&app, 120, 40), false);
     assert!(
         title.lines().next().unwrap().contains("[modified]"),
         "{title}"
@@ -343,18 +415,18 @@ fn unsaved_changes_are_never_thrown_away_without_asking() {
             then: Discard::Quit
         }
     );
-    let frame = buffer_to_text(&draw_to_buffer(&app, 120, 40).unwrap(), false);
+    let frame = buffer_to_text(&draw_to_buffer(&app, 120, 40), false);
     assert!(
         frame.contains("unsaved changes: quit and lose them?"),
         "{frame}"
     );
     press(&mut app, "n");
-    assert!(!app.quit && app.scene == edited && app.mode == Mode::Normal);
+    assert!(app.ending.is_none() && *app.scene() == edited && app.mode == Mode::Normal);
     press(&mut app, "q Esc");
-    assert!(!app.quit && app.scene == edited);
+    assert!(app.ending.is_none() && *app.scene() == edited);
     // Esc in the save prompt goes back to the explorer, never out of it.
     press(&mut app, "s Esc Esc");
-    assert!(!app.quit && app.mode == Mode::Normal && app.scene == edited);
+    assert!(app.ending.is_none() && app.mode == Mode::Normal && *app.scene() == edited);
     // Loading a preset and resetting ask too.
     press(&mut app, "p Down Enter");
     assert!(matches!(
@@ -371,57 +443,56 @@ fn unsaved_changes_are_never_thrown_away_without_asking() {
         }
     );
     press(&mut app, "n");
-    assert_eq!(app.scene, edited);
+    assert_eq!(*app.scene(), edited);
     // Ctrl-C asks once; a second Ctrl-C forces the quit.
     press(&mut app, "C-c");
-    assert!(!app.quit);
+    assert!(app.ending.is_none());
     press(&mut app, "C-c");
-    assert!(app.quit);
+    assert!(app.ending.is_some());
     // y does what was asked.
     let mut app = self::app("benchmark-1");
     press(&mut app, "Right r y");
-    assert_eq!(app.scene, scene("benchmark-1").scene);
+    assert_eq!(*app.scene(), scene("benchmark-1").scene);
     assert!(!app.modified());
 }
 
 #[test]
 fn undo_and_redo_step_through_the_changes() {
     let mut app = app("benchmark-1");
-    let original = app.scene.clone();
+    let original = app.scene().clone();
     press(&mut app, "Right Right");
-    let twice = app.scene.clone();
+    let twice = app.scene().clone();
     press(&mut app, "u");
-    assert_ne!(app.scene, twice);
+    assert_ne!(*app.scene(), twice);
     press(&mut app, "u");
-    assert_eq!(app.scene, original);
+    assert_eq!(*app.scene(), original);
     assert!(!app.modified());
     // The solution follows the scene.
-    assert_eq!(app.problem, scene("benchmark-1").problem);
+    assert_eq!(app.exploration.problem, scene("benchmark-1").problem);
     press(&mut app, "u");
     assert_eq!(app.message.as_deref(), Some("nothing to undo"));
     press(&mut app, "C-r C-r");
-    assert_eq!(app.scene, twice);
+    assert_eq!(*app.scene(), twice);
     // A new change forgets what was undone.
     press(&mut app, "u Left C-r");
     assert_eq!(app.message.as_deref(), Some("nothing to redo"));
     // A reset can be undone too.
     press(&mut app, "Right Right r y");
-    assert_eq!(app.scene, original);
+    assert_eq!(*app.scene(), original);
     press(&mut app, "u");
-    assert_ne!(app.scene, original);
+    assert_ne!(*app.scene(), original);
 }
 
 #[test]
 fn a_save_clears_the_modified_mark() {
     let dir = tempfile::tempdir().unwrap();
-    let mut app = app("benchmark-1");
-    app.set_save_directory(dir.path().to_path_buf());
+    let mut app = app_saving_to("benchmark-1", dir.path());
     press(&mut app, "Right s Enter");
     assert!(!app.modified(), "{:?}", app.message);
     assert!(dir.path().join("benchmark-1.toml").exists());
     // Quitting now needs no question.
     press(&mut app, "q");
-    assert!(app.quit);
+    assert!(app.ending.is_some());
 }
 
 #[test]
@@ -434,8 +505,8 @@ fn a_failed_save_says_why_and_loses_nothing() {
     let target = blocker.join("scene.toml");
     let mut app = app("benchmark-3");
     press(&mut app, "Right Right Down Left");
-    let scene_before = app.scene.clone();
-    let selected_before = app.selected;
+    let scene_before = app.scene().clone();
+    let selected_before = app.exploration.selected;
     beamfric::tui::press(&mut app, Key::Char('s'));
     while let Mode::Save { prompt: buffer } = &app.mode {
         if buffer.text.is_empty() {
@@ -451,8 +522,8 @@ fn a_failed_save_says_why_and_loses_nothing() {
     // The reason from the file system, in words.
     assert!(message.contains("Not a directory"), "{message}");
     // The state is as it was, the explorer back in its normal mode, nothing written.
-    assert_eq!(app.scene, scene_before);
-    assert_eq!(app.selected, selected_before);
+    assert_eq!(*app.scene(), scene_before);
+    assert_eq!(app.exploration.selected, selected_before);
     assert_eq!(app.mode, Mode::Normal);
     assert_eq!(std::fs::read_to_string(&blocker).unwrap(), "in the way");
     let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
@@ -467,14 +538,14 @@ fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
         &mut app,
         "Down Down Down Down Down Down Down Down Down Enter 2000 Enter",
     );
-    assert_eq!(app.scene.mesh.elements, 2000);
+    assert_eq!(app.scene().mesh.elements, 2000);
     for _ in 0..4 {
         press(&mut app, "m");
     }
-    assert_eq!(app.scene.solver.method, Method::RegularizedNewton);
+    assert_eq!(app.scene().solver.method, Method::RegularizedNewton);
     press(&mut app, "m");
     // dual-inverse (about 0.4 s here… and growing like N³) is not entered silently.
-    assert_eq!(app.scene.solver.method, Method::ClosedForm);
+    assert_eq!(app.scene().solver.method, Method::ClosedForm);
     let message = app.message.clone().unwrap();
     assert!(
         message.starts_with("skipped dual-inverse: about"),
@@ -485,44 +556,40 @@ fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
     for _ in 0..5 {
         press(&mut app, "m");
     }
-    assert_eq!(app.scene.solver.method, Method::DualInverse);
+    assert_eq!(app.scene().solver.method, Method::DualInverse);
 }
 
 #[test]
 fn a_chart_keeps_its_data_marked_as_updating_until_the_new_data_arrives() {
     let mut app = app("lesson-epsilon");
-    for request in app.pending_studies() {
-        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
-    }
+    finish_pending(&mut app);
     assert!(matches!(
-        app.study_state(Panel::EpsError),
-        StudyState::Ready(_)
+        app.exploration.sweep_state(Panel::EpsError),
+        SweepState::Ready(_)
     ));
     // A change of the load: the sweep is outdated, its old points stay (marked).
     press(&mut app, "Right");
     assert!(matches!(
-        app.study_state(Panel::EpsError),
-        StudyState::Pending(Some(_))
+        app.exploration.sweep_state(Panel::EpsError),
+        SweepState::Pending(Some(_))
     ));
-    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50).unwrap(), false);
+    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50), false);
     assert!(frame.contains("updating…"), "{frame}");
     assert!(!frame.contains("computing the ε sweep"), "{frame}");
     // The new data replaces it.
-    for request in app.pending_studies() {
-        assert!(app.accept(beamfric::tui::studies::run_now(&request)));
-    }
-    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50).unwrap(), false);
+    finish_pending(&mut app);
+    let frame = buffer_to_text(&draw_to_buffer(&app, 200, 50), false);
     assert!(!frame.contains("updating…"), "{frame}");
 }
 
 #[test]
 fn only_the_visible_panel_is_computed_at_80x24() {
     let mut app = app("benchmark-1");
-    beamfric::tui::update::update(&mut app, beamfric::tui::keymap::Action::Resize(80, 24));
+    update(&mut app, Msg::Resize(80, 24));
     // One panel at a time: the deflection, which needs no study.
-    assert!(app.pending_studies().is_empty());
+    assert!(app.exploration.pending_sweeps().is_empty());
     press(&mut app, "Tab");
-    let pending = app.pending_studies();
+    let pending = app.exploration.pending_sweeps();
     assert_eq!(
         pending.len(),
         1,
@@ -530,25 +597,23 @@ fn only_the_visible_panel_is_computed_at_80x24() {
     );
     // Hiding it again cancels the need.
     press(&mut app, "Tab Tab Tab");
-    assert!(app.pending_studies().is_empty());
+    assert!(app.exploration.pending_sweeps().is_empty());
 }
 
 #[test]
 fn save_first_then_quit_saves_and_quits() {
     let dir = tempfile::tempdir().unwrap();
-    let mut app = app("benchmark-1");
-    app.set_save_directory(dir.path().to_path_buf());
+    let mut app = app_saving_to("benchmark-1", dir.path());
     // Found by a hostile test pass: `s` in the question saved but did not go on.
     press(&mut app, "Right q s Enter");
     assert!(dir.path().join("benchmark-1.toml").exists());
-    assert!(app.quit, "{:?}", app.message);
+    assert!(app.ending.is_some(), "{:?}", app.message);
     // A cancelled save does not go on later.
-    let mut app = self::app("benchmark-1");
-    app.set_save_directory(dir.path().to_path_buf());
+    let mut app = app_saving_to("benchmark-1", dir.path());
     press(&mut app, "Right r s Esc");
     assert!(app.modified());
     press(&mut app, "s Enter y");
-    assert!(!app.modified() && app.scene != scene("benchmark-1").scene);
+    assert!(!app.modified() && *app.scene() != scene("benchmark-1").scene);
 }
 
 #[test]
@@ -593,19 +658,18 @@ fn a_typed_position_keeps_the_cursor_on_its_obstacle() {
     let mut app = app("eight-obstacles");
     // Row 4 is obstacle 1's position (0.1 m): move it to 0.95 m, past all the others.
     press(&mut app, "Down Down Down Down Enter 0.95 Enter");
-    app.settle();
     assert_eq!(app.message, None, "accepted");
-    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    let xs: Vec<f64> = app.scene().obstacles.iter().map(|o| o.x).collect();
     assert_eq!(xs.last(), Some(&0.95), "sorted: {xs:?}");
     assert_eq!(
-        format!("{:?}", app.selected_row()),
+        format!("{:?}", app.exploration.selected_row()),
         "ObstacleX(7)",
         "the cursor followed the obstacle to its new number"
     );
     // Its sliding threshold is the next row: the same obstacle.
     press(&mut app, "Down Enter 777 Enter");
-    assert_eq!(app.scene.obstacles[7].sliding, 777.0);
-    assert_eq!(app.scene.obstacles[7].x, 0.95);
+    assert_eq!(app.scene().obstacles[7].sliding, 777.0);
+    assert_eq!(app.scene().obstacles[7].x, 0.95);
     // A position that would make it the first again but is too close to obstacle 1 (0.2 m
     // after the move) is rejected naming obstacle 8, the number on screen, not the number
     // it would have had after sorting.
@@ -628,10 +692,10 @@ fn the_value_prompt_is_pre_filled_and_editable() {
     assert_eq!(prompt.text, "50000");
     // ← then typing edits the value in place: 50000 → 500090 … then Enter.
     press(&mut app, "Left 9 Enter");
-    assert_eq!(app.scene.load.f0, 500090.0);
+    assert_eq!(app.scene().load.f0, 500090.0);
     // Typing at once replaces the value, as the keys of earlier lessons expect.
     press(&mut app, "Enter 7 Enter");
-    assert_eq!(app.scene.load.f0, 7.0);
+    assert_eq!(app.scene().load.f0, 7.0);
     // Ctrl-U erases everything before the cursor.
     press(&mut app, "Enter Left C-u");
     let Mode::Editing { prompt, .. } = &app.mode else {
@@ -648,15 +712,15 @@ fn the_value_prompt_is_pre_filled_and_editable() {
 #[test]
 fn the_diagram_key_shows_what_it_changes() {
     let mut app = app("benchmark-1");
-    app.size = (80, 24);
+    update(&mut app, Msg::Resize(80, 24));
     press(&mut app, "Tab");
-    assert!(!app.visible_panels().contains(&Panel::Deflection));
+    assert!(!visible_panels(&app).contains(&Panel::Deflection));
     press(&mut app, "b");
-    assert!(app.visible_panels().contains(&Panel::Deflection));
-    assert_eq!(format!("{:?}", app.diagram), "Moment");
+    assert!(visible_panels(&app).contains(&Panel::Deflection));
+    assert_eq!(format!("{:?}", app.exploration.diagram), "Moment");
     press(&mut app, "p Down Enter");
     assert_eq!(
-        format!("{:?}", app.diagram),
+        format!("{:?}", app.exploration.diagram),
         "Deflection",
         "a new scene starts afresh"
     );

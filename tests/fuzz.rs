@@ -10,28 +10,28 @@ use beamfric::fem::Mesh;
 use beamfric::plot::Look;
 use beamfric::scene::{LoadedScene, PRESETS, Scene, SceneSource};
 use beamfric::solve::{Method, SolveOptions, WarningCode, solve};
-use beamfric::tui::app::{App, Mode, SavePolicy};
-use beamfric::tui::draw_to_buffer;
-use beamfric::tui::keymap::{Action, Key};
-use beamfric::tui::update::update;
-use beamfric::tui::view;
+use beamfric::tui::input::keys::Key;
+use beamfric::tui::input::pointer::Pointer;
+use beamfric::tui::state::{App, Mode, Options, SavePolicy};
+use beamfric::tui::update::{Msg, update};
+use beamfric::tui::{draw_to_buffer, settle, settled, view};
 
 /// What the fuzzer feeds the explorer: keys, as from the terminal, and resizes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Input {
     Key(Key),
     Resize(u16, u16),
-    /// A mouse action (click, drag, release, wheel) at a cell, on screen or off it.
-    Mouse(Action),
+    /// A mouse event (click, drag, release, wheel) at a cell, on screen or off it.
+    Mouse(Pointer),
 }
 
 fn apply(app: &mut App, input: Input) {
     match input {
         Input::Key(key) => beamfric::tui::press(app, key),
-        Input::Resize(w, h) => update(app, Action::Resize(w, h)),
-        Input::Mouse(action) => {
-            update(app, action);
-            app.settle();
+        Input::Resize(w, h) => update(app, Msg::Resize(w, h)),
+        Input::Mouse(pointer) => {
+            update(app, Msg::Pointer(pointer));
+            settle(app);
         }
     }
 }
@@ -39,10 +39,10 @@ fn apply(app: &mut App, input: Input) {
 fn mouse() -> impl Strategy<Value = Input> {
     (0u16..170, 0u16..55, 0u8..5, any::<bool>()).prop_map(|(x, y, kind, flag)| {
         Input::Mouse(match kind {
-            0 => Action::Click { x, y, double: flag },
-            1 | 2 => Action::Drag { x, y },
-            3 => Action::Release { x, y },
-            _ => Action::Scroll { x, y, up: flag },
+            0 => Pointer::Click { x, y, double: flag },
+            1 | 2 => Pointer::Drag { x, y },
+            3 => Pointer::Release { x, y },
+            _ => Pointer::Scroll { x, y, up: flag },
         })
     })
 }
@@ -131,22 +131,26 @@ fn fresh(name: &str, dir: &Path) -> App {
         color: true,
     };
     let loaded = LoadedScene::new(scene, SceneSource::Preset(preset.name)).unwrap();
-    let mut app = App::new(loaded, look, false).unwrap();
-    app.settle();
-    app.set_save_directory(dir.to_path_buf());
-    // Whatever the keys do to the file name (cursor moves, Ctrl-U, pastes), a save lands in
-    // the temporary directory or nowhere: a fuzz run once saved scenes into the repository.
-    app.save_policy = SavePolicy::Within(dir.to_path_buf());
-    app
+    settled(App::new(loaded, saving_within(look, dir)).unwrap())
+}
+
+/// Whatever the keys do to the file name (cursor moves, Ctrl-U, pastes), a save lands in the
+/// temporary directory or nowhere: a fuzz run once saved scenes into the repository.
+fn saving_within(look: Look, dir: &Path) -> Options {
+    Options {
+        save_policy: SavePolicy::Within(dir.to_path_buf()),
+        save_directory: Some(dir.to_path_buf()),
+        ..Options::new(look)
+    }
 }
 
 /// Everything that must hold after any key.
 fn check(app: &App) -> Result<(), TestCaseError> {
-    let scene = &app.scene;
+    let scene = app.scene();
     let (problem, settings) = scene
         .validate("state")
         .map_err(|e| TestCaseError::fail(format!("invalid state: {e}")))?;
-    prop_assert_eq!(&problem, &app.problem);
+    prop_assert_eq!(&problem, &app.exploration.problem);
     prop_assert_eq!(settings.elements, scene.mesh.elements);
     let l = scene.beam.length;
     let xs: Vec<f64> = scene.obstacles.iter().map(|o| o.x).collect();
@@ -159,8 +163,8 @@ fn check(app: &App) -> Result<(), TestCaseError> {
     prop_assert!(scene.load.f0.is_finite() && scene.load.f1().is_finite());
     prop_assert!(scene.beam.young.is_finite() && scene.beam.young > 0.0);
     prop_assert!(scene.solver.epsilon.is_finite() && scene.solver.epsilon > 0.0);
-    prop_assert!(app.selected < app.rows().len());
-    if let Some(Ok(solution)) = app.solution() {
+    prop_assert!(app.exploration.selected < app.exploration.rows().len());
+    if let Some(Ok(solution)) = app.exploration.solution() {
         // A non-finite number is only ever there with its warning.
         prop_assert!(
             solution.is_finite()
@@ -190,19 +194,19 @@ fn run_script(start: usize, script: Vec<Vec<Input>>) -> Result<usize, TestCaseEr
         }
         apply(&mut app, action);
         applied += 1;
-        if app.quit {
-            let known = match app.source {
+        if app.ending.is_some() {
+            let known = match app.exploration.source {
                 SceneSource::Preset(name) => name,
                 SceneSource::File(_) => "benchmark-1",
             };
             app = fresh(known, &dir);
         }
-        if app.scene.mesh.elements > ELEMENT_BUDGET {
-            let mut scene = app.scene.clone();
+        if app.scene().mesh.elements > ELEMENT_BUDGET {
+            let mut scene = app.scene().clone();
             scene.mesh.elements = 200;
-            let (source, look) = (app.source.clone(), app.look);
-            app = App::new(LoadedScene::new(scene, source).unwrap(), look, false).unwrap();
-            app.set_save_directory(dir.clone());
+            let (source, look) = (app.exploration.source.clone(), app.look);
+            let loaded = LoadedScene::new(scene, source).unwrap();
+            app = App::new(loaded, saving_within(look, &dir)).unwrap();
         }
         check(&app)?;
         // Draw at the size the app was told, as the terminal would.
@@ -276,7 +280,7 @@ proptest! {
         for _ in 0..diagram {
             beamfric::tui::press(&mut app, Key::Char('b'));
         }
-        let text = beamfric::plot::buffer_to_text(&draw_to_buffer(&app, width, height).unwrap(), false);
+        let text = beamfric::plot::buffer_to_text(&draw_to_buffer(&app, width, height), false);
         prop_assert_eq!(text.lines().count(), height as usize);
         if ascii {
             prop_assert!(text.is_ascii());

@@ -5,12 +5,13 @@
 
 use beamfric::plot::Look;
 use beamfric::scene::{LoadedScene, Panel, preset};
-use beamfric::tui::app::{App, Mode};
-use beamfric::tui::keymap::{Action, parse_keys};
-use beamfric::tui::mouse::{Target, target};
-use beamfric::tui::params::Row;
-use beamfric::tui::update::update;
-use beamfric::tui::{draw_to_buffer, press};
+use beamfric::tui::input::keys::parse_keys;
+use beamfric::tui::input::pointer::Pointer;
+use beamfric::tui::layout::hit::{Target, target};
+use beamfric::tui::state::params::Row;
+use beamfric::tui::state::{App, Mode, Options};
+use beamfric::tui::update::{Msg, update};
+use beamfric::tui::{draw_to_buffer, press, settle};
 
 const LOOK: Look = Look {
     ascii: false,
@@ -19,15 +20,15 @@ const LOOK: Look = Look {
 
 fn app(name: &str, width: u16, height: u16) -> App {
     let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
-    let mut app = App::new(loaded, LOOK, false).unwrap();
-    update(&mut app, Action::Resize(width, height));
-    app.settle();
+    let mut app = App::new(loaded, Options::new(LOOK)).unwrap();
+    update(&mut app, Msg::Resize(width, height));
+    settle(&mut app);
     app
 }
 
 /// The frame's rows as text.
 fn screen(app: &App) -> Vec<String> {
-    let buffer = draw_to_buffer(app, app.size.0, app.size.1).unwrap();
+    let buffer = draw_to_buffer(app, app.size.0, app.size.1);
     (0..buffer.area.height)
         .map(|y| {
             (0..buffer.area.width)
@@ -59,22 +60,20 @@ fn cells_of(screen: &[String], glyph: char) -> Vec<(u16, u16)> {
 }
 
 fn click(app: &mut App, (x, y): (u16, u16)) {
-    update(
-        app,
-        Action::Click {
-            x,
-            y,
-            double: false,
-        },
-    );
-    app.settle();
+    let pointer = Pointer::Click {
+        x,
+        y,
+        double: false,
+    };
+    update(app, Msg::Pointer(pointer));
+    settle(app);
 }
 
 #[test]
 fn a_click_selects_the_row_drawn_under_it() {
     for (width, height) in [(120, 40), (80, 24), (60, 16)] {
         let mut app = app("benchmark-3", width, height);
-        let rows = app.rows();
+        let rows = app.exploration.rows();
         for (i, row) in rows.iter().enumerate() {
             let frame = screen(&app);
             // Rows of one label ("  sliding g1") repeat: find the one of this obstacle by
@@ -86,14 +85,18 @@ fn a_click_selects_the_row_drawn_under_it() {
                 continue;
             }
             click(&mut app, (cell.0 + 3, cell.1));
-            assert_eq!(app.rows()[app.selected], *row, "{width}x{height} row {i}");
+            assert_eq!(
+                app.exploration.rows()[app.exploration.selected],
+                *row,
+                "{width}x{height} row {i}"
+            );
         }
         // A click on the parameters' border selects nothing new.
-        let before = app.selected;
+        let before = app.exploration.selected;
         let frame = screen(&app);
         let (x, y) = find(&frame, "Parameters").unwrap();
         click(&mut app, (x, y));
-        assert_eq!(app.selected, before);
+        assert_eq!(app.exploration.selected, before);
     }
 }
 
@@ -105,7 +108,7 @@ fn a_clicked_row_stays_under_the_pointer_when_the_list_scrolls() {
     let frame = screen(&app);
     let (x, y) = find(&frame, "│obstacle 7 x").expect("row shown after G");
     click(&mut app, (x + 3, y));
-    assert_eq!(app.selected_row(), Row::ObstacleX(6));
+    assert_eq!(app.exploration.selected_row(), Row::ObstacleX(6));
     let frame = screen(&app);
     assert_eq!(
         find(&frame, "│obstacle 7 x"),
@@ -120,43 +123,45 @@ fn the_wheel_over_the_parameters_steps_the_selected_value() {
     let frame = screen(&app);
     let (x, y) = find(&frame, "│modulus E").unwrap();
     click(&mut app, (x + 3, y));
-    assert_eq!(app.selected_row(), Row::Young);
-    let young = app.scene.beam.young;
+    assert_eq!(app.exploration.selected_row(), Row::Young);
+    let young = app.scene().beam.young;
     update(
         &mut app,
-        Action::Scroll {
+        Msg::Pointer(Pointer::Scroll {
             x: x + 3,
             y: y + 2,
             up: true,
-        },
+        }),
     );
     // One fine step up: ×10^0.1, the same as → (checked against the key).
     let mut by_key = self::app("benchmark-1", 120, 40);
-    by_key.selected = app.selected;
+    for _ in 0..app.exploration.selected {
+        press(&mut by_key, parse_keys("Down")[0]);
+    }
     press(&mut by_key, parse_keys("Right")[0]);
-    assert_eq!(app.scene.beam.young, by_key.scene.beam.young);
-    assert!((app.scene.beam.young / young - 10f64.powf(0.1)).abs() < 1e-12);
+    assert_eq!(app.scene().beam.young, by_key.scene().beam.young);
+    assert!((app.scene().beam.young / young - 10f64.powf(0.1)).abs() < 1e-12);
     update(
         &mut app,
-        Action::Scroll {
+        Msg::Pointer(Pointer::Scroll {
             x: x + 3,
             y,
             up: false,
-        },
+        }),
     );
-    assert!((app.scene.beam.young / young - 1.0).abs() < 1e-12);
+    assert!((app.scene().beam.young / young - 1.0).abs() < 1e-12);
     // Over a chart the wheel changes nothing.
     let (cx, cy) = find(&frame, "Deflection").unwrap();
-    let scene = app.scene.clone();
+    let scene = app.scene().clone();
     update(
         &mut app,
-        Action::Scroll {
+        Msg::Pointer(Pointer::Scroll {
             x: cx,
             y: cy + 5,
             up: true,
-        },
+        }),
     );
-    assert_eq!(app.scene, scene);
+    assert_eq!(*app.scene(), scene);
 }
 
 #[test]
@@ -174,20 +179,23 @@ fn dragging_an_obstacle_marker_moves_the_obstacle_to_where_it_is_let_go() {
         let undo_before = app.undo.len();
         update(
             &mut app,
-            Action::Click {
+            Msg::Pointer(Pointer::Click {
                 x: mx,
                 y: my,
                 double: false,
-            },
+            }),
         );
-        assert_eq!(app.selected_row(), Row::ObstacleX(0));
+        assert_eq!(app.exploration.selected_row(), Row::ObstacleX(0));
         // Drag in steps to 12 columns left, re-solving on the way.
         for dx in 1..=12 {
-            update(&mut app, Action::Drag { x: mx - dx, y: my });
-            app.settle();
+            update(&mut app, Msg::Pointer(Pointer::Drag { x: mx - dx, y: my }));
+            settle(&mut app);
         }
-        update(&mut app, Action::Release { x: mx - 12, y: my });
-        let x = app.scene.obstacles[0].x;
+        update(
+            &mut app,
+            Msg::Pointer(Pointer::Release { x: mx - 12, y: my }),
+        );
+        let x = app.scene().obstacles[0].x;
         assert!(x < 0.8 - 0.05, "{width}x{height}: x = {x}");
         assert_eq!(app.undo.len(), undo_before + 1, "one undo step per drag");
         // The marker is drawn where the pointer let go (the chart's own drawing).
@@ -211,7 +219,7 @@ fn dragging_an_obstacle_marker_moves_the_obstacle_to_where_it_is_let_go() {
         );
         // u undoes the whole drag.
         press(&mut app, parse_keys("u")[0]);
-        assert_eq!(app.scene.obstacles[0].x, 0.8);
+        assert_eq!(app.scene().obstacles[0].x, 0.8);
     }
 }
 
@@ -231,9 +239,9 @@ fn a_drag_never_passes_a_neighbour_or_a_support() {
     let (mx, my) = markers[1];
     assert_eq!(target(&app, mx, my), Target::Obstacle(1));
     click(&mut app, (mx, my));
-    update(&mut app, Action::Drag { x: 0, y: my });
-    update(&mut app, Action::Release { x: 0, y: my });
-    let xs: Vec<f64> = app.scene.obstacles.iter().map(|o| o.x).collect();
+    update(&mut app, Msg::Pointer(Pointer::Drag { x: 0, y: my }));
+    update(&mut app, Msg::Pointer(Pointer::Release { x: 0, y: my }));
+    let xs: Vec<f64> = app.scene().obstacles.iter().map(|o| o.x).collect();
     assert!(xs[1] > xs[0], "{xs:?}");
     assert!((xs[1] - xs[0] - 1e-3).abs() < 1e-12, "{xs:?}");
 }
@@ -245,7 +253,10 @@ fn clicking_a_panel_focuses_it_and_its_title_or_a_double_click_zooms() {
     let (x, y) = find(&frame, "cond2 of the cases").expect("the panel's title");
     // Inside the panel: focus.
     click(&mut app, (x, y + 4));
-    assert_eq!(app.panels()[app.focus], Panel::EpsCond);
+    assert_eq!(
+        app.exploration.panels()[app.exploration.focus],
+        Panel::EpsCond
+    );
     assert!(!app.zoom);
     // On its title: zoom, and the zoomed frame is that panel alone.
     click(&mut app, (x, y));
@@ -263,14 +274,17 @@ fn clicking_a_panel_focuses_it_and_its_title_or_a_double_click_zooms() {
     let (x, y) = find(&frame, "Error vs n").unwrap();
     update(
         &mut app,
-        Action::Click {
+        Msg::Pointer(Pointer::Click {
             x,
             y: y + 3,
             double: true,
-        },
+        }),
     );
     assert!(app.zoom);
-    assert_eq!(app.panels()[app.focus], Panel::ErrorTime);
+    assert_eq!(
+        app.exploration.panels()[app.exploration.focus],
+        Panel::ErrorTime
+    );
     press(&mut app, parse_keys("z")[0]);
     assert!(!app.zoom);
 }
@@ -291,7 +305,7 @@ fn the_preset_picker_takes_clicks_and_the_wheel() {
             .map(|i| beamfric::scene::PRESETS[i].name),
         Some("lesson-mesh")
     );
-    update(&mut app, Action::Scroll { x, y, up: false });
+    update(&mut app, Msg::Pointer(Pointer::Scroll { x, y, up: false }));
     let Mode::Presets(picker) = &app.mode else {
         panic!("still picking")
     };
@@ -304,10 +318,13 @@ fn the_preset_picker_takes_clicks_and_the_wheel() {
     // A double click loads the entry under it.
     let frame = screen(&app);
     let (x, y) = find(&frame, "tiny-beam").expect("listed");
-    update(&mut app, Action::Click { x, y, double: true });
-    app.settle();
+    update(
+        &mut app,
+        Msg::Pointer(Pointer::Click { x, y, double: true }),
+    );
+    settle(&mut app);
     assert_eq!(app.mode, Mode::Normal);
-    assert_eq!(app.scene.title, "Tiny beam (l = 1 mm)");
+    assert_eq!(app.scene().title, "Tiny beam (l = 1 mm)");
     // A click outside the picker closes it.
     press(&mut app, parse_keys("p")[0]);
     click(&mut app, (0, 0));
@@ -317,21 +334,21 @@ fn the_preset_picker_takes_clicks_and_the_wheel() {
 #[test]
 fn without_a_layout_or_outside_everything_the_mouse_does_nothing() {
     let mut app = app("benchmark-1", 40, 10);
-    let scene = app.scene.clone();
+    let scene = app.scene().clone();
     for (x, y) in [(0, 0), (39, 9), (500, 500)] {
         click(&mut app, (x, y));
-        update(&mut app, Action::Drag { x, y });
-        update(&mut app, Action::Scroll { x, y, up: true });
-        update(&mut app, Action::Release { x, y });
+        update(&mut app, Msg::Pointer(Pointer::Drag { x, y }));
+        update(&mut app, Msg::Pointer(Pointer::Scroll { x, y, up: true }));
+        update(&mut app, Msg::Pointer(Pointer::Release { x, y }));
     }
-    assert_eq!(app.scene, scene);
+    assert_eq!(*app.scene(), scene);
     assert_eq!(app.mode, Mode::Normal);
 }
 
 #[test]
 fn list_keys_move_to_the_ends_and_by_pages() {
     let mut app = app("eight-obstacles", 80, 24);
-    let last = app.rows().len() - 1;
+    let last = app.exploration.rows().len() - 1;
     for (keys, expected) in [
         ("G", last),
         ("g", 0),
@@ -356,9 +373,9 @@ fn list_keys_move_to_the_ends_and_by_pages() {
                 .unwrap()
                 .0;
             let page = bottom - top as usize - 1;
-            assert_eq!(app.selected, page, "{keys}");
+            assert_eq!(app.exploration.selected, page, "{keys}");
         } else {
-            assert_eq!(app.selected, expected, "{keys}");
+            assert_eq!(app.exploration.selected, expected, "{keys}");
         }
     }
     // The selected row is on screen after each.
@@ -385,11 +402,14 @@ fn a_drag_of_an_obstacle_deleted_meanwhile_does_nothing() {
     for key in parse_keys("d Up Up Up d") {
         press(&mut app, key);
     }
-    assert_eq!(app.scene.obstacles.len(), 2);
-    let scene = app.scene.clone();
-    update(&mut app, Action::Drag { x: mx - 5, y: my });
-    update(&mut app, Action::Release { x: mx - 5, y: my });
-    assert_eq!(app.scene, scene);
+    assert_eq!(app.scene().obstacles.len(), 2);
+    let scene = app.scene().clone();
+    update(&mut app, Msg::Pointer(Pointer::Drag { x: mx - 5, y: my }));
+    update(
+        &mut app,
+        Msg::Pointer(Pointer::Release { x: mx - 5, y: my }),
+    );
+    assert_eq!(*app.scene(), scene);
 }
 
 #[test]
@@ -404,13 +424,13 @@ fn a_click_on_the_warnings_in_the_status_opens_the_warnings_view() {
         app.mode
     );
     // The wheel scrolls it; a click closes it.
-    update(&mut app, Action::Scroll { x, y, up: false });
+    update(&mut app, Msg::Pointer(Pointer::Scroll { x, y, up: false }));
     assert!(
         matches!(app.mode, Mode::Warnings { offset: 1 }),
         "{:?}",
         app.mode
     );
-    update(&mut app, Action::Scroll { x, y, up: true });
+    update(&mut app, Msg::Pointer(Pointer::Scroll { x, y, up: true }));
     assert!(
         matches!(app.mode, Mode::Warnings { offset: 0 }),
         "{:?}",

@@ -32,7 +32,7 @@ fn frames(name: &str) -> Vec<(String, String)> {
     for ascii in [false, true] {
         app.look.ascii = ascii;
         for (w, h) in SIZES {
-            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h), false);
             let label = format!("{name}-{w}x{h}{}", if ascii { "-ascii" } else { "" });
             out.push((label, text));
         }
@@ -115,7 +115,7 @@ fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() 
     ]);
     assert_eq!(first.stdout, second.stdout, "two renders differ");
     let loaded = LoadedScene::preset(preset("benchmark-3").unwrap()).unwrap();
-    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys);
     let buffer = beamfric::tui::render(loaded, &keys, options(100, 30, false)).unwrap();
     assert_eq!(
         String::from_utf8(first.stdout).unwrap(),
@@ -245,17 +245,17 @@ const LESSON_SIZES: [(u16, u16); 3] = [(80, 24), (100, 30), (120, 40)];
 fn lesson_frames(
     scene: &str,
     keys_at: impl Fn(u16) -> String,
-    adjust: impl Fn(&mut beamfric::tui::app::App),
+    adjust: impl Fn(&mut beamfric::tui::state::App),
 ) -> Vec<(String, u16, bool, String)> {
     let mut out = Vec::new();
     for (w, h) in LESSON_SIZES {
         let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
-        let keys = beamfric::tui::keymap::parse_keys(&keys_at(w));
+        let keys = beamfric::tui::input::keys::parse_keys(&keys_at(w));
         let mut app = prepare(loaded, &keys, options(w, h, false)).unwrap();
         adjust(&mut app);
         for ascii in [false, true] {
             app.look.ascii = ascii;
-            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h), false);
             assert_eq!(text.lines().count(), h as usize);
             assert!(text.lines().all(|l| l.chars().count() == w as usize));
             if ascii {
@@ -271,13 +271,13 @@ fn lesson_frames(
 /// The frame after `keys` on a preset, at each size and look.
 fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
     let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
-    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys);
     let mut app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
         app.look.ascii = ascii;
         for &(w, h) in sizes {
-            let text = buffer_to_text(&draw_to_buffer(&app, w, h).unwrap(), false);
+            let text = buffer_to_text(&draw_to_buffer(&app, w, h), false);
             let label = format!("{w}x{h}{}", if ascii { "-ascii" } else { "" });
             out.push((label, text, ascii));
         }
@@ -365,7 +365,8 @@ fn synthetic_time(point: &beamfric::study::MeshPoint) -> std::time::Duration {
 /// series drawn, the current n's points marked, its error and time printed.
 #[test]
 fn lesson_mesh_error_against_run_time() {
-    use beamfric::tui::studies::{StudyState, study_of};
+    use beamfric::tui::jobs::sweeps::sweep_of;
+    use beamfric::tui::state::sweeps::SweepState;
     let keys = |w: u16| {
         if w < 100 {
             "t Tab".to_string()
@@ -373,9 +374,9 @@ fn lesson_mesh_error_against_run_time() {
             "t".to_string()
         }
     };
-    let deterministic = |app: &mut beamfric::tui::app::App| {
-        let slot = study_of(beamfric::scene::Panel::ErrorTime).unwrap();
-        let StudyState::Ready(data) = &app.studies[slot].state else {
+    let deterministic = |app: &mut beamfric::tui::state::App| {
+        let slot = sweep_of(beamfric::scene::Panel::ErrorTime).unwrap();
+        let SweepState::Ready(data) = &app.exploration.sweeps[slot].state else {
             panic!("the mesh sweep ran");
         };
         let mut points = data
@@ -385,8 +386,8 @@ fn lesson_mesh_error_against_run_time() {
         for p in &mut points {
             p.run_time = synthetic_time(p);
         }
-        app.studies[slot].state = StudyState::Ready(std::sync::Arc::new(points));
-        if let Some(Ok(solution)) = app.shown.as_mut().map(|s| &mut s.solution) {
+        app.exploration.sweeps[slot].state = SweepState::Ready(std::sync::Arc::new(points));
+        if let Some(Ok(solution)) = app.exploration.shown.as_mut().map(|s| &mut s.solution) {
             solution.timing = Default::default();
         }
     };
@@ -478,8 +479,8 @@ fn regularized_deflection_with_its_reference() {
             }
         };
         for (label, _, ascii, text) in lesson_frames("benchmark-1", keys_at, |app| {
-            assert_eq!(app.scene.solver.epsilon, 1e-2);
-            let shown = app.shown.as_ref().unwrap();
+            assert_eq!(app.scene().solver.epsilon, 1e-2);
+            let shown = app.exploration.shown.as_ref().unwrap();
             let reference = shown.reference.as_ref().expect("the reference is solved");
             assert_eq!(reference.method, beamfric::solve::Method::Condensed);
         }) {
@@ -526,7 +527,8 @@ fn regularized_deflection_with_its_reference() {
 fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
     use beamfric::plot::Palette;
     use ratatui::style::Color;
-    let keys = beamfric::tui::keymap::parse_keys("m m m Down Down Down Down Down Down Down Down");
+    let keys =
+        beamfric::tui::input::keys::parse_keys("m m m Down Down Down Down Down Down Down Down");
     for scene in ["benchmark-1", "lesson-mesh"] {
         for palette in Palette::ALL {
             for (w, h) in LESSON_SIZES {
@@ -535,7 +537,7 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
                 options.look.color = true;
                 options.palette = palette;
                 let app = prepare(loaded, &keys, options).unwrap();
-                let buffer = draw_to_buffer(&app, w, h).unwrap();
+                let buffer = draw_to_buffer(&app, w, h);
                 for cell in buffer.content.iter() {
                     let text = cell.symbol().chars().any(|c| c.is_alphanumeric());
                     let case = format!("{scene} {w}x{h} {}: {:?}", palette.name(), cell);
@@ -561,9 +563,9 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
 /// The warnings of a preset's solution after `keys`, from the solver (not from the screen).
 fn warning_messages(name: &str, keys: &str) -> Vec<String> {
     let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
-    let keys = beamfric::tui::keymap::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys);
     let app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
-    match app.solution() {
+    match app.exploration.solution() {
         Some(Ok(solution)) => solution
             .warnings
             .iter()

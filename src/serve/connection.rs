@@ -16,7 +16,7 @@ use super::Shared;
 use super::explorer::{self, ACCEPTED_ENV, ClientTerminal, ENV_COUNT_LIMIT, ENV_VALUE_LIMIT};
 use super::keys::{fingerprint, same_secret};
 use super::limits::{INPUT_BYTES_PER_SECOND, InputBudget};
-use crate::tui::remote::Feed;
+use crate::tui::runtime::remote::Feed;
 
 /// Said to a client that asks for a shell without a terminal, or for a command.
 const EXPLORER_ONLY: &str = "beamfric serve offers the explorer only, in a terminal: connect with plain `ssh -p PORT HOST` (or `ssh -t`).\r\n";

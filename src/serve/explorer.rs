@@ -17,9 +17,10 @@ use tokio::sync::mpsc;
 
 use crate::plot::Look;
 use crate::scene::LoadedScene;
-use crate::tui::app::{App, SavePolicy};
-use crate::tui::follow::{self, Follow};
-use crate::tui::remote::{self, AfterFrame, Feed};
+use crate::tui::runtime::remote::{self, AfterFrame, Feed};
+use crate::tui::state::follow::Follow;
+use crate::tui::state::{App, Options, SavePolicy};
+use crate::tui::update::{Msg, update};
 
 use super::limits::SessionSlot;
 use super::{Shared, lock};
@@ -114,40 +115,47 @@ pub(crate) fn start(
     client: &ClientTerminal,
 ) -> Result<Feed, String> {
     let settings = &shared.explorer;
-    let mut app = App::new(settings.scene.clone(), client.look(), true)?;
-    // Nothing is written on the server but under --save-dir: otherwise `s` shows the scene's
-    // TOML to copy.
-    match &settings.save_dir {
-        Some(dir) => {
-            app.set_save_directory(dir.clone());
-            app.save_policy = SavePolicy::Within(dir.clone());
-        }
-        None => app.save_policy = SavePolicy::ShowText,
-    }
-    app.max_elements = Some(settings.max_elements);
-    app.mouse = settings.mouse;
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.
     let mut after_frame: Option<AfterFrame> = None;
     let mut hub_id = None;
+    let mut follow = None;
+    let mut latest = None;
     if let Some(hub) = &shared.hub {
         if presenter {
-            app.follow = Some(Follow::presenter(&hub.followers));
+            follow = Some(Follow::presenter(&hub.followers));
             hub_id = Some(hub.join_presenter(feed.clone()));
             let publishing = Arc::clone(shared);
             after_frame = Some(Box::new(move |app: &App| {
                 if let Some(hub) = &publishing.hub {
-                    hub.publish(app);
+                    hub.publish(&app.exploration);
                 }
             }));
         } else {
-            app.follow = Some(Follow::student(&hub.followers));
-            let (id, latest) = hub.join(feed.clone());
+            follow = Some(Follow::student(&hub.followers));
+            let (id, newest) = hub.join(feed.clone());
             hub_id = Some(id);
-            if let Some(snapshot) = latest {
-                follow::receive(&mut app, snapshot);
-            }
+            latest = newest;
         }
+    }
+    // Nothing is written on the server but under --save-dir: otherwise `s` shows the scene's
+    // TOML to copy.
+    let save_policy = match &settings.save_dir {
+        Some(dir) => SavePolicy::Within(dir.clone()),
+        None => SavePolicy::ShowText,
+    };
+    let options = Options {
+        show_timings: true,
+        mouse: settings.mouse,
+        save_policy,
+        save_directory: settings.save_dir.clone(),
+        max_elements: Some(settings.max_elements),
+        follow,
+        ..Options::new(client.look())
+    };
+    let mut app = App::new(settings.scene.clone(), options).map_err(|e| e.to_string())?;
+    if let Some(exploration) = latest {
+        update(&mut app, Msg::Follow(exploration));
     }
     let explorer_id = shared.next_explorer.fetch_add(1, Ordering::Relaxed);
     lock(&shared.explorers).push((explorer_id, feed.clone()));
@@ -176,7 +184,7 @@ pub(crate) fn start(
     std::thread::Builder::new()
         .name("session".into())
         .spawn(move || {
-            let _ = remote::run(app, writer, size, events, idle_timeout, after_frame, cores);
+            let _ = remote::run_remote(app, writer, size, events, idle_timeout, after_frame, cores);
             if let (Some(hub), Some(id)) = (&leaving.hub, hub_id) {
                 hub.leave(id);
             }

@@ -6,9 +6,9 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use crate::tui::app::App;
-use crate::tui::follow::{Followers, Snapshot};
-use crate::tui::remote::Feed;
+use crate::tui::runtime::remote::Feed;
+use crate::tui::state::Exploration;
+use crate::tui::state::follow::Followers;
 
 /// Feeds by id.
 type Feeds = Mutex<Vec<(u64, Feed)>>;
@@ -17,7 +17,7 @@ type Feeds = Mutex<Vec<(u64, Feed)>>;
 pub struct Hub {
     students: Feeds,
     presenters: Arc<Feeds>,
-    latest: Mutex<Option<Arc<Snapshot>>>,
+    latest: Mutex<Option<Arc<Exploration>>>,
     next_id: AtomicU64,
     /// Students following now; presenters redraw when it changes.
     pub followers: Arc<Followers>,
@@ -52,7 +52,7 @@ impl std::fmt::Debug for Hub {
 impl Hub {
     /// A student joins: its feed hears every new state from now on. Returns its id (for
     /// [`Hub::leave`]) and the newest state so far.
-    pub fn join(&self, feed: Feed) -> (u64, Option<Arc<Snapshot>>) {
+    pub fn join(&self, feed: Feed) -> (u64, Option<Arc<Exploration>>) {
         let id = self.next_id.fetch_add(1, Ordering::Relaxed);
         lock(&self.students).push((id, feed));
         (id, lock(&self.latest).clone())
@@ -72,8 +72,8 @@ impl Hub {
     }
 
     /// A presenter drew a frame: its state goes to every student.
-    pub fn publish(&self, app: &App) {
-        let snapshot = Arc::new(Snapshot::of(app));
+    pub fn publish(&self, exploration: &Exploration) {
+        let snapshot = Arc::new(exploration.clone());
         *lock(&self.latest) = Some(Arc::clone(&snapshot));
         for (_, feed) in lock(&self.students).iter() {
             feed.follow(Arc::clone(&snapshot));

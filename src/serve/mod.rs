@@ -4,7 +4,7 @@
 //! host key and the list of who may log in, binds, and runs the server on a runtime thread of
 //! its own; [`run`] is the command line's way in (`beamfric serve`), and [`present`] runs the
 //! server behind the lecturer's own explorer, which presents (`beamfric present`). The solves
-//! and studies of all sessions share the machine's cores fairly (`crate::tui::cores`).
+//! and sweeps of all sessions share the machine's cores fairly (`crate::tui::runtime::cores`).
 //!
 //! - [`keys`]: host key, authorized keys, password;
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
@@ -29,8 +29,8 @@ use russh::MethodKind;
 use russh::keys::PublicKey;
 use tokio::sync::oneshot;
 
-use crate::tui::cores::Cores;
-use crate::tui::remote::Feed;
+use crate::tui::runtime::cores::Cores;
+use crate::tui::runtime::remote::Feed;
 use explorer::ExplorerSettings;
 use limits::SessionSlots;
 
@@ -379,7 +379,9 @@ pub fn present(
     options: &ServeOptions,
     look: crate::plot::Look,
 ) -> Result<crate::tui::Ending, String> {
-    use crate::tui::follow::Follow;
+    use crate::tui::runtime::local::run_local;
+    use crate::tui::state::follow::Follow;
+    use crate::tui::state::{App, Options};
     let server = Server::start_as(options, true)?;
     let listening = format!(
         "listening on {} (host key {}); students connect with: ssh -p {} HOST",
@@ -395,24 +397,29 @@ pub fn present(
     let Some(hub) = &shared.hub else {
         return Err("internal error: a presenting server without a follow hub".into());
     };
-    let mut app = crate::tui::app::App::new(shared.explorer.scene.clone(), look, true)?;
-    app.follow = Some(Follow::presenter(&hub.followers));
-    app.message = Some(format!(
-        "presenting on {}: students connect with ssh -p {} HOST (host key {})",
-        server.address(),
-        server.address().port(),
-        server.fingerprint()
-    ));
+    let options = Options {
+        show_timings: true,
+        follow: Some(Follow::presenter(&hub.followers)),
+        greeting: Some(format!(
+            "presenting on {}: students connect with ssh -p {} HOST (host key {})",
+            server.address(),
+            server.address().port(),
+            server.fingerprint()
+        )),
+        ..Options::new(look)
+    };
+    let app = App::new(shared.explorer.scene.clone(), options).map_err(|e| e.to_string())?;
     let publishing = Arc::clone(&shared);
     let mut presenter_id = None;
-    let ending = crate::tui::run_attached(app, |feed| {
+    let ending = run_local(app, |feed| {
         presenter_id = Some(hub.join_presenter(feed));
-        Some(Box::new(move |app: &crate::tui::app::App| {
+        Some(Box::new(move |app: &App| {
             if let Some(hub) = &publishing.hub {
-                hub.publish(app);
+                hub.publish(&app.exploration);
             }
         }))
-    });
+    })
+    .map_err(|e| e.to_string());
     if let Some(id) = presenter_id {
         hub.leave(id);
     }

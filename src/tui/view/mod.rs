@@ -1,31 +1,26 @@
-//! Drawing the explorer: reads the [`App`] and draws a frame, changing nothing. One code path
-//! for the terminal and for headless rendering.
+//! Drawing the explorer, above the layout: reads the [`App`] and draws a frame, changing
+//! nothing. One code path for the terminal and for headless rendering.
 //!
-//! Where things go is [`layout`]; this module draws the title, the parameters and the panels,
-//! and hands the results, the status and hint lines, the warnings view and the overlays to
-//! their own modules.
+//! Where things go is `tui::layout`, computed once per frame here; this module draws the
+//! title, the parameters and the panels, and hands the results, the status and hint lines,
+//! the warnings view and the overlays to their own modules.
 
 mod charts;
-mod fit;
-mod layout;
+pub mod fit;
 mod overlays;
 mod results;
 mod status;
-mod warnings;
+pub mod warnings;
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
-use super::app::App;
 use crate::plot::{Theme, transliterate};
-
-pub use charts::{DeflectionColumns, deflection_columns};
-pub use layout::{
-    DESCRIPTION_MIN_HEIGHT, FULL_SIZE, MIN_SIZE, Region, ScreenLayout, screen_layout,
-};
-pub use overlays::{PickerLayout, picker_layout};
+use crate::tui::layout::{MIN_SIZE, ScreenLayout, screen_layout};
+use crate::tui::state::App;
+use crate::tui::state::params::Row;
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
@@ -66,19 +61,20 @@ fn too_small(frame: &mut Frame, area: Rect) {
 }
 
 fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let p = &app.problem;
+    let p = &app.exploration.problem;
+    let scene = app.scene();
     let obstacles = p.obstacles.len();
-    let inertia = app.scene.beam.section.inertia();
-    let segments = if app.scene.beam.segments.is_empty() {
+    let inertia = scene.beam.section.inertia();
+    let segments = if scene.beam.segments.is_empty() {
         String::new()
     } else {
-        format!(", {} segment(s)", app.scene.beam.segments.len())
+        format!(", {} segment(s)", scene.beam.segments.len())
     };
     let text = format!(
         " {}{} ({}) · l = {} m · J = {} m^4 · {} obstacle{}{segments}",
         if app.modified() { "[modified] " } else { "" },
-        app.scene.title,
-        app.source,
+        scene.title,
+        app.exploration.source,
         crate::format::eng(p.length),
         crate::format::eng(inertia),
         obstacles,
@@ -91,9 +87,9 @@ fn draw_parameters(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let block = theme.block(" Parameters ", false);
     let inner = block.inner(area);
     frame.render_widget(block, area);
-    let rows = app.rows();
+    let rows = app.exploration.rows();
     let height = inner.height as usize;
-    let selected = app.selected.min(rows.len() - 1);
+    let selected = app.exploration.selected.min(rows.len() - 1);
     // The scroll `update` keeps, moved only as far as needed to show the selected row.
     let offset = app.parameters_offset(height);
     let label_width = 14usize.min(inner.width as usize / 2);
@@ -104,11 +100,11 @@ fn draw_parameters(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         .take(height)
         .map(|(i, row)| {
             let label = format!("{:<width$}", row.label(), width = label_width);
-            let value = row.value(&app.scene);
+            let value = row.value(app.scene());
             let text = format!("{label} {value}");
             let style = if i == selected {
                 theme.selected()
-            } else if row.obstacle().is_some() && !matches!(row, super::params::Row::ObstacleX(_)) {
+            } else if row.obstacle().is_some() && !matches!(row, Row::ObstacleX(_)) {
                 theme.dim()
             } else {
                 theme.plain()
@@ -120,14 +116,15 @@ fn draw_parameters(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
 }
 
 fn draw_panels(frame: &mut Frame, app: &App, theme: &Theme, layout: &ScreenLayout) {
-    let panels = app.panels();
+    let panels = app.exploration.panels();
     if panels.is_empty() {
         return;
     }
-    let focused = panels[app.focus % panels.len()];
+    let focus = app.exploration.focus;
+    let focused = panels[focus % panels.len()];
     for (panel, area) in &layout.panels {
         let mut title_suffix = if !layout.all_panels && panels.len() > 1 {
-            let index = app.focus % panels.len();
+            let index = focus % panels.len();
             format!(" [{}/{} Tab]", index + 1, panels.len())
         } else {
             String::new()

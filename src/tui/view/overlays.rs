@@ -4,25 +4,15 @@
 //! line under the title.
 
 use ratatui::Frame;
-use ratatui::layout::{Constraint, Flex, Layout, Rect};
+use ratatui::layout::Rect;
 use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph, Wrap};
 
+use super::super::input::keymap::{follow_keys, help_lines_with, up_down};
+use super::super::layout::picker::{centered, picker_layout};
+use super::super::state::picker::{PresetPicker, preset_infos};
+use super::super::state::{App, Mode};
 use crate::plot::Theme;
-use crate::scene::PRESETS;
-use crate::tui::app::{App, Mode};
-use crate::tui::keymap::help_lines_with;
-use crate::tui::picker::{PresetPicker, preset_infos};
-
-fn centered(area: Rect, width: u16, height: u16) -> Rect {
-    let [row] = Layout::vertical([Constraint::Length(height.min(area.height))])
-        .flex(Flex::Center)
-        .areas(area);
-    let [cell] = Layout::horizontal([Constraint::Length(width.min(area.width))])
-        .flex(Flex::Center)
-        .areas(row);
-    cell
-}
 
 pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     match &app.mode {
@@ -44,7 +34,7 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         Line::from(""),
     ];
     lines.extend(
-        app.scene
+        app.scene()
             .to_toml()
             .lines()
             .map(|l| Line::from(l.to_string())),
@@ -85,7 +75,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     use super::fit::wrap_words;
     let width = 84u16.min(area.width);
     let inner = width.saturating_sub(2).max(1) as usize;
-    let bindings = help_lines_with(app.look.ascii, crate::tui::follow::keys(app));
+    let bindings = help_lines_with(app.look.ascii, follow_keys(app));
     let key_width = bindings
         .iter()
         .map(|(keys, _)| keys.chars().count())
@@ -114,9 +104,9 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     if app.mouse {
         paragraph(MOUSE_HELP, theme.dim());
     }
-    if !app.scene.description.is_empty() {
+    if !app.scene().description.is_empty() {
         paragraph(
-            &format!("This scene: {}", app.scene.description),
+            &format!("This scene: {}", app.scene().description),
             theme.plain(),
         );
     }
@@ -129,7 +119,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     if total > visible {
         block = block.title_bottom(format!(
             " {} lines {}–{} of {total} ",
-            crate::tui::keymap::up_down(app.look.ascii),
+            up_down(app.look.ascii),
             offset + 1,
             (offset + visible).min(total)
         ));
@@ -150,57 +140,11 @@ fn truncated(text: &str, width: usize) -> String {
 
 /// The scene's description on one line under the title (in full in the help).
 pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let text = format!(" {}", app.scene.description.trim());
+    let text = format!(" {}", app.scene().description.trim());
     frame.render_widget(
         Paragraph::new(truncated(&text, area.width as usize)).style(theme.dim()),
         area,
     );
-}
-
-/// Where the preset picker's parts are on a screen of `area`: drawing and mouse hit-testing
-/// both use it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PickerLayout {
-    /// The whole box, borders included.
-    pub outer: Rect,
-    /// The search line.
-    pub search: Rect,
-    /// The list: one preset a row.
-    pub list: Rect,
-    /// The highlighted preset's title and description, in full (empty when there is no room).
-    pub detail: Rect,
-}
-
-/// Rows of the highlighted preset's description under the list.
-const PICKER_DETAIL_ROWS: u16 = 3;
-
-/// The preset picker's layout on a screen of `area`: as wide as the screen up to 100 columns,
-/// every preset listed when there is room, else the list scrolls.
-pub fn picker_layout(area: Rect) -> PickerLayout {
-    let width = area.width.min(100);
-    let wanted = PRESETS.len() as u16 + 2 + PICKER_DETAIL_ROWS + 2;
-    let outer = centered(area, width, wanted);
-    let inner = Rect::new(
-        outer.x.saturating_add(1),
-        outer.y.saturating_add(1),
-        outer.width.saturating_sub(2),
-        outer.height.saturating_sub(2),
-    );
-    // The search line, the list, a rule and the detail; the detail goes first when short.
-    let detail_rows = if inner.height >= 2 + 2 + PICKER_DETAIL_ROWS {
-        PICKER_DETAIL_ROWS
-    } else {
-        0
-    };
-    let rule = u16::from(detail_rows > 0);
-    let list_rows = inner.height.saturating_sub(1 + rule + detail_rows);
-    let row = |y: u16, height: u16| Rect::new(inner.x, y, inner.width, height);
-    PickerLayout {
-        outer,
-        search: row(inner.y, inner.height.min(1)),
-        list: row(inner.y.saturating_add(1), list_rows),
-        detail: row(inner.y.saturating_add(1 + list_rows + rule), detail_rows),
-    }
 }
 
 fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) {

@@ -14,35 +14,9 @@ use ratatui::widgets::Paragraph;
 
 use crate::format::eng;
 use crate::plot::Theme;
-use crate::solve::{FrictionState, ObstacleResult, Solution};
-use crate::tui::app::App;
-
-/// Relative size under which a motion is rounding noise, not motion.
-const NOISE: f64 = 1e-12;
-
-/// How an obstacle moves, in a word of at most seven letters (the detail line under the
-/// table gives the full words for a DOF at its threshold).
-pub fn state_word(
-    obstacle: &ObstacleResult,
-    regularized: bool,
-    max_deflection: f64,
-) -> &'static str {
-    use FrictionState::{AtThreshold as T, Moves as M, Stuck as S};
-    if obstacle.state() == "unknown" {
-        return "unknown";
-    }
-    let moves = obstacle.u.abs() > NOISE * max_deflection;
-    match (obstacle.sliding_state, obstacle.swivel_state) {
-        (S, S) if regularized && moves => "creeps",
-        (S, S) => "stuck",
-        (M, S) | (M, T) => "slides",
-        (S, M) | (T, M) => "swivels",
-        (M, M) => "both",
-        (T, S) => "at g1",
-        (S, T) => "at g2",
-        (T, T) => "at g1+2",
-    }
-}
+use crate::solve::Solution;
+use crate::tui::state::App;
+use crate::tui::state::motion::{NOISE, state_word};
 
 /// `value` with its unit, or `≈0` when it is below the rounding noise `noise`.
 fn small(value: f64, noise: f64, unit: &str) -> String {
@@ -60,11 +34,12 @@ fn first_row(selected: Option<usize>, count: usize, visible: usize) -> usize {
 }
 
 pub(super) fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let (Some(Ok(solution)), Some(shown)) = (app.solution(), &app.shown) else {
+    let (Some(Ok(solution)), Some(shown)) = (app.exploration.solution(), &app.exploration.shown)
+    else {
         let block = theme.block(" Results ", false);
         let inner = block.inner(area);
         frame.render_widget(block, area);
-        let text = match app.solution() {
+        let text = match app.exploration.solution() {
             None => "solving…",
             Some(_) => "no solution (w: why)",
         };
@@ -73,7 +48,7 @@ pub(super) fn draw_results(frame: &mut Frame, app: &App, theme: &Theme, area: Re
     };
     let width = area.width.saturating_sub(2) as usize;
     let height = area.height.saturating_sub(2) as usize;
-    let selected = app.selected_row().obstacle();
+    let selected = app.exploration.selected_row().obstacle();
     let count = solution.obstacles.len();
     // max |u|, the header and (when there is room) the selected obstacle's detail: one line,
     // and under a regularised method a second with the exact state.
@@ -135,7 +110,7 @@ fn result_lines(
         )
     };
     lines.push(Line::styled(header, theme.dim()));
-    let selected = app.selected_row().obstacle();
+    let selected = app.exploration.selected_row().obstacle();
     for i in rows {
         let o = &solution.obstacles[i];
         let state = state_word(o, regularized, max_deflection);
@@ -167,7 +142,7 @@ fn result_lines(
     if detail {
         let i = selected.unwrap_or(0).min(solution.obstacles.len() - 1);
         let o = &solution.obstacles[i];
-        let slope_noise = NOISE * max_deflection / app.problem.length;
+        let slope_noise = NOISE * max_deflection / app.exploration.problem.length;
         let mut text = super::fit::fit_items(
             &[
                 super::fit::Item::new(
@@ -181,6 +156,7 @@ fn result_lines(
         );
         // The exact problem's state of the same obstacle, next to a regularised one's.
         let exact = app
+            .exploration
             .shown
             .as_ref()
             .and_then(|shown| shown.reference.as_ref())
@@ -228,41 +204,6 @@ fn result_lines(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn obstacle(u: f64, force: f64, sliding: bool) -> ObstacleResult {
-        ObstacleResult {
-            x: 0.8,
-            u,
-            slope: 0.0,
-            force,
-            moment: 0.0,
-            sliding_state: if sliding {
-                FrictionState::Moves
-            } else {
-                FrictionState::Stuck
-            },
-            swivel_state: FrictionState::Stuck,
-            sliding,
-            swivel: false,
-        }
-    }
-
-    #[test]
-    fn a_regularised_point_below_its_threshold_creeps() {
-        let moving = obstacle(5.8e-3, 57.99, false);
-        assert_eq!(state_word(&moving, true, 0.03), "creeps");
-        // The same numbers from an exact method: stuck (u is noise there by definition).
-        assert_eq!(state_word(&moving, false, 0.03), "stuck");
-        // Rounding noise is no creep.
-        assert_eq!(
-            state_word(&obstacle(1e-17, 1.0, false), true, 0.03),
-            "stuck"
-        );
-        assert_eq!(
-            state_word(&obstacle(5.8e-3, 100.0, true), true, 0.03),
-            "slides"
-        );
-    }
 
     #[test]
     fn rows_follow_the_selection() {

@@ -13,13 +13,17 @@ use super::warnings::{headline, ordered};
 use crate::format::{duration, sci};
 use crate::plot::Theme;
 use crate::solve::{Reference, Solution};
-use crate::tui::app::{App, Discard, Mode};
-use crate::tui::keymap::{fitted_hint_line, up_down};
+use crate::tui::input::keymap::help::{
+    discard_hints, overwrite_question, picker_hints, prompt_keys, scroll_keys,
+};
+use crate::tui::input::keymap::{fitted_hint_line, follow_keys};
+use crate::tui::state::prompt::Prompt;
+use crate::tui::state::{App, Discard, Mode};
 
 /// "solving …" while the current state's solve runs (with its run time when the clock may
 /// show), else `None`.
 fn busy_text(app: &App) -> Option<String> {
-    if app.is_current() {
+    if app.exploration.is_current() {
         return None;
     }
     let elapsed = match app.busy_since {
@@ -28,7 +32,7 @@ fn busy_text(app: &App) -> Option<String> {
     };
     Some(format!(
         "solving n = {} with {}…{elapsed}",
-        app.wanted.elements, app.wanted.method
+        app.exploration.wanted.elements, app.exploration.wanted.method
     ))
 }
 
@@ -75,12 +79,12 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
     }
     if let Some(busy) = busy_text(app) {
         items.push(Item::new(0, busy));
-        if app.shown.is_some() {
+        if app.exploration.shown.is_some() {
             items.push(Item::new(2, "shown: previous result"));
         }
     }
     let mut detail: Vec<Line> = Vec::new();
-    match app.shown.as_ref().map(|s| (s, &s.solution)) {
+    match app.exploration.shown.as_ref().map(|s| (s, &s.solution)) {
         None => {}
         Some((shown, Ok(solution))) => {
             items.extend(solution_items(
@@ -108,7 +112,7 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
     let [first, second, third] = Layout::vertical([Constraint::Length(1); 3]).areas(area);
     let emphasised = items
         .first()
-        .filter(|i| i.importance <= 1 && (app.follow.is_some() || !app.is_current()))
+        .filter(|i| i.importance <= 1 && (app.follow.is_some() || !app.exploration.is_current()))
         .filter(|i| summary.starts_with(&i.text));
     let summary_line = match emphasised {
         Some(item) => Line::from(vec![
@@ -199,6 +203,14 @@ fn warning_lines(
 
 pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let width = area.width as usize;
+    let ascii = app.look.ascii;
+    let fit = |hints: Vec<(u8, String)>| {
+        let items: Vec<Item> = hints
+            .into_iter()
+            .map(|(importance, text)| Item::new(importance, text))
+            .collect();
+        fit_items(&items, " · ", width)
+    };
     let text = match &app.mode {
         Mode::Editing { row, prompt } => {
             let label = format!(
@@ -210,63 +222,27 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                     row.unit()
                 }
             );
-            return draw_prompt(
-                frame,
-                theme,
-                area,
-                &label,
-                prompt,
-                "Enter sets, Esc cancels",
-            );
+            let keys = prompt_keys("sets", ascii);
+            return draw_prompt(frame, theme, area, &label, prompt, &keys);
         }
         Mode::Save { prompt } => {
-            return draw_prompt(
-                frame,
-                theme,
-                area,
-                "save the scene to: ",
-                prompt,
-                "Enter saves, Esc cancels",
-            );
+            let keys = prompt_keys("saves", ascii);
+            return draw_prompt(frame, theme, area, "save the scene to: ", prompt, &keys);
         }
-        Mode::ConfirmOverwrite { path } => format!("{path} exists: overwrite it? y / n"),
+        Mode::ConfirmOverwrite { path } => overwrite_question(path, ascii),
         Mode::ConfirmDiscard { then } => {
             let what = match then {
                 Discard::Quit => "quit",
                 Discard::Reset => "reset to the scene as loaded",
                 Discard::Preset(_) => "load the preset",
             };
-            fit_items(
-                &[
-                    Item::new(0, format!("unsaved changes: {what} and lose them?")),
-                    Item::new(0, "y: yes"),
-                    Item::new(1, format!("s: save, then {what}")),
-                    Item::new(0, "n/Esc: no"),
-                ],
-                " · ",
-                width,
-            )
+            fit(discard_hints(what, ascii))
         }
-        Mode::Presets(_) => fit_items(
-            &[
-                Item::new(0, "type to search"),
-                Item::new(0, format!("{} choose", up_down(app.look.ascii))),
-                Item::new(1, "PgUp PgDn Home End"),
-                Item::new(0, "Enter loads"),
-                Item::new(0, "Esc cancels"),
-            ],
-            " · ",
-            width,
-        ),
-        Mode::Help { .. } => format!(
-            "{} scroll · any other key closes the help",
-            up_down(app.look.ascii)
-        ),
-        Mode::Warnings { .. } => {
-            format!("{} scroll · any other key closes", up_down(app.look.ascii))
-        }
+        Mode::Presets(_) => fit(picker_hints(ascii)),
+        Mode::Help { .. } => format!("{} · any other key closes the help", scroll_keys(ascii)),
+        Mode::Warnings { .. } => format!("{} · any other key closes", scroll_keys(ascii)),
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
-        Mode::Normal => fitted_hint_line(app.look.ascii, crate::tui::follow::keys(app), width),
+        Mode::Normal => fitted_hint_line(ascii, follow_keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }
@@ -278,7 +254,7 @@ fn draw_prompt(
     theme: &Theme,
     area: Rect,
     label: &str,
-    prompt: &crate::tui::prompt::Prompt,
+    prompt: &Prompt,
     keys: &str,
 ) {
     let (before, under, after) = prompt.split();

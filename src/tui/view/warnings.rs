@@ -11,7 +11,8 @@ use super::fit::wrap_words;
 
 use crate::plot::Theme;
 use crate::solve::{Solution, SolveError, Warning, WarningCode};
-use crate::tui::app::App;
+use crate::tui::input::keymap::up_down;
+use crate::tui::state::App;
 
 /// How early a warning of this kind is listed: causes (rounding destroyed the matrix, the
 /// conditioning is beyond double precision) before their effects (NaN, visible error, a solver
@@ -107,7 +108,7 @@ fn view_lines(
 /// `offset` lines when taller than the screen).
 pub(super) fn draw_view(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     frame.render_widget(Clear, area);
-    let Some(shown) = &app.shown else {
+    let Some(shown) = &app.exploration.shown else {
         frame.render_widget(Paragraph::new("no solution yet"), area);
         return;
     };
@@ -115,12 +116,12 @@ pub(super) fn draw_view(frame: &mut Frame, app: &App, theme: &Theme, area: Rect,
         " Warnings: {} at n = {}{} ({} scroll, any other key closes) ",
         shown.request.method,
         shown.mesh.elements(),
-        if app.is_current() {
+        if app.exploration.is_current() {
             ""
         } else {
             ", previous result"
         },
-        crate::tui::keymap::up_down(app.look.ascii)
+        up_down(app.look.ascii)
     );
     let block = theme.block(title, true);
     let inner = block.inner(area);

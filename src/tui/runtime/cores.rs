@@ -104,10 +104,6 @@ impl Cores {
         }
     }
 
-    pub fn limit(&self) -> usize {
-        self.limit
-    }
-
     /// Who runs and who waits now.
     pub fn queue(&self) -> Queue {
         self.lock().clone()

@@ -18,6 +18,14 @@ use crossterm::terminal::{
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
+/// Asks the terminal to report presses, drags and releases (modes 1000 and 1002, no motion
+/// without a button: little traffic over SSH), SGR-encoded (1006, any column); Shift+drag
+/// still selects text in the usual terminals.
+pub const MOUSE_ON: &str = "\x1b[?1000h\x1b[?1002h\x1b[?1006h";
+/// Stops the reports (also the any-motion mode 1003 and the urxvt encoding 1015 that other
+/// programs may have left on).
+pub const MOUSE_OFF: &str = "\x1b[?1006l\x1b[?1015l\x1b[?1003l\x1b[?1002l\x1b[?1000l";
+
 /// The signals the explorer handles: the three that end it, the window size, and job control.
 pub const SIGNALS: [i32; 6] = [
     signal_hook::consts::SIGINT,
@@ -33,8 +41,8 @@ pub const SIGNALS: [i32; 6] = [
 pub fn restore() {
     let _ = disable_raw_mode();
     let mut out = stdout();
-    // The event loop asks for the mouse while it runs (see `tui::mouse`).
-    let _ = io::Write::write_all(&mut out, super::mouse::MOUSE_OFF.as_bytes());
+    // The event loop asks for the mouse while it runs.
+    let _ = io::Write::write_all(&mut out, MOUSE_OFF.as_bytes());
     let _ = execute!(out, DisableBracketedPaste, LeaveAlternateScreen, Show);
 }
 

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use super::{PanelStudy, StudyContext, StudyData, StudyInputs};
+use super::{PanelSweep, SweepContext, SweepData, SweepInputs};
 use crate::scene::Panel;
 use crate::solve::Method;
 use crate::study::{self, Cancel, Cancelled};
@@ -15,7 +15,7 @@ pub const EPS_POINTS: usize = 33;
 /// The ε sweep; its data is a `Vec<EpsPoint>`.
 pub struct EpsilonSweep;
 
-impl PanelStudy for EpsilonSweep {
+impl PanelSweep for EpsilonSweep {
     fn panels(&self) -> &'static [Panel] {
         &[Panel::EpsError, Panel::EpsCond]
     }
@@ -24,8 +24,8 @@ impl PanelStudy for EpsilonSweep {
         "computing the ε sweep…"
     }
 
-    fn inputs(&self, context: StudyContext) -> StudyInputs {
-        StudyInputs {
+    fn inputs(&self, context: SweepContext) -> SweepInputs {
+        SweepInputs {
             problem: context.problem.clone(),
             elements: context.elements,
             epsilon: Some(context.epsilon),
@@ -33,11 +33,11 @@ impl PanelStudy for EpsilonSweep {
         }
     }
 
-    fn run(
+    fn compute(
         &self,
-        inputs: &StudyInputs,
-        cancel: Cancel,
-    ) -> Result<Result<StudyData, String>, Cancelled> {
+        inputs: &SweepInputs,
+        cancel: &Cancel,
+    ) -> Result<Result<SweepData, String>, Cancelled> {
         let mut epsilons = study::log_space(1e-16, 1.0, EPS_POINTS);
         // The scene's ε exactly, so that the panels print its values rather than a neighbour's.
         if let Some(current) = inputs.epsilon.filter(|e| e.is_finite() && *e > 0.0) {
@@ -51,7 +51,7 @@ impl PanelStudy for EpsilonSweep {
                 inputs.elements,
                 method,
                 &epsilons,
-                &cancel,
+                cancel,
                 &study::silent,
             )
         };
@@ -62,7 +62,7 @@ impl PanelStudy for EpsilonSweep {
             enumerated => enumerated,
         };
         Ok(result
-            .map(|points| Arc::new(points) as StudyData)
+            .map(|points| Arc::new(points) as SweepData)
             .map_err(|e| format!("the ε sweep needs the regularised method: {e}")))
     }
 }

@@ -1,8 +1,8 @@
 //! Terminal input as bytes: the explorer reads its terminal (or an SSH channel) itself and
 //! decodes the bytes with `terminput`'s parser (crossterm's escape-sequence parser, public).
 //! Reading ourselves is what makes a closed terminal end the program (end of file or an error
-//! is a [`Input::Hangup`], not a busy loop) and what makes a burst of pasted keys arrive whole
-//! (every byte read is decoded at once, so no key waits in a buffer for new input).
+//! is a hangup for the runtime, not a busy loop) and what makes a burst of pasted keys arrive
+//! whole (every byte read is decoded at once, so no key waits in a buffer for new input).
 //!
 //! A lone ESC at the end of what has arrived may be the start of a sequence split across two
 //! reads; the decoder keeps it pending and the caller flushes it after [`ESC_TIMEOUT`] without
@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use terminput::{Event, KeyCode, KeyEventKind, KeyModifiers};
 
-use super::keymap::Key;
+use super::keys::Key;
 
 /// How long a lone ESC waits for the rest of a sequence.
 pub const ESC_TIMEOUT: Duration = Duration::from_millis(30);
@@ -32,8 +32,6 @@ pub enum Input {
     Mouse(u16, u16, MouseInput),
     /// A bracketed paste: text the terminal marked as pasted, not typed.
     Paste(String),
-    /// The terminal is gone (end of file or a read error).
-    Hangup,
 }
 
 /// The mouse events the explorer uses.

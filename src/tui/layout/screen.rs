@@ -10,7 +10,7 @@
 
 use ratatui::layout::{Constraint, Layout, Rect};
 
-use super::super::app::App;
+use super::super::state::App;
 use crate::scene::Panel;
 
 /// Smallest terminal the explorer draws into.
@@ -50,7 +50,7 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
         return None;
     }
     let described =
-        area.height >= DESCRIPTION_MIN_HEIGHT && !app.scene.description.trim().is_empty();
+        area.height >= DESCRIPTION_MIN_HEIGHT && !app.scene().description.trim().is_empty();
     let [title, description, body, status, hints] = Layout::vertical([
         Constraint::Length(1),
         Constraint::Length(u16::from(described)),
@@ -61,8 +61,8 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
     .areas(area);
     let description = described.then_some(description);
     let full = area.width >= FULL_SIZE.0 && area.height >= FULL_SIZE.1;
-    let panels = app.panels();
-    let focused = (!panels.is_empty()).then(|| panels[app.focus % panels.len()]);
+    let panels = app.exploration.panels();
+    let focused = (!panels.is_empty()).then(|| panels[app.exploration.focus % panels.len()]);
     if let (true, Some(panel)) = (app.zoom, focused) {
         return Some(ScreenLayout {
             title,
@@ -104,9 +104,9 @@ fn split_left(app: &App, left: Rect) -> (Rect, Option<Rect>) {
     if left.height < RESULTS_MIN + PARAMETERS_MIN {
         return (left, None);
     }
-    let parameters_wanted = app.rows().len() as u16 + 2;
+    let parameters_wanted = app.exploration.rows().len() as u16 + 2;
     // The results want borders, a header, max |u| and a line per obstacle.
-    let results_wanted = (app.scene.obstacles.len() as u16).saturating_add(5);
+    let results_wanted = (app.scene().obstacles.len() as u16).saturating_add(5);
     let parameters = if parameters_wanted.saturating_add(RESULTS_MIN) <= left.height {
         // The parameters fit: the results take the rest (scrolling when they need more).
         parameters_wanted
@@ -182,4 +182,26 @@ impl ScreenLayout {
             None
         }
     }
+}
+
+/// The whole screen of the app's last known size.
+pub fn screen(app: &App) -> Rect {
+    Rect::new(0, 0, app.size.0, app.size.1)
+}
+
+/// The panels on screen, as [`screen_layout`] places them: none when the terminal is too
+/// small.
+pub fn visible_panels(app: &App) -> Vec<Panel> {
+    screen_layout(app, screen(app))
+        .map(|layout| layout.panels.into_iter().map(|(panel, _)| panel).collect())
+        .unwrap_or_default()
+}
+
+/// How many parameter rows the frame shows now (at least one).
+pub fn parameter_rows_shown(app: &App) -> usize {
+    screen_layout(app, screen(app))
+        .map_or(1, |layout| {
+            usize::from(layout.parameters.height.saturating_sub(2))
+        })
+        .max(1)
 }

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::{PanelStudy, StudyContext, StudyData, StudyInputs};
+use super::{PanelSweep, SweepContext, SweepData, SweepInputs};
 use crate::scene::Panel;
 use crate::solve::Method;
 use crate::study::{self, Cancel, Cancelled};
@@ -16,7 +16,7 @@ pub const DENSE_MAX: usize = 400;
 /// The mesh sweep; its data is a `Vec<MeshPoint>`.
 pub struct MeshSweep;
 
-impl PanelStudy for MeshSweep {
+impl PanelSweep for MeshSweep {
     fn panels(&self) -> &'static [Panel] {
         &[Panel::ErrorTime]
     }
@@ -25,8 +25,8 @@ impl PanelStudy for MeshSweep {
         "computing the mesh sweep…"
     }
 
-    fn inputs(&self, context: StudyContext) -> StudyInputs {
-        StudyInputs {
+    fn inputs(&self, context: SweepContext) -> SweepInputs {
+        SweepInputs {
             problem: context.problem.clone(),
             elements: context.elements,
             epsilon: Some(context.epsilon),
@@ -34,11 +34,11 @@ impl PanelStudy for MeshSweep {
         }
     }
 
-    fn run(
+    fn compute(
         &self,
-        inputs: &StudyInputs,
-        cancel: Cancel,
-    ) -> Result<Result<StudyData, String>, Cancelled> {
+        inputs: &SweepInputs,
+        cancel: &Cancel,
+    ) -> Result<Result<SweepData, String>, Cancelled> {
         let mut sizes = study::mesh_sizes(10, MESH_MAX, 9);
         sizes.push(inputs.elements);
         sizes.sort();
@@ -52,10 +52,10 @@ impl PanelStudy for MeshSweep {
         let epsilon = inputs.epsilon.unwrap_or(1e-6);
         let silent = &study::silent;
         let mut points =
-            study::mesh_sweep(problem, &others, &sizes, repeat, epsilon, &cancel, silent)?;
+            study::mesh_sweep(problem, &others, &sizes, repeat, epsilon, cancel, silent)?;
         points.extend(study::mesh_sweep(
-            problem, &dense, &small, repeat, epsilon, &cancel, silent,
+            problem, &dense, &small, repeat, epsilon, cancel, silent,
         )?);
-        Ok(Ok(Arc::new(points) as StudyData))
+        Ok(Ok(Arc::new(points) as SweepData))
     }
 }

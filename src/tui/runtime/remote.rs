@@ -14,8 +14,8 @@ use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
 use ratatui::{Terminal, TerminalOptions, Viewport};
 
-use super::Ending;
-use super::app::App;
+use crate::tui::state::{App, Ending, Exploration};
+
 pub use super::event_loop::AfterFrame;
 use super::event_loop::{Event, LoopOptions, Screen, event_loop};
 
@@ -56,7 +56,7 @@ impl std::fmt::Debug for Feed {
 
 impl Feed {
     /// A feed into the loop that `sender` feeds (the local explorer's, see
-    /// [`super::event_loop::run`]).
+    /// [`super::local::run_local`]).
     pub(super) fn new(sender: Sender<Event>) -> Feed {
         Feed(sender)
     }
@@ -73,8 +73,8 @@ impl Feed {
     }
 
     /// The presenter's new state (follow mode).
-    pub fn follow(&self, snapshot: std::sync::Arc<super::follow::Snapshot>) {
-        let _ = self.0.send(Event::Follow(snapshot));
+    pub fn follow(&self, exploration: std::sync::Arc<Exploration>) {
+        let _ = self.0.send(Event::Follow(exploration));
     }
 
     /// Draw again (something the frame shows changed outside the explorer).
@@ -132,7 +132,7 @@ impl<W: Write> Screen for RemoteScreen<W> {
 /// the client may be gone). `after_frame` sees the state after every frame; `cores` is the
 /// session's turn on the server's shared cores. Its workers have ended when it returns.
 /// Returns how it ended.
-pub fn run(
+pub fn run_remote(
     mut app: App,
     mut output: impl Write,
     size: (u32, u32),

@@ -1,79 +1,31 @@
-//! The mouse: what a press, a drag, a release or a turn of the wheel at a cell means. The
-//! terminal reports the mouse as SGR sequences (`tui::input` decodes them); the event loop
-//! turns them into [`Action`]s here (telling a double click by the time between two presses,
-//! which only the event loop knows), and `tui::update` applies them, finding what is under
-//! the pointer with [`target`] — from the same layout the frame is drawn with
-//! ([`crate::tui::view::screen_layout`], [`crate::tui::view::picker_layout`] and the
-//! deflection chart's [`crate::tui::view::deflection_columns`]), so a click lands on what is
-//! drawn there. Everything here is a pure function of the state.
-//!
-//! The terminal is asked for button presses, drags and releases (modes 1000 and 1002, no
-//! motion without a button: little traffic over SSH) in SGR encoding (1006, any column);
-//! Shift+drag still selects text in the usual terminals.
-
-use std::time::{Duration, Instant};
+//! Hit-testing: what is drawn at a cell of the frame — a parameter row, an obstacle's marker,
+//! a panel or its title, the status lines, an entry of the preset picker — found from the
+//! same layout the frame is drawn with ([`super::screen::screen_layout`],
+//! [`super::picker::picker_layout`] and the deflection chart's
+//! [`super::deflection::deflection_columns`]), so a click lands on what is drawn there; and
+//! where a drag along the deflection chart puts an obstacle. Pure functions of the state.
 
 use ratatui::layout::Rect;
 
-use super::app::{App, Mode};
-use super::input::MouseInput;
-use super::keymap::Action;
-use super::params::Row;
-use super::view::{Region, deflection_columns, picker_layout, screen_layout};
 use crate::scene::Panel;
+use crate::tui::state::App;
+use crate::tui::state::Mode;
+use crate::tui::state::params::Row;
 
-/// Two presses at the same cell within this time are a double click.
-pub const DOUBLE_CLICK: Duration = Duration::from_millis(400);
-
-/// Asks the terminal to report presses, drags and releases, SGR-encoded.
-pub const MOUSE_ON: &str = "\x1b[?1000h\x1b[?1002h\x1b[?1006h";
-/// Stops the reports (also the any-motion mode 1003 and the urxvt encoding 1015 that other
-/// programs may have left on).
-pub const MOUSE_OFF: &str = "\x1b[?1006l\x1b[?1015l\x1b[?1003l\x1b[?1002l\x1b[?1000l";
-
-/// Tells double clicks from single ones by the time between presses.
-#[derive(Debug, Default)]
-pub struct ClickTracker {
-    last: Option<(Instant, u16, u16)>,
-}
-
-impl ClickTracker {
-    /// A press at `x`, `y` at `now`: is it the second of a double click? (A third press
-    /// starts again.)
-    pub fn press(&mut self, x: u16, y: u16, now: Instant) -> bool {
-        let double = self.last.is_some_and(|(at, px, py)| {
-            px == x && py == y && now.saturating_duration_since(at) <= DOUBLE_CLICK
-        });
-        self.last = if double { None } else { Some((now, x, y)) };
-        double
-    }
-}
-
-/// The action of a mouse event at column `x`, row `y` (0-based).
-pub fn action(x: u16, y: u16, what: MouseInput, clicks: &mut ClickTracker, now: Instant) -> Action {
-    match what {
-        MouseInput::Press => Action::Click {
-            x,
-            y,
-            double: clicks.press(x, y, now),
-        },
-        MouseInput::Drag => Action::Drag { x, y },
-        MouseInput::Release => Action::Release { x, y },
-        MouseInput::ScrollUp => Action::Scroll { x, y, up: true },
-        MouseInput::ScrollDown => Action::Scroll { x, y, up: false },
-    }
-}
+use super::deflection::deflection_columns;
+use super::picker::picker_layout;
+use super::screen::{Region, screen, screen_layout};
 
 /// What is under the pointer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
-    /// A parameter row (an index into [`App::rows`]).
+    /// A parameter row (an index into the rows of the scene).
     Row(usize),
     /// Elsewhere in the parameters box (its border, or below the last row).
     Parameters,
     /// An obstacle's marker on the deflection chart (within a column of it).
     Obstacle(usize),
-    /// A panel (an index into [`App::panels`]); `title` on its top border, where the title is.
+    /// A panel (an index into the scene's panels); `title` on its top border, where the title is.
     Panel { index: usize, title: bool },
     /// The status lines, where the warnings are.
     Status,
@@ -85,11 +37,6 @@ pub enum Target {
     OutsidePicker,
     /// Nothing that reacts to the mouse.
     Nothing,
-}
-
-/// The whole screen of the app's last known size.
-fn screen(app: &App) -> Rect {
-    Rect::new(0, 0, app.size.0, app.size.1)
 }
 
 /// What is at column `x`, row `y` of the frame the app draws now.
@@ -122,7 +69,7 @@ pub fn target(app: &App, x: u16, y: u16) -> Target {
                 return Target::Parameters;
             }
             let row = app.parameters_offset(usize::from(inner_height)) + usize::from(y - inner_top);
-            if row < app.rows().len() {
+            if row < app.exploration.rows().len() {
                 Target::Row(row)
             } else {
                 Target::Parameters
@@ -137,7 +84,12 @@ pub fn target(app: &App, x: u16, y: u16) -> Target {
             {
                 return Target::Obstacle(index);
             }
-            let index = app.panels().iter().position(|p| *p == panel).unwrap_or(0);
+            let index = app
+                .exploration
+                .panels()
+                .iter()
+                .position(|p| *p == panel)
+                .unwrap_or(0);
             Target::Panel {
                 index,
                 title: y == area.y,
@@ -155,7 +107,7 @@ fn obstacle_at(app: &App, area: Rect, x: u16, y: u16) -> Option<usize> {
     if !columns.contains(x, y) {
         return None;
     }
-    app.scene
+    app.scene()
         .obstacles
         .iter()
         .enumerate()
@@ -191,7 +143,7 @@ pub fn dragged_position(app: &App, index: usize, x: u16) -> Option<f64> {
     let step = nice_step(column_width);
     let raw = columns.x_at(x);
     let snapped = (raw / step).round() * step;
-    let obstacles = &app.scene.obstacles;
+    let obstacles = &app.scene().obstacles;
     // The obstacle may be gone (deleted or undone during the drag).
     if index >= obstacles.len() {
         return None;
@@ -206,26 +158,15 @@ pub fn dragged_position(app: &App, index: usize, x: u16) -> Option<f64> {
 
 /// The row of obstacle `index`'s position.
 pub fn obstacle_row(app: &App, index: usize) -> Option<usize> {
-    app.rows().iter().position(|r| *r == Row::ObstacleX(index))
+    app.exploration
+        .rows()
+        .iter()
+        .position(|r| *r == Row::ObstacleX(index))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn a_second_press_at_the_same_cell_soon_is_a_double_click() {
-        let mut clicks = ClickTracker::default();
-        let t0 = Instant::now();
-        assert!(!clicks.press(5, 5, t0));
-        assert!(clicks.press(5, 5, t0 + Duration::from_millis(200)));
-        // A third press starts again.
-        assert!(!clicks.press(5, 5, t0 + Duration::from_millis(300)));
-        // Too late, or elsewhere.
-        assert!(!clicks.press(5, 5, t0 + Duration::from_millis(1000)));
-        assert!(!clicks.press(6, 5, t0 + Duration::from_millis(1100)));
-        assert!(clicks.press(6, 5, t0 + Duration::from_millis(1100) + DOUBLE_CLICK));
-    }
 
     #[test]
     fn nice_steps_are_one_two_five_and_never_coarser() {

@@ -1,0 +1,206 @@
+//! The one keymap: every key of the explorer, what it means in each mode, and the words the
+//! help overlay and the hint lines show for it. Terminal input (decoded by
+//! `tui::input::decode`) and the key names of `beamfric render --keys` both become [`Key`]s;
+//! [`action_for`] turns a key into the [`Action`] it means in the current mode, from the
+//! tables of [`tables`] ([`GLOBAL`] first, then the mode's own, then what the mode does with
+//! any other key). The help and the hints ([`help`]) are generated from the same tables, so
+//! they cannot promise a key that does nothing.
+
+mod action;
+pub mod help;
+pub mod tables;
+
+pub use super::keys::{Key, parse_keys};
+pub use action::Action;
+pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
+pub use tables::{
+    Binding, DISCARD_QUESTION, FOLLOW, GLOBAL, Hint, NORMAL, OVERWRITE_QUESTION, PICKER, PROMPT,
+    SCROLLING,
+};
+
+use super::super::state::{App, Mode};
+
+/// What a mode does with a key its table does not bind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Otherwise {
+    /// Nothing, with a note naming the key (normal mode).
+    Unbound,
+    /// Closes what is open or says no.
+    Cancel,
+    /// A character is typed; other keys do nothing.
+    Type,
+}
+
+/// A mode's table and what it does with any other key.
+fn keys_of(mode: &Mode) -> (&'static [Binding], Otherwise) {
+    match mode {
+        Mode::Normal => (NORMAL, Otherwise::Unbound),
+        Mode::SceneText => (&[], Otherwise::Cancel),
+        Mode::Help { .. } | Mode::Warnings { .. } => (SCROLLING, Otherwise::Cancel),
+        Mode::Editing { .. } | Mode::Save { .. } => (PROMPT, Otherwise::Type),
+        Mode::Presets(_) => (PICKER, Otherwise::Type),
+        Mode::ConfirmOverwrite { .. } => (OVERWRITE_QUESTION, Otherwise::Cancel),
+        Mode::ConfirmDiscard { .. } => (DISCARD_QUESTION, Otherwise::Cancel),
+    }
+}
+
+/// The action a table binds `key` to, listed or as an alias.
+fn bound(table: &[Binding], key: Key) -> Option<Action> {
+    table
+        .iter()
+        .flat_map(|b| b.keys.iter().chain(b.aliases))
+        .find(|(k, _)| *k == key)
+        .map(|(_, action)| *action)
+}
+
+/// The action `key` stands for in `mode`, if any.
+pub fn action_for(mode: &Mode, key: Key) -> Option<Action> {
+    if let Some(action) = bound(GLOBAL, key) {
+        return Some(action);
+    }
+    let (table, otherwise) = keys_of(mode);
+    bound(table, key).or(match (otherwise, key) {
+        (Otherwise::Unbound, key) => Some(Action::Unbound(key)),
+        (Otherwise::Cancel, _) => Some(Action::Cancel),
+        (Otherwise::Type, Key::Char(c)) => Some(Action::Type(c)),
+        (Otherwise::Type, _) => None,
+    })
+}
+
+/// The follow-mode key `key` stands for in a student's explorer, if any (taken before the
+/// mode's own keys, in normal mode).
+pub fn follow_action(key: Key) -> Option<Action> {
+    bound(FOLLOW, key)
+}
+
+/// What a bracketed paste means in `mode`: its printable characters typed into a prompt
+/// (a pasted newline does not submit it), or, anywhere else, nothing but a note.
+pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
+    match keys_of(mode).1 {
+        Otherwise::Type => text
+            .chars()
+            .filter(|c| !c.is_control())
+            .map(Action::Type)
+            .collect(),
+        _ => vec![Action::PasteIgnored],
+    }
+}
+
+/// The keys of follow mode this explorer has, for its help and hint line: those of
+/// [`FOLLOW`] for a student, none for a presenter or an explorer of its own.
+pub fn follow_keys(app: &App) -> &'static [Binding] {
+    match &app.follow {
+        Some(follow) if follow.is_student() => FOLLOW,
+        _ => &[],
+    }
+}
+
+/// The action of a key in normal mode, from [`NORMAL`].
+#[cfg(test)]
+fn normal_action(key: Key) -> Option<Action> {
+    bound(NORMAL, key)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ctrl_keys_are_never_the_letter_and_global_keys_work_in_every_mode() {
+        // Ctrl and a letter is never the letter.
+        assert_eq!(
+            action_for(&Mode::Normal, Key::Ctrl('d')),
+            Some(Action::Unbound(Key::Ctrl('d')))
+        );
+        assert_eq!(
+            action_for(&Mode::Normal, Key::Ctrl('c')),
+            Some(Action::Interrupt)
+        );
+    }
+
+    #[test]
+    fn every_key_the_hints_name_is_bound_to_its_bindings_action() {
+        for ascii in [false, true] {
+            for binding in NORMAL {
+                let Some(hint) = &binding.hint else { continue };
+                for key in hint.keys {
+                    let bound = binding.keys.iter().find(|(k, _)| k == key);
+                    assert!(bound.is_some(), "hint key {key:?} not in its binding");
+                    assert_eq!(normal_action(*key), bound.map(|(_, a)| *a));
+                }
+            }
+            // The hint line names no key the table lacks: in ASCII no arrow glyphs at all.
+            if ascii {
+                assert!(hint_line(true).is_ascii(), "{}", hint_line(true));
+            }
+        }
+    }
+
+    #[test]
+    fn the_follow_keys_are_listed_only_where_asked_and_bound_nowhere_else() {
+        assert!(!hint_line(false).contains("fork"));
+        assert!(
+            hint_line_with(false, FOLLOW).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
+            "{}",
+            hint_line_with(false, FOLLOW)
+        );
+        let help = help_lines_with(true, FOLLOW);
+        assert_eq!(help.len(), NORMAL.len() + 2);
+        assert_eq!(help[NORMAL.len()].0, "f");
+        assert_eq!(help[NORMAL.len() + 1].0, "F");
+        // f and F mean nothing in normal mode itself: follow mode takes them first.
+        for binding in FOLLOW {
+            for (key, _) in binding.keys {
+                assert_eq!(normal_action(*key), None, "{key:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn no_key_is_bound_twice_in_normal_mode() {
+        let keys: Vec<Key> = NORMAL
+            .iter()
+            .flat_map(|b| b.keys.iter().chain(b.aliases))
+            .map(|(k, _)| *k)
+            .collect();
+        for (i, key) in keys.iter().enumerate() {
+            assert!(!keys[i + 1..].contains(key), "{key:?} bound twice");
+        }
+    }
+
+    #[test]
+    fn the_help_lists_every_binding_as_before() {
+        let lines = help_lines(false);
+        assert_eq!(lines[0].0, "↑ ↓  k j");
+        assert_eq!(lines[1].0, "g G  Home  End");
+        assert_eq!(lines[2].0, "PgUp  PgDn");
+        assert_eq!(lines[4].0, "Shift+← →  [ ]");
+        assert_eq!(lines.last().unwrap().0, "q  Ctrl-C");
+        assert_eq!(help_lines(true)[0].0, "Up Down  k j");
+        assert_eq!(
+            hint_line(false),
+            "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
+             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom c:compare T:theme"
+        );
+    }
+
+    #[test]
+    fn the_fitted_hint_line_keeps_whole_hints_in_order() {
+        for ascii in [false, true] {
+            let full = hint_line(ascii);
+            for width in 0..=full.chars().count() + 5 {
+                let fitted = fitted_hint_line(ascii, &[], width);
+                assert!(fitted.chars().count() <= width, "{width}: {fitted}");
+                // A prefix of the full line, ending at a whole hint.
+                assert!(full.starts_with(&fitted), "{width}: {fitted}");
+                let rest = &full[fitted.len()..];
+                assert!(
+                    fitted.is_empty() || rest.is_empty() || rest.starts_with(' '),
+                    "{width}: {fitted}"
+                );
+            }
+            assert!(fitted_hint_line(ascii, &[], 80).starts_with("?:help q:quit"));
+            assert!(fitted_hint_line(ascii, &[], 80).contains(":warnings"));
+        }
+    }
+}

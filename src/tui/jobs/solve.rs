@@ -1,0 +1,85 @@
+//! The keystroke's own solve: the scene's method on its mesh, with the reference solution
+//! (`condensed` on the same mesh, solved once for both the certificate and the chart) that the
+//! deflection panel draws under it. A [`SolveRequest`] says what a solve depends on; a
+//! [`Solved`] carries the request it answers, so an answer to an outdated request is dropped.
+
+use crate::fem::Mesh;
+use crate::model::Problem;
+use crate::scene::{Scene, Settings};
+use crate::solve::{
+    ConditionLevel, Method, Solution, SolveError, SolveErrorKind, SolveOptions,
+    solve_with_condensed,
+};
+
+/// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the
+/// UI thread, and its result kept only while it is still the one wanted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveRequest {
+    pub problem: Problem,
+    pub elements: usize,
+    pub method: Method,
+    pub options: SolveOptions,
+}
+
+impl SolveRequest {
+    /// The solve a scene needs, with the problem and settings its validation built.
+    pub fn for_scene(scene: &Scene, problem: &Problem, settings: Settings) -> SolveRequest {
+        SolveRequest {
+            problem: problem.clone(),
+            elements: settings.elements,
+            method: settings.method,
+            options: solve_options(scene),
+        }
+    }
+}
+
+/// Solve options of the explorer: no condition numbers on the per-keystroke path, the
+/// reference error for the status line.
+pub fn solve_options(scene: &Scene) -> SolveOptions {
+    SolveOptions {
+        epsilon: scene.solver.epsilon,
+        condition: ConditionLevel::Off,
+        ..SolveOptions::default()
+    }
+}
+
+/// A finished solve: what it was computed for, its mesh and its solution.
+#[derive(Debug, Clone)]
+pub struct Solved {
+    pub request: SolveRequest,
+    pub mesh: Mesh,
+    pub solution: Result<Solution, SolveError>,
+    /// max |u| over the nodes, found once on the worker (an O(n) scan has no place in a
+    /// frame: 10⁷ nodes take milliseconds).
+    pub max_deflection: f64,
+    /// The reference (the `condensed` method on the same mesh), solved on the worker too, when
+    /// the method is another one and the reference gave a solution.
+    pub reference: Option<Solution>,
+}
+
+impl Solved {
+    /// Was the solve stopped by its cancellation (a newer request), its own or its
+    /// reference's? Such a result answers nothing and is dropped.
+    pub fn was_cancelled(&self) -> bool {
+        self.request.options.cancel.is_cancelled()
+            || matches!(&self.solution, Err(e) if e.kind == SolveErrorKind::Cancelled)
+    }
+}
+
+/// Computes a request (headless rendering and tests on the spot, the solve worker off the UI
+/// thread); `request.options.cancel` stops it inside its loops.
+pub fn solve(request: &SolveRequest) -> Solved {
+    let mesh = Mesh::new(&request.problem, request.elements);
+    // With the reference curve of the deflection panel: the stable method on the same mesh,
+    // the same solve the certificate graded with (none when the method is condensed).
+    let (solution, reference) =
+        solve_with_condensed(&request.problem, &mesh, request.method, &request.options);
+    let max_deflection = solution.as_ref().map_or(f64::NAN, |s| s.max_deflection());
+    Solved {
+        request: request.clone(),
+        mesh,
+        solution,
+        max_deflection,
+        reference,
+    }
+}

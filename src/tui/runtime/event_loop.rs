@@ -1,0 +1,411 @@
+//! The interactive explorer's event loop, the same for the local terminal and for a remote one
+//! (an SSH channel, see `crate::serve`): it draws on a [`Screen`] and hears everything through
+//! one channel of [`Event`]s, which it turns into the update's messages. The UI thread only
+//! reads events, updates the state (`tui::update`, the only writer) and draws; everything slow
+//! runs on workers:
+//!
+//! - the terminal's bytes arrive as [`Event::Bytes`] — locally from an input thread (end of
+//!   file or a read error is a hangup that ends the explorer: no busy loop on a closed
+//!   terminal), remotely from the SSH connection, with window changes as [`Event::Resize`];
+//! - locally, a signal thread turns SIGINT, SIGTERM, SIGHUP, SIGWINCH, SIGTSTP and SIGCONT
+//!   into events;
+//! - one worker computes the keystroke's re-solve, another the charts' sweeps
+//!   ([`super::worker`]).
+//!
+//! All of them feed one channel, and the loop blocks on it: it draws only when something
+//! changed (a key, a result, a resize, or a timer tick a few times a second while work is in
+//! flight), so an idle explorer uses no CPU. Every queued event is applied before the next
+//! frame and the next request to a worker, so a burst of keys makes one solve of the final
+//! state. Quitting never waits for a worker.
+
+use std::io::{self, Write};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::time::{Duration, Instant};
+
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+
+use crate::tui::INJECT_PANIC;
+use crate::tui::input::decode::{Decoder, ESC_TIMEOUT, Input};
+use crate::tui::input::pointer::ClickTracker;
+use crate::tui::jobs::solve::{SolveRequest, Solved};
+use crate::tui::jobs::sweeps::{SWEEPS, SweepRequest, SweepResult};
+use crate::tui::state::{App, Ending, Exploration};
+use crate::tui::update::{Msg, Suspension, update};
+use crate::tui::view;
+
+use super::terminal::{MOUSE_OFF, MOUSE_ON};
+use super::worker::{Worker, WorkerOptions};
+
+/// How often the frame is redrawn while work is in flight (for the elapsed time).
+const TICK: Duration = Duration::from_millis(250);
+/// Longest a served session waits for its cancelled workers to end before it lets them go.
+const WORKER_GRACE: Duration = Duration::from_millis(500);
+/// Most events applied before a frame is drawn (a paste of any size still shows progress).
+const EVENTS_PER_FRAME: usize = 4096;
+
+/// What wakes the loop.
+pub enum Event {
+    /// Bytes from the terminal.
+    Bytes(Vec<u8>),
+    /// The terminal has a new size (columns, rows): a remote terminal's window change.
+    Resize(u16, u16),
+    /// The terminal's input is gone.
+    Hangup,
+    /// A signal (the local terminal only).
+    Signal(i32),
+    /// The solve worker's output: a solve, or the message of its failure.
+    Solved(Box<Result<Solved, String>>),
+    /// The sweep worker's output.
+    Swept(SweepResult),
+    /// The presenter's new state (follow mode).
+    Follow(std::sync::Arc<Exploration>),
+    /// Nothing but a new frame (e.g. the number of followers changed).
+    Redraw,
+}
+
+/// Where the loop draws: the local terminal (`Session`) or a remote one (an SSH channel).
+/// Nothing here may query the terminal: its answers would arrive on the input the explorer
+/// reads itself, and a remote terminal is known only by what its client said.
+pub trait Screen {
+    type Out: Write;
+    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Self::Out>>;
+    /// The size in cells (columns, rows), as last known.
+    fn size(&mut self) -> io::Result<(u16, u16)>;
+    /// The terminal now has this size: draw the next frame whole at it.
+    fn resize(&mut self, width: u16, height: u16) -> io::Result<()>;
+    /// Ctrl-Z or SIGTSTP: give the terminal back until resumed, then redraw it whole. Returns
+    /// `false` when this screen cannot be suspended (a remote one).
+    fn suspend(&mut self) -> io::Result<bool>;
+    /// Forgets what was drawn, so the next frame is drawn whole.
+    fn redraw_all(&mut self) -> io::Result<()>;
+}
+
+/// Called with the state after every frame (a presenter publishes it).
+pub type AfterFrame = Box<dyn FnMut(&App) + Send>;
+
+/// How a loop behaves beyond its screen.
+#[derive(Default)]
+pub struct LoopOptions {
+    /// End the session after this long without input.
+    pub idle_timeout: Option<Duration>,
+    /// `main` or `worker`: panic there after the first frame (tests of the local terminal).
+    pub inject_panic: String,
+    pub after_frame: Option<AfterFrame>,
+    /// The session's turn on cores shared with other explorers (served sessions).
+    pub cores: Option<super::cores::Share>,
+    /// On return, wait until the workers have ended (a served session: its memory is given
+    /// back before its slot), at most [`WORKER_GRACE`]; the local explorer never waits.
+    pub wait_for_workers: bool,
+}
+
+/// The session's two workers.
+struct Workers {
+    solver: Worker<SolveRequest>,
+    sweeps: Worker<SweepRequest>,
+}
+
+impl Workers {
+    fn start(sender: &Sender<Event>, options: &LoopOptions, inject_panic: bool) -> Workers {
+        let solved = sender.clone();
+        let solver = Worker::start(
+            "solver",
+            1,
+            WorkerOptions {
+                share: options.cores.clone(),
+                inject_panic: false,
+            },
+            move |result| {
+                let _ = solved.send(Event::Solved(Box::new(result)));
+            },
+        );
+        let swept = sender.clone();
+        let sweeps = Worker::start(
+            "sweeps",
+            SWEEPS.len(),
+            WorkerOptions {
+                share: options.cores.clone(),
+                inject_panic,
+            },
+            move |result| {
+                let _ = swept.send(Event::Swept(result));
+            },
+        );
+        Workers { solver, sweeps }
+    }
+
+    /// Hands the workers what the state wants now (an outdated job is cancelled), and tells
+    /// the state when its solve started.
+    fn hand_out(&mut self, app: &mut App) {
+        let pending = app.exploration.pending_solve().cloned();
+        if pending.is_some() {
+            update(app, Msg::SolveStarted(Instant::now()));
+        }
+        self.solver.want(0, pending.as_ref());
+        let sweeps = app.exploration.pending_sweeps();
+        for lane in 0..SWEEPS.len() {
+            self.sweeps
+                .want(lane, sweeps.iter().find(|request| request.sweep == lane));
+        }
+    }
+
+    /// Stops both; with `wait`, waits (a bounded time) until their threads have ended.
+    fn stop(self, wait: bool) {
+        let threads = [self.solver.stop(), self.sweeps.stop()];
+        if !wait {
+            return;
+        }
+        // Cancelled, they end at their next check; a step that cannot be cancelled (a dense
+        // inverse) is not waited for beyond WORKER_GRACE: it holds its core until it ends.
+        let deadline = Instant::now() + WORKER_GRACE;
+        while threads.iter().flatten().any(|t| !t.is_finished()) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+}
+
+/// Runs the explorer on `screen` with events from `events` (whose sender the workers also
+/// use) until it ends: it quits, the input hangs up, a signal, or it was idle for too long.
+/// Mouse reporting is switched on while the app wants it, and off again when the loop ends.
+pub fn event_loop<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    sender: &Sender<Event>,
+    events: &Receiver<Event>,
+    mut options: LoopOptions,
+) -> io::Result<Ending> {
+    let injected = std::mem::take(&mut options.inject_panic);
+    let (width, height) = screen.size()?;
+    update(app, Msg::Resize(width, height));
+    let mut workers = Workers::start(sender, &options, injected == "worker");
+    let mut state = LoopState {
+        decoder: Decoder::default(),
+        clicks: ClickTracker::default(),
+        last_input: Instant::now(),
+        last_bytes: Instant::now(),
+        mouse_on: false,
+    };
+    let ending = run_loop(
+        screen,
+        app,
+        events,
+        &mut options,
+        &injected,
+        &mut workers,
+        &mut state,
+    );
+    workers.stop(options.wait_for_workers);
+    if state.mouse_on {
+        // Best effort: the terminal may be gone.
+        let out = screen.terminal().backend_mut();
+        let _ = out
+            .write_all(MOUSE_OFF.as_bytes())
+            .and_then(|()| out.flush());
+    }
+    ending
+}
+
+/// What the loop keeps between events besides the state.
+struct LoopState {
+    decoder: Decoder,
+    clicks: ClickTracker,
+    /// When the user last did something (or the presenter did, for a follower).
+    last_input: Instant,
+    /// When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
+    /// however many other events (results, a presenter's states) arrive meanwhile.
+    last_bytes: Instant,
+    /// Mouse reports are on in the terminal.
+    mouse_on: bool,
+}
+
+/// The loop itself: hand out work, draw, wait, apply what arrived; until the state ends.
+fn run_loop<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    events: &Receiver<Event>,
+    options: &mut LoopOptions,
+    injected: &str,
+    workers: &mut Workers,
+    state: &mut LoopState,
+) -> io::Result<Ending> {
+    loop {
+        workers.hand_out(app);
+        // Something happened (or this is the first frame): draw. A terminal that cannot be
+        // written to any more has gone away.
+        if draw(screen, app, &mut state.mouse_on).is_err() {
+            update(app, Msg::End(Ending::Hangup));
+            return Ok(Ending::Hangup);
+        }
+        if let Some(after_frame) = &mut options.after_frame {
+            after_frame(app);
+        }
+        if injected == "main" {
+            panic!("injected panic ({INJECT_PANIC}=main)");
+        }
+        if let Some(ending) = app.ending {
+            return Ok(ending);
+        }
+        let first = wait(app, events, options, state);
+        if let Some(ending) = app.ending {
+            return Ok(ending);
+        }
+        if state.decoder.has_pending() && state.last_bytes.elapsed() >= ESC_TIMEOUT {
+            for input in state.decoder.flush() {
+                apply_input(app, input, &mut state.clicks);
+            }
+        }
+        // This event and every one already queued, then one frame.
+        for event in first
+            .into_iter()
+            .chain(events.try_iter().take(EVENTS_PER_FRAME))
+        {
+            apply_event(screen, app, event, state)?;
+            if let Some(ending) = app.ending {
+                return Ok(ending);
+            }
+            if app.suspend_requested {
+                suspend(screen, app)?;
+                // The terminal was given back: ask for the mouse again.
+                state.mouse_on = false;
+            }
+        }
+    }
+}
+
+/// Draws a frame, asking the terminal for mouse reports first (or telling it to stop) when
+/// the app's wish changed.
+fn draw<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result<()> {
+    let wanted = app.wants_mouse();
+    if wanted != *mouse_on {
+        let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
+        screen
+            .terminal()
+            .backend_mut()
+            .write_all(sequence.as_bytes())?;
+        *mouse_on = wanted;
+    }
+    screen.terminal().draw(|frame| view::draw(frame, app))?;
+    Ok(())
+}
+
+/// Blocks until something happens: an event, or a wake-up for a pending lone ESC or a timer
+/// tick while work is in flight (`None`, after a tick message); ends the state when the
+/// session was idle for too long or the channel is gone.
+fn wait(
+    app: &mut App,
+    events: &Receiver<Event>,
+    options: &LoopOptions,
+    state: &LoopState,
+) -> Option<Event> {
+    let idle_left = options
+        .idle_timeout
+        .map(|limit| limit.saturating_sub(state.last_input.elapsed()));
+    if idle_left == Some(Duration::ZERO) {
+        update(app, Msg::End(Ending::Idle));
+        return None;
+    }
+    let timeout = if state.decoder.has_pending() {
+        Some(ESC_TIMEOUT.saturating_sub(state.last_bytes.elapsed()))
+    } else if !app.exploration.is_current() && app.show_timings {
+        Some(TICK)
+    } else {
+        None
+    };
+    let timeout = match (timeout, idle_left) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    };
+    let received = match timeout {
+        None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
+        Some(t) => events.recv_timeout(t),
+    };
+    match received {
+        Ok(event) => Some(event),
+        Err(RecvTimeoutError::Timeout) => {
+            update(app, Msg::Tick);
+            None
+        }
+        Err(RecvTimeoutError::Disconnected) => {
+            update(app, Msg::End(Ending::Hangup));
+            None
+        }
+    }
+}
+
+/// One event, as the update's messages.
+fn apply_event<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    event: Event,
+    state: &mut LoopState,
+) -> io::Result<()> {
+    match event {
+        Event::Bytes(bytes) => {
+            state.last_input = Instant::now();
+            state.last_bytes = state.last_input;
+            for input in state.decoder.feed(&bytes) {
+                apply_input(app, input, &mut state.clicks);
+            }
+        }
+        Event::Resize(width, height) => {
+            state.last_input = Instant::now();
+            // A terminal that cannot be resized any more has gone away (a closed pty can
+            // report a size change just before its reads fail).
+            if screen.resize(width, height).is_err() {
+                update(app, Msg::End(Ending::Hangup));
+            } else {
+                update(app, Msg::Resize(width, height));
+            }
+        }
+        Event::Hangup => update(app, Msg::End(Ending::Hangup)),
+        Event::Signal(signal) => match signal {
+            signal_hook::consts::SIGWINCH => {
+                if let Ok((w, h)) = crossterm::terminal::size() {
+                    update(app, Msg::Resize(w, h));
+                }
+            }
+            signal_hook::consts::SIGTSTP => {
+                suspend(screen, app)?;
+                // The terminal was given back: ask for the mouse again.
+                state.mouse_on = false;
+            }
+            signal_hook::consts::SIGCONT => screen.redraw_all()?,
+            other => update(app, Msg::End(Ending::Signal(other))),
+        },
+        Event::Solved(result) => match *result {
+            Ok(solved) => update(app, Msg::Solved(Box::new(solved))),
+            Err(message) => update(app, Msg::SolveFailed(message)),
+        },
+        Event::Swept(result) => update(app, Msg::Swept(result)),
+        Event::Redraw => update(app, Msg::Tick),
+        Event::Follow(exploration) => {
+            // A student watching the presenter is not idle.
+            state.last_input = Instant::now();
+            update(app, Msg::Follow(exploration));
+        }
+    }
+    Ok(())
+}
+
+/// A decoded input as the update's message (a mouse event with its double click told).
+fn apply_input(app: &mut App, input: Input, clicks: &mut ClickTracker) {
+    let msg = match input {
+        Input::Key(key) => Msg::Key(key),
+        Input::Paste(text) => Msg::Paste(text),
+        Input::Mouse(x, y, what) => Msg::Pointer(clicks.pointer(x, y, what, Instant::now())),
+    };
+    update(app, msg);
+}
+
+/// Ctrl-Z or SIGTSTP: leave the terminal, stop, and on SIGCONT take it back at its new size
+/// (a remote terminal cannot be left: the state says so).
+fn suspend<S: Screen>(screen: &mut S, app: &mut App) -> io::Result<()> {
+    let suspension = if !screen.suspend()? {
+        Suspension::Refused
+    } else {
+        let (width, height) = screen.size().unwrap_or(app.size);
+        Suspension::Resumed(width, height)
+    };
+    update(app, Msg::Suspension(suspension));
+    Ok(())
+}

@@ -1,0 +1,267 @@
+//! The explorer's state: what the presenter shares ([`Exploration`]) and what is one screen's
+//! own — its mode and prompts, undo history, saving, scroll, zoom, look and size. Everything a
+//! frame shows is here; `tui::update` is the only code that changes it after [`App::new`], and
+//! drawing only reads it.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use crate::scene::{LoadedScene, Scene, SceneSource};
+
+use super::exploration::Exploration;
+use super::follow::Follow;
+use super::params::Row;
+use super::picker::PresetPicker;
+use super::prompt::Prompt;
+
+pub use crate::plot::{Look, Palette};
+
+/// What the keyboard is doing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Mode {
+    /// Selecting and stepping parameters.
+    Normal,
+    /// Typing an exact value for a row (pre-filled with the current one).
+    Editing { row: Row, prompt: Prompt },
+    /// The help, scrolled down by `offset` lines.
+    Help { offset: u16 },
+    /// Every warning in full, scrolled down by `offset` lines.
+    Warnings { offset: u16 },
+    /// The scene as TOML, to copy from the screen (saving in a served session).
+    SceneText,
+    /// The preset picker: its search, highlighted entry and scroll.
+    Presets(PresetPicker),
+    /// Typing the file name to save to.
+    Save { prompt: Prompt },
+    /// The file exists: overwrite it?
+    ConfirmOverwrite { path: String },
+    /// The scene has unsaved changes: lose them to do `then`?
+    ConfirmDiscard { then: Discard },
+}
+
+/// What would throw away unsaved changes, waiting for a yes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Discard {
+    Quit,
+    /// Load the preset with this index.
+    Preset(usize),
+    /// Back to the scene as loaded.
+    Reset,
+}
+
+/// What a save does with the file system: write (the explorer), or only say what it would do
+/// (`render`, unless `--allow-save DIR` lets it write under DIR).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SavePolicy {
+    Write,
+    Simulate,
+    Within(PathBuf),
+    /// No file is written or read (a served session): `s` says why, in these words.
+    Refuse(String),
+    /// No file is written: `s` shows the scene as TOML to copy (a served session).
+    ShowText,
+}
+
+/// What a mouse drag that started on something is moving.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Drag {
+    /// An obstacle's marker on the deflection chart (the obstacle's index); `moved` once the
+    /// first move was applied (the undo step is kept then, once per drag).
+    Obstacle { index: usize, moved: bool },
+}
+
+/// How the explorer ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ending {
+    /// The user quit.
+    Quit,
+    /// A signal (its number) ended it; the terminal was restored.
+    Signal(i32),
+    /// The terminal went away (end of input or a read error).
+    Hangup,
+    /// No input for the idle timeout (served sessions only).
+    Idle,
+}
+
+/// Most undo steps kept.
+pub const UNDO_LIMIT: usize = 1000;
+
+/// How an explorer starts, beyond its scene: its look and what it may do here.
+#[derive(Debug, Clone)]
+pub struct Options {
+    pub look: Look,
+    /// The colours (`T` cycles them).
+    pub palette: Palette,
+    /// Show run times (they make frames depend on the clock).
+    pub show_timings: bool,
+    /// Ask the terminal for mouse reports (off with `--no-mouse`).
+    pub mouse: bool,
+    pub save_policy: SavePolicy,
+    /// The directory new files are saved to by default (`None`: the current one).
+    pub save_directory: Option<PathBuf>,
+    /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
+    pub max_elements: Option<usize>,
+    /// Follow mode (served sessions with a presenter).
+    pub follow: Option<Follow>,
+    /// The first message for the user.
+    pub greeting: Option<String>,
+}
+
+impl Options {
+    /// The local explorer's defaults in this look: the dark palette, mouse on, saves write.
+    pub fn new(look: Look) -> Options {
+        Options {
+            look,
+            palette: Palette::default(),
+            show_timings: false,
+            mouse: true,
+            save_policy: SavePolicy::Write,
+            save_directory: None,
+            max_elements: None,
+            follow: None,
+            greeting: None,
+        }
+    }
+}
+
+/// The explorer's state.
+#[derive(Debug, Clone)]
+pub struct App {
+    /// What a presenter shares with the students who follow: the scene, its solve, the
+    /// sweeps and the view of it.
+    pub exploration: Exploration,
+    /// The scene as last loaded or saved: the state differs from it when it is modified.
+    pub saved: Scene,
+    /// Earlier scenes, the newest last (undo), and undone ones (redo).
+    pub undo: Vec<Scene>,
+    pub redo: Vec<Scene>,
+    pub save_policy: SavePolicy,
+    /// What to do once the save in progress succeeds (`s` in a "lose the changes?" question).
+    pub after_save: Option<Discard>,
+    /// The directory new files are saved to by default.
+    pub save_directory: PathBuf,
+    /// The file to save to by default.
+    pub save_path: String,
+    /// Since when the wanted solve runs (interactive only: frames of a headless render never
+    /// depend on the clock).
+    pub busy_since: Option<Instant>,
+    pub mode: Mode,
+    /// The last message for the user (a rejected value, a saved file, …).
+    pub message: Option<String>,
+    /// The focused panel fills the screen below the title.
+    pub zoom: bool,
+    /// Mouse capture is wanted (off with `--no-mouse`); input from the mouse is ignored
+    /// without it.
+    pub mouse: bool,
+    /// A mouse drag in progress.
+    pub drag: Option<Drag>,
+    /// The first parameter row shown (kept by `update` so that the selected row is visible
+    /// and a clicked row stays under the pointer).
+    pub parameters_offset: usize,
+    /// Show run times (they make frames depend on the clock).
+    pub show_timings: bool,
+    pub look: Look,
+    /// The colours (`T` cycles them).
+    pub palette: Palette,
+    /// The deflection panel shows u − u_ref instead of u and u_ref (`c`).
+    pub show_difference: bool,
+    /// Terminal size in cells, as last reported.
+    pub size: (u16, u16),
+    /// How the explorer ended, once it has: the event loop stops then.
+    pub ending: Option<Ending>,
+    /// Ctrl-Z: the event loop gives the terminal back and stops the process.
+    pub suspend_requested: bool,
+    /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
+    pub max_elements: Option<usize>,
+    /// Follow mode (served sessions with a presenter); `None`: an explorer of its own.
+    pub follow: Option<Follow>,
+}
+
+impl App {
+    /// The explorer on a loaded scene, before any message. Obstacles are kept ordered by
+    /// position. Nothing is solved yet: the scene's solve and its sweeps are pending (see
+    /// `tui::update` and the runtimes).
+    pub fn new(loaded: LoadedScene, options: Options) -> Result<App, crate::scene::SceneError> {
+        let loaded = sorted(loaded)?;
+        let save_path = match (&options.save_directory, &loaded.source) {
+            (Some(directory), SceneSource::Preset(_)) => {
+                directory.join(loaded.source.default_file_name())
+            }
+            _ => loaded.source.default_file_name(),
+        };
+        Ok(App {
+            saved: loaded.scene.clone(),
+            exploration: Exploration::new(loaded),
+            undo: Vec::new(),
+            redo: Vec::new(),
+            save_policy: options.save_policy,
+            after_save: None,
+            save_directory: options.save_directory.unwrap_or_else(|| PathBuf::from(".")),
+            save_path: save_path.display().to_string(),
+            busy_since: None,
+            mode: Mode::Normal,
+            message: options.greeting,
+            zoom: false,
+            mouse: options.mouse,
+            drag: None,
+            parameters_offset: 0,
+            show_timings: options.show_timings,
+            look: options.look,
+            palette: options.palette,
+            show_difference: false,
+            size: (120, 40),
+            ending: None,
+            suspend_requested: false,
+            max_elements: options.max_elements,
+            follow: options.follow,
+        })
+    }
+
+    /// The scene being explored.
+    pub fn scene(&self) -> &Scene {
+        &self.exploration.scene
+    }
+
+    /// The first parameter row to show in a box of `height` rows: the kept scroll, moved only
+    /// as far as needed to show the selected row.
+    pub fn parameters_offset(&self, height: usize) -> usize {
+        let selected = self
+            .exploration
+            .selected
+            .min(self.exploration.rows().len() - 1);
+        self.parameters_offset
+            .min(selected)
+            .max((selected + 1).saturating_sub(height.max(1)))
+    }
+
+    /// Should the terminal report the mouse now? Not with `--no-mouse`, and not while the
+    /// scene is shown as text to copy (plain dragging selects it then).
+    pub fn wants_mouse(&self) -> bool {
+        self.mouse && self.mode != Mode::SceneText
+    }
+
+    /// Does the scene differ from the one last loaded or saved?
+    pub fn modified(&self) -> bool {
+        self.exploration.scene != self.saved
+    }
+
+    /// Is this a served student following the presenter (who may not change the scene)?
+    pub fn is_following(&self) -> bool {
+        self.follow.as_ref().is_some_and(Follow::is_following)
+    }
+}
+
+/// The loaded scene with its obstacles ordered by position (validated again only when the
+/// order changed, since error messages name obstacles by index).
+pub fn sorted(mut loaded: LoadedScene) -> Result<LoadedScene, crate::scene::SceneError> {
+    let in_order = loaded
+        .scene
+        .obstacles
+        .windows(2)
+        .all(|w| w[0].x.total_cmp(&w[1].x).is_le());
+    if in_order {
+        return Ok(loaded);
+    }
+    loaded.scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
+    LoadedScene::new(loaded.scene, loaded.source)
+}

@@ -1,0 +1,211 @@
+//! The one place that changes the explorer's state: [`update`] takes a [`Msg`] — a key (what
+//! it means in the current mode comes from `tui::input::keymap`), a paste, a mouse event
+//! (placed on what is drawn under it by `tui::layout::hit`), a new terminal size, a finished
+//! solve or sweep, the presenter's new state, a suspension or the end — and applies it. Every
+//! change of the scene goes through the scene's validation; a rejected value leaves the state
+//! as it was and says why.
+//!
+//! By subject: [`normal`] (the keys of normal mode), [`edit`] (changes of the scene: values,
+//! obstacles, methods, undo and redo, presets, reset), [`prompts`] (typing a value, the preset
+//! picker, the scrolled views), [`save`], [`pointer`] (the mouse), [`follow`] (forks, rejoins,
+//! the presenter's states) and [`results`] (solves and sweeps arriving).
+
+mod edit;
+mod follow;
+mod normal;
+mod pointer;
+mod prompts;
+mod results;
+mod save;
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::tui::input::keymap::{Action, Key, action_for, paste_actions};
+use crate::tui::input::pointer::Pointer;
+use crate::tui::jobs::solve::Solved;
+use crate::tui::jobs::sweeps::{SWEEPS, SweepContext, SweepResult};
+use crate::tui::layout::picker::picker_rows_shown;
+use crate::tui::layout::{parameter_rows_shown, visible_panels};
+use crate::tui::state::{App, Discard, Ending, Exploration, Mode};
+
+pub use save::save_target;
+
+/// Everything that changes the explorer's state.
+#[derive(Debug, Clone)]
+pub enum Msg {
+    /// A key, from the terminal or `render --keys`: what it means depends on the mode (the
+    /// keymap) and on follow mode.
+    Key(Key),
+    /// An action decided already (what a key means, without follow mode's interception).
+    Action(Action),
+    /// Text the terminal marked as pasted: typed into a prompt, never run as commands.
+    Paste(String),
+    /// A mouse event (ignored without mouse capture).
+    Pointer(Pointer),
+    /// The terminal's size in cells (columns, rows).
+    Resize(u16, u16),
+    /// The solve the state wants started at this instant (the runtime's clock: the busy
+    /// note's elapsed time).
+    SolveStarted(Instant),
+    /// A solve finished: kept if it is the one wanted now.
+    Solved(Box<Solved>),
+    /// The solve worker failed (a panic in a method): the message says so.
+    SolveFailed(String),
+    /// A sweep finished: kept if its inputs are still current.
+    Swept(SweepResult),
+    /// The presenter's new state (follow mode).
+    Follow(Arc<Exploration>),
+    /// What came of Ctrl-Z or SIGTSTP.
+    Suspension(Suspension),
+    /// Time passed (a redraw while work is in flight); nothing changes.
+    Tick,
+    /// The explorer ends: the terminal hung up, a signal, the idle timeout.
+    End(Ending),
+}
+
+/// What came of a suspension the state asked for (Ctrl-Z) or a signal did (SIGTSTP).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Suspension {
+    /// This terminal cannot be suspended (a remote one).
+    Refused,
+    /// The process was stopped and resumed; the terminal has this size now.
+    Resumed(u16, u16),
+}
+
+/// Applies `msg` to the state.
+pub fn update(app: &mut App, msg: Msg) {
+    match msg {
+        Msg::Key(key) => {
+            if !follow::intercept(app, key)
+                && let Some(action) = action_for(&app.mode, key)
+            {
+                act(app, action);
+            }
+        }
+        Msg::Action(action) => act(app, action),
+        Msg::Paste(text) => {
+            for action in paste_actions(&app.mode, &text) {
+                act(app, action);
+            }
+        }
+        Msg::Pointer(pointer) => {
+            // Without mouse capture (`--no-mouse`) the mouse means nothing, even if a client
+            // sends its sequences.
+            if app.mouse {
+                pointer::apply(app, pointer);
+                keep_selection_in_view(app);
+            }
+        }
+        Msg::Resize(width, height) => resize(app, width, height),
+        Msg::SolveStarted(at) => results::solve_started(app, at),
+        Msg::Solved(solved) => results::solved(app, *solved),
+        Msg::SolveFailed(message) => app.message = Some(message),
+        Msg::Swept(result) => results::swept(app, result),
+        Msg::Follow(exploration) => follow::receive(app, exploration),
+        Msg::Suspension(suspension) => {
+            app.suspend_requested = false;
+            match suspension {
+                Suspension::Refused => {
+                    app.message = Some("Ctrl-Z does nothing here: q quits".into());
+                }
+                Suspension::Resumed(width, height) => resize(app, width, height),
+            }
+        }
+        Msg::Tick => {}
+        Msg::End(ending) => {
+            app.ending.get_or_insert(ending);
+        }
+    }
+}
+
+/// Applies a key's action, then keeps the selected row in view.
+fn act(app: &mut App, action: Action) {
+    apply(app, action);
+    keep_selection_in_view(app);
+}
+
+/// The terminal has a new size: what is visible may have changed, and the sweeps follow.
+fn resize(app: &mut App, width: u16, height: u16) {
+    app.size = (width, height);
+    refresh_sweeps(app);
+    keep_selection_in_view(app);
+}
+
+/// Scrolls the parameters (and the preset list) only as far as needed to show the selected
+/// row (after any change of the selection, the rows or the size).
+fn keep_selection_in_view(app: &mut App) {
+    let height = parameter_rows_shown(app);
+    app.parameters_offset = app.parameters_offset(height);
+    let visible = picker_rows_shown(app);
+    if let Mode::Presets(picker) = &mut app.mode {
+        picker.scroll_to_highlight(visible);
+    }
+}
+
+/// What an action does: those of every mode first, then the mode's own.
+fn apply(app: &mut App, action: Action) {
+    match action {
+        Action::Interrupt => {
+            // Ctrl-C quits at once unless that loses changes; then it asks, and a second
+            // Ctrl-C forces.
+            let asked = app.mode
+                == Mode::ConfirmDiscard {
+                    then: Discard::Quit,
+                };
+            if asked || !app.modified() {
+                app.ending = Some(Ending::Quit);
+            } else {
+                app.mode = Mode::ConfirmDiscard {
+                    then: Discard::Quit,
+                };
+            }
+        }
+        Action::Suspend => app.suspend_requested = true,
+        Action::Fork => follow::fork(app),
+        Action::Rejoin => follow::rejoin(app),
+        Action::PasteIgnored => {
+            app.message =
+                Some("a paste is typed only into a prompt (Enter opens one); ignored".into());
+        }
+        _ => match app.mode.clone() {
+            Mode::Normal => normal::apply(app, action),
+            Mode::Help { offset } => {
+                app.mode = prompts::scrolled(offset, action)
+                    .map_or(Mode::Normal, |offset| Mode::Help { offset })
+            }
+            Mode::Warnings { offset } => {
+                app.mode = prompts::scrolled(offset, action)
+                    .map_or(Mode::Normal, |offset| Mode::Warnings { offset })
+            }
+            Mode::SceneText => {
+                if action == Action::Cancel {
+                    app.mode = Mode::Normal;
+                }
+            }
+            Mode::Editing { row, prompt } => prompts::editing(app, action, row, prompt),
+            Mode::Presets(picker) => prompts::presets(app, action, picker),
+            Mode::Save { prompt } => save::save_prompt(app, action, prompt),
+            Mode::ConfirmOverwrite { path } => save::confirm_overwrite(app, action, path),
+            Mode::ConfirmDiscard { then } => edit::confirm_discard(app, action, then),
+        },
+    }
+}
+
+/// Marks the sweeps whose inputs changed as pending (or idle when no visible panel needs
+/// them). Their data for older inputs is never drawn as current: it is kept only to be drawn
+/// marked as out of date until the new data arrives.
+fn refresh_sweeps(app: &mut App) {
+    let panels = visible_panels(app);
+    let exploration = &mut app.exploration;
+    let context = SweepContext {
+        problem: &exploration.problem,
+        elements: exploration.scene.mesh.elements,
+        epsilon: exploration.scene.solver.epsilon,
+        show_timings: app.show_timings,
+    };
+    for (slot, sweep) in exploration.sweeps.iter_mut().zip(SWEEPS) {
+        let needed = sweep.panels().iter().any(|p| panels.contains(p));
+        slot.refresh(needed, sweep.inputs(context));
+    }
+}

@@ -1,0 +1,160 @@
+//! Saving the scene: the file-name prompt (pre-filled, the first key replacing it), the
+//! question before a file is overwritten, and the save itself — written atomically, only
+//! where this explorer may write (a headless render only says what it would do, a served
+//! session saves under `--save-dir` or shows the TOML to copy), and followed by what was
+//! waiting for it (a quit, a reset, a preset after "save, then …").
+
+use crate::scene::save_scene;
+use crate::tui::input::keymap::Action;
+use crate::tui::state::prompt::{Prompt, Typed};
+use crate::tui::state::{App, Mode, SavePolicy};
+
+use super::edit::discard_and;
+use super::prompts::edit_prompt;
+
+/// Longest file name the save prompt accepts (PATH_MAX on Linux).
+const PATH_LIMIT: usize = 4096;
+
+/// Where saving to a file is off (a served session): says why, or shows the scene as text.
+/// Returns whether it was.
+fn saving_is_off(app: &mut App) -> bool {
+    match &app.save_policy {
+        SavePolicy::Refuse(reason) => app.message = Some(format!("not saved: {reason}")),
+        SavePolicy::ShowText => app.mode = Mode::SceneText,
+        _ => return false,
+    }
+    true
+}
+
+/// Asks for the file name to save to, unless saving is off here.
+pub(super) fn start_save(app: &mut App) {
+    if !saving_is_off(app) {
+        app.mode = Mode::Save {
+            prompt: Prompt::new(app.save_path.clone(), false),
+        };
+    }
+}
+
+pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
+    match edit_prompt(&mut prompt, action, PATH_LIMIT) {
+        Some(Typed::Full) => {
+            app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        Some(Typed::Inserted) => {
+            app.mode = Mode::Save { prompt };
+            return;
+        }
+        None => {}
+    }
+    match action {
+        Action::Confirm => {
+            let path = prompt.text.trim().to_string();
+            if path.is_empty() {
+                app.mode = Mode::Normal;
+                app.message = Some("not saved: no file name".into());
+            } else if save_target(&app.save_policy, &path).is_some_and(|t| t.exists()) {
+                // The file the save would write (under --allow-save DIR, inside DIR).
+                app.mode = Mode::ConfirmOverwrite { path };
+            } else {
+                app.mode = Mode::Normal;
+                save(app, &path, false);
+            }
+        }
+        Action::Cancel => {
+            app.mode = Mode::Normal;
+            app.after_save = None;
+            app.message = Some("not saved".into());
+        }
+        _ => app.mode = Mode::Save { prompt },
+    }
+}
+
+pub(super) fn confirm_overwrite(app: &mut App, action: Action, path: String) {
+    app.mode = Mode::Normal;
+    match action {
+        Action::Confirm => save(app, &path, true),
+        _ => {
+            app.after_save = None;
+            app.message = Some(format!("not saved: {path} left as it was"));
+        }
+    }
+}
+
+fn save(app: &mut App, path: &str, overwrite: bool) {
+    // What to do after a successful save; a failed or refused one drops it.
+    let then = app.after_save.take();
+    if saving_is_off(app) {
+        return;
+    }
+    let target = match &app.save_policy {
+        SavePolicy::Write => std::path::PathBuf::from(path),
+        // Handled by `saving_is_off`.
+        SavePolicy::Refuse(_) | SavePolicy::ShowText => return,
+        SavePolicy::Simulate => {
+            app.message = Some(format!(
+                "not saved: a headless render writes no files (it would save to {path}; \
+                 --allow-save DIR lets it)"
+            ));
+            return;
+        }
+        SavePolicy::Within(dir) => match save_target(&app.save_policy, path) {
+            Some(target) => target,
+            None => {
+                app.message = Some(format!(
+                    "not saved: {path} is outside {}, the only directory saves may go to",
+                    dir.display()
+                ));
+                return;
+            }
+        },
+    };
+    match save_scene(app.scene(), &target, overwrite) {
+        Ok(outcome) => {
+            app.save_path = path.to_string();
+            app.saved = app.scene().clone();
+            let notes = outcome.summary();
+            app.message = Some(if notes.is_empty() {
+                format!("saved to {path}")
+            } else {
+                format!("saved to {path} ({notes})")
+            });
+            if let Some(then) = then {
+                discard_and(app, then);
+            }
+        }
+        Err(e) => app.message = Some(format!("not saved: {e}")),
+    }
+}
+
+/// The file a save of `path` writes: the path itself, or under `--allow-save DIR` the path
+/// inside DIR (`None` when it leads out of DIR, by `..`, an absolute path elsewhere, or a
+/// symbolic link inside DIR that points out — the save would follow it).
+pub fn save_target(policy: &SavePolicy, path: &str) -> Option<std::path::PathBuf> {
+    use std::path::Component;
+    let dir = match policy {
+        SavePolicy::Within(dir) => dir,
+        _ => return Some(std::path::PathBuf::from(path)),
+    };
+    let real_dir = dir.canonicalize().ok()?;
+    let path = std::path::Path::new(path);
+    let relative = path
+        .strip_prefix(dir)
+        .or_else(|_| path.strip_prefix(&real_dir))
+        .unwrap_or(path);
+    let plain = relative
+        .components()
+        .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    if !plain || relative.as_os_str().is_empty() {
+        return None;
+    }
+    let target = real_dir.join(relative);
+    // Where the write really lands: the parent resolved, and the file's own link followed.
+    let parent = target.parent()?.canonicalize().ok()?;
+    let landing = match std::fs::symlink_metadata(&target) {
+        Ok(meta) if meta.file_type().is_symlink() => target.canonicalize().ok()?,
+        _ => parent.join(target.file_name()?),
+    };
+    landing.starts_with(&real_dir).then_some(target)
+}
