@@ -1,5 +1,5 @@
 //! The command line (clap): the commands behind the argument types of `cli/args.rs`. `main.rs`
-//! parses and calls [`run`]; everything else lives here and in the modules it calls.
+//! parses and calls [`dispatch`]; everything else lives here and in the modules it calls.
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -59,7 +59,7 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
 }
 
 /// Runs the parsed command line.
-pub fn run(cli: Cli) -> ExitCode {
+pub fn dispatch(cli: Cli) -> ExitCode {
     let result = match cli.command {
         Some(Command::Solve(args)) => solve_command(&args),
         Some(Command::Check(args)) => check_command(&args),
@@ -134,7 +134,11 @@ fn explore(
     }
     let loaded = scene::load(name).map_err(|e| e.to_string())?;
     let look = crate::plot::Look {
-        ascii: ascii || !crate::plot::locale_is_utf8(|name| std::env::var(name).ok()),
+        ascii: ascii
+            || !crate::plot::locale_is_utf8(
+                |name| std::env::var(name).ok(),
+                crate::plot::UnsetLocale::Ascii,
+            ),
         color: colors_wanted(no_color),
     };
     let options = crate::tui::state::Options {
@@ -162,7 +166,7 @@ fn exit_code(ending: crate::tui::Ending) -> ExitCode {
 
 #[cfg(unix)]
 fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
-    crate::serve::run(&serve_options(args))?;
+    crate::serve::serve_until_stopped(&serve_options(args))?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -6,7 +6,7 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     match beamfric::cli::Cli::try_parse() {
-        Ok(cli) => beamfric::cli::run(cli),
+        Ok(cli) => beamfric::cli::dispatch(cli),
         Err(e) => beamfric::cli::report_usage_error(e),
     }
 }

@@ -725,3 +725,62 @@ fn the_diagram_key_shows_what_it_changes() {
         "a new scene starts afresh"
     );
 }
+
+/// A served student's explorer, following a presenter from the start.
+fn student() -> App {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let options = Options {
+        follow: Some(Follow::student(&Followers::new(|| {}))),
+        ..Options::new(LOOK)
+    };
+    app_with("benchmark-1", options)
+}
+
+fn screen(app: &App) -> String {
+    buffer_to_text(&draw_to_buffer(app, 120, 40), false)
+}
+
+/// Keys as the event loop applies them: follow mode's keys first.
+fn keys(app: &mut App, keys: &str) {
+    for key in parse_keys(keys) {
+        update(app, Msg::Key(key));
+    }
+}
+
+#[test]
+fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
+    let mut app = student();
+    assert!(screen(&app).contains("f:fork F:rejoin"), "{}", screen(&app));
+    keys(&mut app, "?");
+    assert_eq!(app.mode, Mode::Help { offset: 0 });
+    let help = screen(&app);
+    assert!(help.contains("fork: explore on your own"), "{help}");
+    assert!(help.contains("follow the presenter again"), "{help}");
+    keys(&mut app, "Esc");
+    // Following: a change is refused; forked: it is made; rejoined: following again.
+    keys(&mut app, "]");
+    assert!(!app.modified());
+    keys(&mut app, "f");
+    assert!(screen(&app).contains("own exploration"));
+    keys(&mut app, "]");
+    assert!(app.modified());
+    keys(&mut app, "F");
+    assert!(screen(&app).contains("following the presenter"));
+}
+
+#[test]
+fn a_follower_may_change_what_only_its_own_screen_shows() {
+    let mut app = student();
+    let palette = app.palette;
+    keys(&mut app, "T");
+    assert_ne!(app.palette, palette, "the theme is the student's own");
+    keys(&mut app, "c");
+    assert!(app.show_difference);
+    keys(&mut app, "z");
+    assert!(app.zoom);
+    keys(&mut app, "w");
+    assert_eq!(app.mode, Mode::Warnings { offset: 0 });
+    keys(&mut app, "Esc");
+    // The scene is still the presenter's.
+    assert!(!app.modified());
+}

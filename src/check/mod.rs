@@ -226,7 +226,7 @@ pub fn check_scene(case: &str, scene: &Scene) -> CaseReport {
         reference: &reference,
     };
     for method in Method::ALL {
-        let run = bench.run(method, &mut report.failures);
+        let run = bench.judge(method, &mut report.failures);
         report.runs.push(run);
     }
     summarize(&mut report);
@@ -253,7 +253,7 @@ struct Bench<'a> {
 
 impl Bench<'_> {
     /// Runs one method and judges it; failures go to `failures`.
-    fn run(&self, method: Method, failures: &mut Vec<String>) -> MethodRun {
+    fn judge(&self, method: Method, failures: &mut Vec<String>) -> MethodRun {
         match solve(self.problem, self.mesh, method, &options(self.epsilon)) {
             Ok(solution) => self.solved(method, &solution, failures),
             Err(error) => self.declined(method, &error, failures),

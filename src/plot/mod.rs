@@ -25,14 +25,24 @@ pub use study_charts::{
 pub use text::buffer_to_text;
 pub use theme::{Palette, Theme};
 
+/// What no locale at all means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnsetLocale {
+    /// The C locale, which is ASCII: a local process's own environment says nothing.
+    Ascii,
+    /// UTF-8: an SSH client that sent no locale (most send none) has a terminal that, nearly
+    /// always, draws UTF-8.
+    Utf8,
+}
+
 /// Does the locale ask for UTF-8? The first of `LC_ALL`, `LC_CTYPE` and `LANG` that is set and
 /// not empty decides, as in tmux and other terminal programs: UTF-8 when it names `UTF-8` or
-/// `utf8` (any case); none set means the C locale, which is ASCII. `var` reads a variable.
-pub fn locale_is_utf8(var: impl Fn(&str) -> Option<String>) -> bool {
+/// `utf8` (any case); none set means what `unset` says. `var` reads a variable.
+pub fn locale_is_utf8(var: impl Fn(&str) -> Option<String>, unset: UnsetLocale) -> bool {
     ["LC_ALL", "LC_CTYPE", "LANG"]
         .iter()
         .find_map(|name| var(name).filter(|v| !v.is_empty()))
-        .is_some_and(|locale| {
+        .map_or(unset == UnsetLocale::Utf8, |locale| {
             let locale = locale.to_ascii_lowercase();
             locale.contains("utf-8") || locale.contains("utf8")
         })
@@ -49,7 +59,7 @@ pub struct Look {
 
 #[cfg(test)]
 mod tests {
-    use super::locale_is_utf8;
+    use super::{UnsetLocale, locale_is_utf8};
 
     fn env<'a>(vars: &'a [(&'a str, &'a str)]) -> impl Fn(&str) -> Option<String> + 'a {
         move |name| {
@@ -59,25 +69,27 @@ mod tests {
         }
     }
 
+    /// The local rule: no locale is the C locale.
+    fn local(vars: &[(&str, &str)]) -> bool {
+        locale_is_utf8(env(vars), UnsetLocale::Ascii)
+    }
+
     #[test]
     fn the_locale_decides_like_tmux() {
-        assert!(locale_is_utf8(env(&[("LANG", "en_GB.UTF-8")])));
-        assert!(locale_is_utf8(env(&[("LANG", "C.utf8")])));
-        assert!(!locale_is_utf8(env(&[("LANG", "C")])));
-        assert!(!locale_is_utf8(env(&[])), "no locale is the C locale");
+        assert!(local(&[("LANG", "en_GB.UTF-8")]));
+        assert!(local(&[("LANG", "C.utf8")]));
+        assert!(!local(&[("LANG", "C")]));
+        assert!(!local(&[]), "no locale is the C locale");
         // LC_ALL over LC_CTYPE over LANG; empty values do not count.
-        assert!(!locale_is_utf8(env(&[
-            ("LC_ALL", "POSIX"),
-            ("LANG", "C.UTF-8")
-        ])));
-        assert!(locale_is_utf8(env(&[
+        assert!(!local(&[("LC_ALL", "POSIX"), ("LANG", "C.UTF-8")]));
+        assert!(local(&[
             ("LC_ALL", ""),
             ("LC_CTYPE", "de_DE.UTF-8"),
             ("LANG", "C")
-        ])));
-        assert!(!locale_is_utf8(env(&[
+        ]));
+        assert!(!local(&[
             ("LC_CTYPE", "de_DE.ISO-8859-1"),
             ("LANG", "C.UTF-8")
-        ])));
+        ]));
     }
 }

@@ -319,6 +319,43 @@ pub fn error_time_chart(
     by_time: bool,
     current: Option<CurrentRun>,
 ) {
+    let series = method_series(points, by_time, current);
+    let all: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|(_, _, d)| d.iter().map(|p| (p.0, p.1)))
+        .collect();
+    let Some((x, y)) = bounds_of(&all) else {
+        return notice(frame, theme, panel, "no error to plot".into());
+    };
+    let selected = current.map(|c| c.method);
+    let key = method_key(theme, &series, selected);
+    let (readout, optional) = match current {
+        Some(run) => current_readout(theme, points, by_time, run),
+        None => (Vec::new(), Vec::new()),
+    };
+    let plot = panel_with_key(frame, theme, &panel, &readout, &optional, &key, PLOT_ROWS);
+    let x_title = if by_time { "t [s]" } else { "n" };
+    let (x_axis, y_axis) = log_axes(x, y, x_title.into());
+    let Some(area) = PlotArea::new(plot, &x_axis, &y_axis) else {
+        return;
+    };
+    let buffer = frame.buffer_mut();
+    if let Some(run) = current.filter(|_| !by_time) {
+        let n = (run.elements as f64).log10();
+        area.vertical_line(buffer, n, current_line(theme), theme.current());
+    }
+    area.scatter(buffer, &method_markers(theme, &series, selected));
+    area.draw_axes(buffer, theme);
+}
+
+/// One series per method that has a point to draw, in [`Method::ALL`] order: log10 of the run
+/// time (or of n) and of the error against the reference, each point with whether it is at
+/// the current n.
+fn method_series(
+    points: &[MeshPoint],
+    by_time: bool,
+    current: Option<CurrentRun>,
+) -> Vec<MethodSeries> {
     let x_of = |p: &MeshPoint| {
         if by_time {
             p.run_time.as_secs_f64()
@@ -331,11 +368,6 @@ pub fn error_time_chart(
             .filter(|e| e.reference != Reference::ThisSolution)
             .and_then(|e| e.max_rel)
     };
-    let reference = points
-        .iter()
-        .find_map(|p| p.error.map(|e| e.reference))
-        .filter(|r| *r != Reference::ThisSolution);
-    // One series per method that has a point to draw, in Method::ALL order.
     let mut series: Vec<MethodSeries> = Vec::new();
     for (i, method) in Method::ALL.into_iter().enumerate() {
         let data: Vec<(f64, f64, bool)> = points
@@ -353,15 +385,12 @@ pub fn error_time_chart(
             series.push((i, method, data));
         }
     }
-    let all: Vec<(f64, f64)> = series
-        .iter()
-        .flat_map(|(_, _, d)| d.iter().map(|p| (p.0, p.1)))
-        .collect();
-    let Some((x, y)) = bounds_of(&all) else {
-        return notice(frame, theme, panel, "no error to plot".into());
-    };
-    let selected = current.map(|c| c.method);
-    let key: Vec<KeyEntry> = series
+    series
+}
+
+/// The key: each method's marker and name, the selected method's in bold.
+fn method_key(theme: &Theme, series: &[MethodSeries], selected: Option<Method>) -> Vec<KeyEntry> {
+    series
         .iter()
         .map(|(i, method, _)| {
             let (u, a) = METHOD_MARKERS[i % METHOD_MARKERS.len()];
@@ -376,61 +405,70 @@ pub fn error_time_chart(
                 short: Some(short_name(*method).to_string()),
             }
         })
-        .collect();
-    let mut readout = Vec::new();
+        .collect()
+}
+
+/// Lines of styled text over the key: those always shown, and those shown where there is
+/// room.
+type Readout = (Vec<(String, Style)>, Vec<(String, Style)>);
+
+/// What the chart prints of the scene's own run: its n, its method's error there (or why
+/// there is none), its run time when the x axis is time, and what the error is measured
+/// against (where there is room).
+fn current_readout(theme: &Theme, points: &[MeshPoint], by_time: bool, run: CurrentRun) -> Readout {
+    let reference = points
+        .iter()
+        .find_map(|p| p.error.map(|e| e.reference))
+        .filter(|r| *r != Reference::ThisSolution);
+    let mut readout = vec![(
+        format!("{} n = {}:", current_line(theme), run.elements),
+        theme.current(),
+    )];
     let mut optional = Vec::new();
-    if let Some(run) = current {
-        readout.push((
-            format!("{} n = {}:", current_line(theme), run.elements),
-            theme.current(),
-        ));
-        let i = Method::ALL
-            .iter()
-            .position(|m| *m == run.method)
-            .unwrap_or(0);
-        let (u, a) = METHOD_MARKERS[i % METHOD_MARKERS.len()];
-        let marker = marker_char(theme, u, a);
-        let style = theme.series(i);
-        let at = points
-            .iter()
-            .find(|p| p.method == run.method && p.elements == run.elements);
-        let text = match at {
-            None => format!("{marker} {} not in the sweep", run.method),
-            Some(p) if p.refused.is_some() => format!("{marker} {} gives no result", run.method),
-            Some(p) => match p.error {
-                Some(e) if e.reference == Reference::ThisSolution => {
-                    format!("{marker} {} is the reference", run.method)
-                }
-                Some(e) => format!(
-                    "{marker} {}",
-                    e.max_rel.map_or("error n/a".to_string(), |r| sci(r, 2))
-                ),
-                None => format!("{marker} error n/a"),
-            },
-        };
-        readout.push((text, style));
-        if by_time && let Some(p) = at.filter(|p| p.refused.is_none()) {
-            readout.push((format!("in {}", duration(p.run_time)), style));
-        }
-        if let Some(r) = reference {
-            optional.push((format!("(error vs {})", r.label()), theme.dim()));
-        }
-    }
-    let plot = panel_with_key(frame, theme, &panel, &readout, &optional, &key, PLOT_ROWS);
-    let x_title = if by_time { "t [s]" } else { "n" };
-    let (x_axis, y_axis) = log_axes(x, y, x_title.into());
-    let Some(area) = PlotArea::new(plot, &x_axis, &y_axis) else {
-        return;
+    let i = Method::ALL
+        .iter()
+        .position(|m| *m == run.method)
+        .unwrap_or(0);
+    let (u, a) = METHOD_MARKERS[i % METHOD_MARKERS.len()];
+    let marker = marker_char(theme, u, a);
+    let style = theme.series(i);
+    let at = points
+        .iter()
+        .find(|p| p.method == run.method && p.elements == run.elements);
+    let text = match at {
+        None => format!("{marker} {} not in the sweep", run.method),
+        Some(p) if p.refused.is_some() => format!("{marker} {} gives no result", run.method),
+        Some(p) => match p.error {
+            Some(e) if e.reference == Reference::ThisSolution => {
+                format!("{marker} {} is the reference", run.method)
+            }
+            Some(e) => format!(
+                "{marker} {}",
+                e.max_rel.map_or("error n/a".to_string(), |r| sci(r, 2))
+            ),
+            None => format!("{marker} error n/a"),
+        },
     };
-    let buffer = frame.buffer_mut();
-    if let Some(run) = current.filter(|_| !by_time) {
-        let n = (run.elements as f64).log10();
-        area.vertical_line(buffer, n, current_line(theme), theme.current());
+    readout.push((text, style));
+    if by_time && let Some(p) = at.filter(|p| p.refused.is_none()) {
+        readout.push((format!("in {}", duration(p.run_time)), style));
     }
-    // The selected method first: it keeps its exact cells.
+    if let Some(r) = reference {
+        optional.push((format!("(error vs {})", r.label()), theme.dim()));
+    }
+    (readout, optional)
+}
+
+/// The series as scatter markers, the selected method first (it keeps its exact cells), the
+/// points at the current n in reverse video.
+fn method_markers(
+    theme: &Theme,
+    series: &[MethodSeries],
+    selected: Option<Method>,
+) -> Vec<Markers> {
     let mut order: Vec<&MethodSeries> = series.iter().collect();
     order.sort_by_key(|(_, m, _)| Some(*m) != selected);
-    let markers: Vec<Markers> = order
+    order
         .iter()
         .map(|(i, _, data)| {
             let (u, a) = METHOD_MARKERS[i % METHOD_MARKERS.len()];
@@ -450,9 +488,7 @@ pub fn error_time_chart(
                     .collect(),
             }
         })
-        .collect();
-    area.scatter(buffer, &markers);
-    area.draw_axes(buffer, theme);
+        .collect()
 }
 
 /// A chart of study data drawn on its own, for reports.

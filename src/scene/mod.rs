@@ -283,7 +283,7 @@ impl Scene {
 
     /// Checks every rule and builds the problem the numerics solve.
     pub fn validate(&self, source: &str) -> Result<(Problem, Settings), SceneError> {
-        Validator { source }.run(self)
+        Validator { source }.check_all(self)
     }
 
     /// The physical problem, when the scene is known to be valid.

@@ -80,7 +80,7 @@ impl Validator<'_> {
 
     /// Every rule, in the order the messages report them: the beam and its stretches, the
     /// load, the obstacles, then the solver and view settings.
-    pub(super) fn run(&self, scene: &Scene) -> Result<(Problem, Settings), SceneError> {
+    pub(super) fn check_all(&self, scene: &Scene) -> Result<(Problem, Settings), SceneError> {
         let (length, stiffness) = self.beam(&scene.beam)?;
         let f0 = self.finite("load.f0", scene.load.f0)?;
         let f1 = self.finite("load.f1", scene.load.f1())?;

@@ -15,7 +15,7 @@ use russh::ChannelId;
 use russh::server::Handle;
 use tokio::sync::mpsc;
 
-use crate::plot::Look;
+use crate::plot::{Look, UnsetLocale, locale_is_utf8};
 use crate::scene::LoadedScene;
 use crate::tui::runtime::remote::{self, AfterFrame, Feed};
 use crate::tui::state::follow::Follow;
@@ -66,15 +66,10 @@ impl ClientTerminal {
     }
 
     /// ASCII unless the client's locale (LC_ALL, else LC_CTYPE, else LANG) is UTF-8 or
-    /// unknown, or its terminal is `dumb`; colours unless `NO_COLOR` or `dumb`.
+    /// unknown ([`crate::plot::locale_is_utf8`]: an SSH client that sent none is taken as
+    /// UTF-8), or its terminal is `dumb`; colours unless `NO_COLOR` or `dumb`.
     pub fn look(&self) -> Look {
-        let locale = ["LC_ALL", "LC_CTYPE", "LANG"]
-            .iter()
-            .find_map(|name| self.var(name));
-        let utf8 = locale.is_none_or(|l| {
-            let l = l.to_ascii_lowercase();
-            l.contains("utf-8") || l.contains("utf8")
-        });
+        let utf8 = locale_is_utf8(|name| self.var(name).map(String::from), UnsetLocale::Utf8);
         let dumb = self.term == "dumb";
         Look {
             ascii: !utf8 || dumb,

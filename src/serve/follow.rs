@@ -1,6 +1,6 @@
 //! Follow mode, on the server's side: the hub that takes each frame's state of a presenter
 //! (a session logged in with a key of `--presenter-keys`) and hands it to every student's
-//! explorer, which shows it while following. The presenter's solve and studies travel with
+//! explorer, which shows it while following. The presenter's solve and sweeps travel with
 //! the state, so they are computed once, not once per student.
 
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -2,9 +2,10 @@
 //! its own explorer — the local explorer's state, update, drawing and event loop, on its own
 //! threads — sized to the client's window. [`Server::start`] checks the options, prepares the
 //! host key and the list of who may log in, binds, and runs the server on a runtime thread of
-//! its own; [`run`] is the command line's way in (`beamfric serve`), and [`present`] runs the
-//! server behind the lecturer's own explorer, which presents (`beamfric present`). The solves
-//! and sweeps of all sessions share the machine's cores fairly (`crate::tui::runtime::cores`).
+//! its own; [`serve_until_stopped`] is the command line's way in (`beamfric serve`), and
+//! [`present`] runs the server behind the lecturer's own explorer, which presents (`beamfric
+//! present`). The solves and sweeps of all sessions share the machine's cores fairly
+//! (`crate::tui::runtime::cores`).
 //!
 //! - [`keys`]: host key, authorized keys, password;
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
@@ -113,7 +114,7 @@ pub(crate) struct Shared {
     pub dropped_input: AtomicU64,
     /// Follow mode, when there are presenter keys or the lecturer presents (`present`).
     pub hub: Option<follow::Hub>,
-    /// The solves and studies of all sessions share these cores.
+    /// The solves and sweeps of all sessions share these cores.
     pub cores: Arc<Cores>,
     /// Every running explorer's feed, to end them when the server stops.
     pub explorers: Mutex<Vec<(u64, Feed)>>,
@@ -304,7 +305,7 @@ impl Server {
             .map_or(0, |hub| hub.followers.count())
     }
 
-    /// The most solves and studies that ever ran at once (at most the machine's cores).
+    /// The most solves and sweeps that ever ran at once (at most the machine's cores).
     pub fn peak_parallel_work(&self) -> usize {
         self.shared.cores.queue().peak
     }
@@ -355,7 +356,7 @@ impl Drop for Server {
 }
 
 /// `beamfric serve`: start, say where and with which host key, serve.
-pub fn run(options: &ServeOptions) -> Result<(), String> {
+pub fn serve_until_stopped(options: &ServeOptions) -> Result<(), String> {
     let server = Server::start(options)?;
     for note in server.notes() {
         log(note);
@@ -370,7 +371,7 @@ pub fn run(options: &ServeOptions) -> Result<(), String> {
     Ok(())
 }
 
-/// `beamfric present`: the server of [`run`], and the lecturer's own explorer in this
+/// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer in this
 /// terminal, which presents — its scene and view go to every following session, as a session
 /// logged in with a presenter key does. Log lines are kept while the explorer has the terminal
 /// and printed after it. Quitting the explorer stops the server: every student's explorer

@@ -25,6 +25,7 @@ pub mod state;
 pub mod update;
 pub mod view;
 
+pub use runtime::event_loop::INJECT_PANIC;
 pub use runtime::headless::{
     RenderOptions, draw_to_buffer, finish_sweeps, prepare, press, render, settle, settled,
 };
@@ -33,10 +34,6 @@ pub use state::Ending;
 
 use crate::scene::LoadedScene;
 use state::{App, Options};
-
-/// Set to `main` or `worker` to make the explorer panic after its first frame (on the main
-/// thread or in a sweep), to test that the terminal is restored.
-pub const INJECT_PANIC: &str = "BEAMFRIC_INJECT_PANIC";
 
 /// Runs the explorer on `loaded` in the local terminal until the user quits, a signal arrives
 /// or the terminal hangs up. The terminal is restored on return, on a panic, on SIGINT,

@@ -1,6 +1,6 @@
 //! Fair sharing of the machine's cores between explorers that run in one process (the
 //! sessions of `beamfric serve`): every explorer keeps its own workers, but a worker runs a
-//! solve or a study only while it holds one of at most `limit` permits (the machine's
+//! solve or a sweep only while it holds one of at most `limit` permits (the machine's
 //! available parallelism). Waiting workers are served in turn, a session that holds no permit
 //! before one that already runs something, so one student at n = 10⁵ takes at most its share
 //! while 39 others at Benchmark 1 are served between its jobs. A worker waits for its turn
@@ -81,7 +81,7 @@ impl Queue {
 }
 
 impl Cores {
-    /// At most `limit` (at least one) solves and studies at once.
+    /// At most `limit` (at least one) solves and sweeps at once.
     pub fn new(limit: usize) -> Arc<Cores> {
         Arc::new(Cores {
             state: Mutex::default(),
@@ -114,14 +114,14 @@ impl Cores {
     }
 }
 
-/// One session's way to the cores (cheap to clone: its solve and study workers each hold one).
+/// One session's way to the cores (cheap to clone: its solve and sweep workers each hold one).
 #[derive(Debug, Clone)]
 pub struct Share {
     cores: Arc<Cores>,
     session: u64,
 }
 
-/// A permit to run one solve or study; given back on drop.
+/// A permit to run one solve or sweep; given back on drop.
 #[derive(Debug)]
 pub struct Permit {
     cores: Arc<Cores>,

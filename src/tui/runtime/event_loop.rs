@@ -22,10 +22,6 @@ use std::io::{self, Write};
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
-use ratatui::Terminal;
-use ratatui::backend::CrosstermBackend;
-
-use crate::tui::INJECT_PANIC;
 use crate::tui::input::decode::{Decoder, ESC_TIMEOUT, Input};
 use crate::tui::input::pointer::ClickTracker;
 use crate::tui::jobs::solve::{SolveRequest, Solved};
@@ -34,8 +30,12 @@ use crate::tui::state::{App, Ending, Exploration};
 use crate::tui::update::{Msg, Suspension, update};
 use crate::tui::view;
 
-use super::terminal::{MOUSE_OFF, MOUSE_ON};
+use super::screen::{MOUSE_OFF, MOUSE_ON, Screen};
 use super::worker::{Worker, WorkerOptions};
+
+/// Set to `main` or `worker` to make the explorer panic after its first frame (on the main
+/// thread or in a sweep), to test that the terminal is restored.
+pub const INJECT_PANIC: &str = "BEAMFRIC_INJECT_PANIC";
 
 /// How often the frame is redrawn while work is in flight (for the elapsed time).
 const TICK: Duration = Duration::from_millis(250);
@@ -62,23 +62,6 @@ pub enum Event {
     Follow(std::sync::Arc<Exploration>),
     /// Nothing but a new frame (e.g. the number of followers changed).
     Redraw,
-}
-
-/// Where the loop draws: the local terminal (`Session`) or a remote one (an SSH channel).
-/// Nothing here may query the terminal: its answers would arrive on the input the explorer
-/// reads itself, and a remote terminal is known only by what its client said.
-pub trait Screen {
-    type Out: Write;
-    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Self::Out>>;
-    /// The size in cells (columns, rows), as last known.
-    fn size(&mut self) -> io::Result<(u16, u16)>;
-    /// The terminal now has this size: draw the next frame whole at it.
-    fn resize(&mut self, width: u16, height: u16) -> io::Result<()>;
-    /// Ctrl-Z or SIGTSTP: give the terminal back until resumed, then redraw it whole. Returns
-    /// `false` when this screen cannot be suspended (a remote one).
-    fn suspend(&mut self) -> io::Result<bool>;
-    /// Forgets what was drawn, so the next frame is drawn whole.
-    fn redraw_all(&mut self) -> io::Result<()>;
 }
 
 /// Called with the state after every frame (a presenter publishes it).

@@ -5,10 +5,9 @@
 use std::io::{self, Read};
 use std::sync::mpsc::{Sender, channel};
 
-use crate::tui::INJECT_PANIC;
 use crate::tui::state::{App, Ending};
 
-use super::event_loop::{AfterFrame, Event, LoopOptions, event_loop};
+use super::event_loop::{AfterFrame, Event, INJECT_PANIC, LoopOptions, event_loop};
 use super::remote::Feed;
 use super::terminal::{SIGNALS, Session};
 

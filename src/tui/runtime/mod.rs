@@ -1,7 +1,7 @@
 //! The explorer's runtimes, the top of its layers: the event loop that turns a terminal's
 //! bytes, window changes, signals and the workers' results into the update's messages and
-//! draws ([`event_loop`]); the local terminal ([`local`], [`terminal`]) and a remote one over
-//! SSH ([`remote`]); the background workers ([`worker`]) and their fair share of a server's
+//! draws ([`event_loop`]) on a [`screen::Screen`]: the local terminal ([`local`],
+//! [`terminal`]) or a remote one over SSH ([`remote`]); the background workers ([`worker`]) and their fair share of a server's
 //! cores ([`cores`]); and the headless explorer that runs the same jobs on the spot
 //! ([`headless`]).
 
@@ -10,5 +10,6 @@ pub mod event_loop;
 pub mod headless;
 pub mod local;
 pub mod remote;
+pub mod screen;
 pub mod terminal;
 pub mod worker;

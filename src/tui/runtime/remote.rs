@@ -17,7 +17,8 @@ use ratatui::{Terminal, TerminalOptions, Viewport};
 use crate::tui::state::{App, Ending, Exploration};
 
 pub use super::event_loop::AfterFrame;
-use super::event_loop::{Event, LoopOptions, Screen, event_loop};
+use super::event_loop::{Event, LoopOptions, event_loop};
+use super::screen::Screen;
 
 /// Largest terminal accepted, in cells (a hostile client could ask for 65535 × 65535).
 pub const MAX_SIZE: (u16, u16) = (1000, 500);

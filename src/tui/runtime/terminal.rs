@@ -18,13 +18,7 @@ use crossterm::terminal::{
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
-/// Asks the terminal to report presses, drags and releases (modes 1000 and 1002, no motion
-/// without a button: little traffic over SSH), SGR-encoded (1006, any column); Shift+drag
-/// still selects text in the usual terminals.
-pub const MOUSE_ON: &str = "\x1b[?1000h\x1b[?1002h\x1b[?1006h";
-/// Stops the reports (also the any-motion mode 1003 and the urxvt encoding 1015 that other
-/// programs may have left on).
-pub const MOUSE_OFF: &str = "\x1b[?1006l\x1b[?1015l\x1b[?1003l\x1b[?1002l\x1b[?1000l";
+use super::screen::{MOUSE_OFF, Screen};
 
 /// The signals the explorer handles: the three that end it, the window size, and job control.
 pub const SIGNALS: [i32; 6] = [
@@ -101,7 +95,7 @@ impl Session {
     }
 }
 
-impl super::event_loop::Screen for Session {
+impl Screen for Session {
     type Out = Stdout;
 
     fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Stdout>> {

@@ -23,7 +23,7 @@ use super::cores::Share;
 pub trait Job: Clone + PartialEq + Send + 'static {
     type Output: Send + 'static;
     /// Runs the job; `None` when `cancel` stopped it (such a result answers nothing).
-    fn run(&self, cancel: &Cancellation) -> Option<Self::Output>;
+    fn compute(&self, cancel: &Cancellation) -> Option<Self::Output>;
     /// What to deliver when the job panicked with `message`.
     fn failed(&self, message: String) -> Self::Output;
 }
@@ -32,7 +32,7 @@ pub trait Job: Clone + PartialEq + Send + 'static {
 impl Job for SolveRequest {
     type Output = Result<Solved, String>;
 
-    fn run(&self, cancel: &Cancellation) -> Option<Self::Output> {
+    fn compute(&self, cancel: &Cancellation) -> Option<Self::Output> {
         let mut request = self.clone();
         request.options.cancel = cancel.clone();
         let solved = solve(&request);
@@ -49,7 +49,7 @@ impl Job for SolveRequest {
 impl Job for SweepRequest {
     type Output = SweepResult;
 
-    fn run(&self, cancel: &Cancellation) -> Option<Self::Output> {
+    fn compute(&self, cancel: &Cancellation) -> Option<Self::Output> {
         compute(self, cancel).ok()
     }
 
@@ -209,7 +209,7 @@ fn work<J: Job>(shared: &Shared<J>, options: WorkerOptions, deliver: impl Fn(J::
             if std::mem::take(&mut inject) {
                 panic!("injected panic in a job");
             }
-            job.run(&cancel)
+            job.compute(&cancel)
         }));
         match outcome {
             Ok(Some(output)) => deliver(output),
@@ -257,7 +257,7 @@ mod tests {
     impl Job for Countdown {
         type Output = (usize, u64);
 
-        fn run(&self, cancel: &Cancellation) -> Option<Self::Output> {
+        fn compute(&self, cancel: &Cancellation) -> Option<Self::Output> {
             for _ in 0..self.steps {
                 if cancel.is_cancelled() {
                     return None;

@@ -1,19 +1,17 @@
 //! Changes of the scene: a value stepped or typed, an obstacle added or deleted, the next
-//! method, undo and redo, a preset loaded, a reset — each checked by the scene's rules (and a
-//! served session's element cap) before it is kept, kept for undo, and followed by a request
-//! for the new solve. What would lose unsaved changes asks first.
+//! method, undo and redo, a preset loaded — each checked by the scene's rules (and a served
+//! session's element cap) before it is kept, kept for undo, and followed by a request for the
+//! new solve.
 
 use crate::model::Problem;
 use crate::scene::{LoadedScene, ObstacleSpec, PRESETS, Scene, Settings};
 use crate::solve::Method;
-use crate::tui::input::keymap::Action;
 use crate::tui::jobs::solve::SolveRequest;
 use crate::tui::state::app::sorted;
 use crate::tui::state::params::{Row, step};
-use crate::tui::state::{App, Diagram, Discard, Ending, Exploration, Mode, UNDO_LIMIT};
+use crate::tui::state::{App, Diagram, Exploration, UNDO_LIMIT};
 
 use super::refresh_sweeps;
-use super::save::start_save;
 
 /// Asks for the solve of the scene after a change, with the problem and settings its
 /// validation built. Nothing is solved here: the runtimes solve what the state wants.
@@ -25,57 +23,13 @@ pub(super) fn request_solve(app: &mut App, problem: Problem, settings: Settings)
 }
 
 /// Keeps the selection on an existing row after the rows changed.
-fn clamp_selection(app: &mut App) {
+pub(super) fn clamp_selection(app: &mut App) {
     let rows = app.exploration.rows().len();
     app.exploration.selected = app.exploration.selected.min(rows - 1);
 }
 
-/// Does `then` at once, or asks first when it would lose unsaved changes.
-pub(super) fn unless_unsaved(app: &mut App, then: Discard) {
-    if app.modified() {
-        app.mode = Mode::ConfirmDiscard { then };
-    } else {
-        discard_and(app, then);
-    }
-}
-
-/// Does `then`, losing the unsaved changes.
-pub(super) fn discard_and(app: &mut App, then: Discard) {
-    match then {
-        Discard::Quit => app.ending = Some(Ending::Quit),
-        Discard::Reset => {
-            remember(app);
-            let exploration = &mut app.exploration;
-            let (problem, settings) = exploration.loaded_problem.clone();
-            exploration.scene = exploration.loaded.clone();
-            app.saved = exploration.loaded.clone();
-            clamp_selection(app);
-            request_solve(app, problem, settings);
-            app.message = Some("reset to the scene as loaded (u undoes)".into());
-        }
-        Discard::Preset(index) => load_preset(app, index),
-    }
-}
-
-/// The answer to "lose the unsaved changes?".
-pub(super) fn confirm_discard(app: &mut App, action: Action, then: Discard) {
-    app.mode = Mode::Normal;
-    match action {
-        Action::Confirm => discard_and(app, then),
-        Action::Save => {
-            // Save first, then do what was asked once the save has succeeded (only where a
-            // save writes a file: a served session shows the text instead).
-            start_save(app);
-            if matches!(app.mode, Mode::Save { .. }) {
-                app.after_save = Some(then);
-            }
-        }
-        _ => app.message = Some("kept the unsaved changes".into()),
-    }
-}
-
 /// Keeps the current scene for undo, before it changes.
-fn remember(app: &mut App) {
+pub(super) fn remember(app: &mut App) {
     app.undo.push(app.exploration.scene.clone());
     if app.undo.len() > UNDO_LIMIT {
         app.undo.remove(0);
@@ -307,7 +261,7 @@ fn load(app: &mut App, loaded: LoadedScene) {
 
 /// Loads the preset with this index into [`PRESETS`], unless it is beyond this explorer's
 /// limits.
-fn load_preset(app: &mut App, index: usize) {
+pub(super) fn load_preset(app: &mut App, index: usize) {
     let preset = &PRESETS[index.min(PRESETS.len() - 1)];
     match LoadedScene::preset(preset) {
         Ok(loaded) if beyond_limits(app, &loaded.scene).is_some() => {

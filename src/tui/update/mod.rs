@@ -6,10 +6,12 @@
 //! as it was and says why.
 //!
 //! By subject: [`normal`] (the keys of normal mode), [`edit`] (changes of the scene: values,
-//! obstacles, methods, undo and redo, presets, reset), [`prompts`] (typing a value, the preset
-//! picker, the scrolled views), [`save`], [`pointer`] (the mouse), [`follow`] (forks, rejoins,
-//! the presenter's states) and [`results`] (solves and sweeps arriving).
+//! obstacles, methods, undo and redo, presets), [`discard`] (what would lose unsaved changes
+//! asks first), [`prompts`] (typing a value, the preset picker, the scrolled views) and the
+//! editing keys of every prompt ([`typing`]), [`save`], [`pointer`] (the mouse), [`follow`]
+//! (forks, rejoins, the presenter's states) and [`results`] (solves and sweeps arriving).
 
+mod discard;
 mod edit;
 mod follow;
 mod normal;
@@ -17,6 +19,7 @@ mod pointer;
 mod prompts;
 mod results;
 mod save;
+mod typing;
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -185,9 +188,17 @@ fn apply(app: &mut App, action: Action) {
             }
             Mode::Editing { row, prompt } => prompts::editing(app, action, row, prompt),
             Mode::Presets(picker) => prompts::presets(app, action, picker),
-            Mode::Save { prompt } => save::save_prompt(app, action, prompt),
-            Mode::ConfirmOverwrite { path } => save::confirm_overwrite(app, action, path),
-            Mode::ConfirmDiscard { then } => edit::confirm_discard(app, action, then),
+            Mode::Save { prompt } => {
+                if let Some(then) = save::save_prompt(app, action, prompt) {
+                    discard::discard_and(app, then);
+                }
+            }
+            Mode::ConfirmOverwrite { path } => {
+                if let Some(then) = save::confirm_overwrite(app, action, path) {
+                    discard::discard_and(app, then);
+                }
+            }
+            Mode::ConfirmDiscard { then } => discard::confirm_discard(app, action, then),
         },
     }
 }

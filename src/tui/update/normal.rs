@@ -12,9 +12,8 @@ use crate::tui::state::picker::PresetPicker;
 use crate::tui::state::prompt::{Prompt, editable_number};
 use crate::tui::state::{App, Discard, Mode};
 
-use super::edit::{
-    add_obstacle, change, delete_obstacle, next_diagram, next_method, undo_redo, unless_unsaved,
-};
+use super::discard::unless_unsaved;
+use super::edit::{add_obstacle, change, delete_obstacle, next_diagram, next_method, undo_redo};
 use super::refresh_sweeps;
 use super::save::start_save;
 

@@ -6,10 +6,12 @@ use crate::tui::input::keymap::Action;
 use crate::tui::layout::picker::picker_rows_shown;
 use crate::tui::state::params::{Row, set_from_text};
 use crate::tui::state::picker::PresetPicker;
-use crate::tui::state::prompt::{Prompt, Typed};
+use crate::tui::state::prompt::Prompt;
 use crate::tui::state::{App, Discard, Mode};
 
-use super::edit::{try_apply, unless_unsaved};
+use super::discard::unless_unsaved;
+use super::edit::try_apply;
+use super::typing::edit_prompt;
 
 /// Longest value a prompt accepts.
 const PROMPT_LIMIT: usize = 200;
@@ -26,22 +28,6 @@ pub(super) fn scrolled(offset: u16, action: Action) -> Option<u16> {
         Action::SelectNext => Some(offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT)),
         _ => None,
     }
-}
-
-/// The editing keys every prompt shares: what typing did, or `None` when `action` is not one
-/// of them.
-pub(super) fn edit_prompt(prompt: &mut Prompt, action: Action, limit: usize) -> Option<Typed> {
-    match action {
-        Action::Type(c) => return Some(prompt.insert(c, limit)),
-        Action::DeleteChar => prompt.delete_before(),
-        Action::CursorLeft => prompt.move_by(-1),
-        Action::CursorRight => prompt.move_by(1),
-        Action::CursorHome => prompt.home(),
-        Action::CursorEnd => prompt.end(),
-        Action::EraseToStart => prompt.erase_to_start(),
-        _ => return None,
-    }
-    Some(Typed::Inserted)
 }
 
 /// A key in the prompt for `row`'s value: Enter sets it (if the scene's rules accept it).

@@ -7,10 +7,9 @@
 use crate::scene::save_scene;
 use crate::tui::input::keymap::Action;
 use crate::tui::state::prompt::{Prompt, Typed};
-use crate::tui::state::{App, Mode, SavePolicy};
+use crate::tui::state::{App, Discard, Mode, SavePolicy};
 
-use super::edit::discard_and;
-use super::prompts::edit_prompt;
+use super::typing::edit_prompt;
 
 /// Longest file name the save prompt accepts (PATH_MAX on Linux).
 const PATH_LIMIT: usize = 4096;
@@ -35,16 +34,18 @@ pub(super) fn start_save(app: &mut App) {
     }
 }
 
-pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
+/// A key in the file-name prompt. Returns what was waiting for the save (a quit, a reset, a
+/// preset) once the scene is saved.
+pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> Option<Discard> {
     match edit_prompt(&mut prompt, action, PATH_LIMIT) {
         Some(Typed::Full) => {
             app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
             app.mode = Mode::Save { prompt };
-            return;
+            return None;
         }
         Some(Typed::Inserted) => {
             app.mode = Mode::Save { prompt };
-            return;
+            return None;
         }
         None => {}
     }
@@ -59,7 +60,7 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
                 app.mode = Mode::ConfirmOverwrite { path };
             } else {
                 app.mode = Mode::Normal;
-                save(app, &path, false);
+                return save(app, &path, false);
             }
         }
         Action::Cancel => {
@@ -69,35 +70,40 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
         }
         _ => app.mode = Mode::Save { prompt },
     }
+    None
 }
 
-pub(super) fn confirm_overwrite(app: &mut App, action: Action, path: String) {
+/// The answer to "overwrite the file?". Returns what was waiting for the save once the scene
+/// is saved.
+pub(super) fn confirm_overwrite(app: &mut App, action: Action, path: String) -> Option<Discard> {
     app.mode = Mode::Normal;
     match action {
         Action::Confirm => save(app, &path, true),
         _ => {
             app.after_save = None;
             app.message = Some(format!("not saved: {path} left as it was"));
+            None
         }
     }
 }
 
-fn save(app: &mut App, path: &str, overwrite: bool) {
-    // What to do after a successful save; a failed or refused one drops it.
+/// Saves the scene to `path`. Returns what was waiting for the save when it succeeded (a
+/// failed or refused save drops it).
+fn save(app: &mut App, path: &str, overwrite: bool) -> Option<Discard> {
     let then = app.after_save.take();
     if saving_is_off(app) {
-        return;
+        return None;
     }
     let target = match &app.save_policy {
         SavePolicy::Write => std::path::PathBuf::from(path),
         // Handled by `saving_is_off`.
-        SavePolicy::Refuse(_) | SavePolicy::ShowText => return,
+        SavePolicy::Refuse(_) | SavePolicy::ShowText => return None,
         SavePolicy::Simulate => {
             app.message = Some(format!(
                 "not saved: a headless render writes no files (it would save to {path}; \
                  --allow-save DIR lets it)"
             ));
-            return;
+            return None;
         }
         SavePolicy::Within(dir) => match save_target(&app.save_policy, path) {
             Some(target) => target,
@@ -106,7 +112,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
                     "not saved: {path} is outside {}, the only directory saves may go to",
                     dir.display()
                 ));
-                return;
+                return None;
             }
         },
     };
@@ -120,11 +126,12 @@ fn save(app: &mut App, path: &str, overwrite: bool) {
             } else {
                 format!("saved to {path} ({notes})")
             });
-            if let Some(then) = then {
-                discard_and(app, then);
-            }
+            then
         }
-        Err(e) => app.message = Some(format!("not saved: {e}")),
+        Err(e) => {
+            app.message = Some(format!("not saved: {e}"));
+            None
+        }
     }
 }
 

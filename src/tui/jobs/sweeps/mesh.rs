@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use super::{PanelSweep, SweepContext, SweepData, SweepInputs};
+use super::sweep::{PanelSweep, SweepContext, SweepData, SweepInputs};
 use crate::scene::Panel;
 use crate::solve::Method;
 use crate::study::{self, Cancel, Cancelled};

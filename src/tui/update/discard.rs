@@ -1,0 +1,52 @@
+//! What would lose unsaved changes — quitting, a reset, loading a preset — asks first: the
+//! question's answer (yes, save first, or keep them), and the reset itself.
+
+use crate::tui::input::keymap::Action;
+use crate::tui::state::{App, Discard, Ending, Mode};
+
+use super::edit::{clamp_selection, load_preset, remember, request_solve};
+use super::save::start_save;
+
+/// Does `then` at once, or asks first when it would lose unsaved changes.
+pub(super) fn unless_unsaved(app: &mut App, then: Discard) {
+    if app.modified() {
+        app.mode = Mode::ConfirmDiscard { then };
+    } else {
+        discard_and(app, then);
+    }
+}
+
+/// Does `then`, losing the unsaved changes.
+pub(super) fn discard_and(app: &mut App, then: Discard) {
+    match then {
+        Discard::Quit => app.ending = Some(Ending::Quit),
+        Discard::Reset => {
+            remember(app);
+            let exploration = &mut app.exploration;
+            let (problem, settings) = exploration.loaded_problem.clone();
+            exploration.scene = exploration.loaded.clone();
+            app.saved = exploration.loaded.clone();
+            clamp_selection(app);
+            request_solve(app, problem, settings);
+            app.message = Some("reset to the scene as loaded (u undoes)".into());
+        }
+        Discard::Preset(index) => load_preset(app, index),
+    }
+}
+
+/// The answer to "lose the unsaved changes?".
+pub(super) fn confirm_discard(app: &mut App, action: Action, then: Discard) {
+    app.mode = Mode::Normal;
+    match action {
+        Action::Confirm => discard_and(app, then),
+        Action::Save => {
+            // Save first, then do what was asked once the save has succeeded (only where a
+            // save writes a file: a served session shows the text instead).
+            start_save(app);
+            if matches!(app.mode, Mode::Save { .. }) {
+                app.after_save = Some(then);
+            }
+        }
+        _ => app.message = Some("kept the unsaved changes".into()),
+    }
+}
