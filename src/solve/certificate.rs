@@ -10,12 +10,12 @@ use std::cell::OnceCell;
 
 use super::closed_form::closed_form;
 use super::condensed;
-use super::condensed::FrictionState;
 use super::equilibrium::{self, Equilibrium, Judging};
 use super::options::{Cancellation, ConditionLevel, SolveOptions};
 use super::shared::MethodOutput;
 use super::solution::{
-    Conditioning, ErrorReport, ObstacleResult, Reference, Solution, Warning, WarningCode,
+    Conditioning, ErrorReport, FrictionState, ObstacleResult, Reference, Solution, Warning,
+    WarningCode,
 };
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, stiffness_condition_bounds};
 use crate::linalg::BlockMatrix;

@@ -30,7 +30,7 @@
 //! kind, is what the certificate reports as the regularised forces' uncertainty
 //! (`accuracy-loss` above 1e-8).
 
-use super::condensed::FrictionState;
+use super::solution::FrictionState;
 use crate::fem::{Mesh, NodalField};
 use crate::fem::{element_load, element_stiffness};
 use crate::linalg::parallel::run_jobs;

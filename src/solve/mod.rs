@@ -28,13 +28,11 @@ use certificate::MeshReference;
 pub use crate::model::Method;
 pub use certificate::{compare, reference_field};
 pub use closed_form::{ClosedForm, closed_form};
-pub use condensed::{
-    CondensedFailure, CondensedSolution, FrictionState, solve_condensed, solve_condensed_while,
-};
+pub use condensed::{CondensedFailure, CondensedSolution, solve_condensed, solve_condensed_while};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
-    Conditioning, ErrorReport, MethodDetails, ObstacleResult, Reference, Solution, SolveError,
-    SolveErrorKind, Timing, Warning, WarningCode,
+    Conditioning, ErrorReport, FrictionState, MethodDetails, ObstacleResult, Reference, Solution,
+    SolveError, SolveErrorKind, Timing, Warning, WarningCode,
 };
 
 /// Solves with `method`, then certifies the answer (KKT residual, friction states, optional

@@ -5,7 +5,7 @@
 use std::time::{Duration, Instant};
 
 use super::options::{ConditionLevel, SolveOptions};
-use super::solution::{MethodDetails, Timing, Warning, WarningCode};
+use super::solution::{FrictionState, MethodDetails, Timing, Warning, WarningCode};
 use crate::fem::NodalField;
 use crate::linalg::boxqp::QpResult;
 use crate::linalg::condition::{ConditionNumber, dense_condition};
@@ -20,7 +20,7 @@ pub(crate) struct MethodOutput {
     /// only where its independent check finds the DOF at the threshold within rounding, i.e.
     /// where both descriptions fit the returned values; it never overrides a state the check
     /// decides.
-    pub states: Option<Vec<[super::condensed::FrictionState; 2]>>,
+    pub states: Option<Vec<[FrictionState; 2]>>,
     pub timing: Timing,
     pub warnings: Vec<Warning>,
     pub details: MethodDetails,

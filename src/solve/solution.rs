@@ -7,7 +7,6 @@ use std::time::Duration;
 
 use serde::Serialize;
 
-use super::condensed::FrictionState;
 use crate::fem::NodalField;
 use crate::linalg::condition::ConditionNumber;
 use crate::model::Method;
@@ -193,6 +192,17 @@ impl Warning {
             message: message.into(),
         }
     }
+}
+
+/// The friction state of one DOF (value or slope) of an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrictionState {
+    /// c = 0 and |λ| < g by more than rounding.
+    Stuck,
+    /// c ≠ 0 by more than rounding, λ = g·sign c.
+    Moves,
+    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
+    AtThreshold,
 }
 
 impl FrictionState {

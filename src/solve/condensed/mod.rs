@@ -74,21 +74,12 @@
 
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, cancelled};
-use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
+use super::solution::{
+    FrictionState, MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode,
+};
 use crate::fem::{Mesh, NodalField};
 use crate::model::{Method, Problem};
 use search::{NEWTON_REVERSAL_FRACTIONS, solve_with_newton_phases};
-
-/// The friction state of one DOF (value or slope) of an obstacle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FrictionState {
-    /// c = 0 and |λ| < g by more than rounding.
-    Stuck,
-    /// c ≠ 0 by more than rounding, λ = g·sign c.
-    Moves,
-    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
-    AtThreshold,
-}
 
 /// The result of the condensed method, in SI units.
 #[derive(Debug, Clone, PartialEq)]

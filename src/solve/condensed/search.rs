@@ -7,10 +7,11 @@ use std::collections::HashSet;
 use super::nodes::nodal_field;
 use super::scaling::Scales;
 use super::system::{Accuracy, Condensed, Pattern, PatternSolution};
-use super::{CondensedFailure, CondensedSolution, FrictionState};
+use super::{CondensedFailure, CondensedSolution};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
+use crate::solve::solution::FrictionState;
 
 /// A point of the monotone search on the friction DOFs: the motions c and the forces
 /// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
