@@ -6,7 +6,7 @@ use std::collections::HashSet;
 
 use super::nodes::nodal_field;
 use super::scaling::Scales;
-use super::system::{Accuracy, Condensed, Pattern, PatternSolution};
+use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Condensed, Pattern, PatternSolution};
 use super::{CondensedFailure, CondensedSolution};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
@@ -196,13 +196,6 @@ pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 /// low for this many solves.
 pub(super) const NEWTON_PATIENCE: usize = 6;
 
-/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 (u, u', m, m') reach
-/// the columns 4p − 2 ..= 4p + 1 of its start point (u and u' rows all four, m and m' rows only
-/// m, m') and 4p + 2 ..= 4p + 5 of its end point (u, u' rows only a, b; the m row b and m; the
-/// m' row a and m'), which bounds the band by (3, 3).
-pub(super) const BAND_LOWER: usize = 3;
-pub(super) const BAND_UPPER: usize = 3;
-
 /// A 64-bit fingerprint of a pattern (FNV-1a over the states).
 fn fingerprint(pattern: &[Pattern]) -> u64 {
     pattern
@@ -225,10 +218,13 @@ pub(super) fn solve_with_newton_phases(
     keep_going: &mut dyn FnMut() -> bool,
 ) -> Result<CondensedSolution, CondensedFailure> {
     let scales = Scales::of(problem);
-    let condensed = Condensed::new(problem, mesh, &scales);
-    if let Some(&first) = newton_phases.first() {
-        condensed.reversal_fraction.set(first);
-    }
+    // The first Newton phase's σ fraction; without Newton phases, the first variant's (a
+    // reversing DOF is held stuck).
+    let first_fraction = newton_phases
+        .first()
+        .copied()
+        .unwrap_or(NEWTON_REVERSAL_FRACTIONS[0]);
+    let condensed = Condensed::new(problem, mesh, &scales, first_fraction);
     let dofs = 2 * problem.obstacles.len();
     let mut pattern = vec![Pattern::Stuck; dofs];
     let limit = 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS;

@@ -4,13 +4,18 @@
 
 use super::CondensedFailure;
 use super::scaling::{ExactPiece, Piece, Scales};
-use super::search::NEWTON_REVERSAL_FRACTIONS;
-use super::search::{BAND_LOWER, BAND_UPPER};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::linalg::banded_lu_dd::DoubleDoubleBanded;
 use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
+
+/// The band of the multiple-shooting system: piece p's rows 4p..4p+3 (u, u', m, m') reach
+/// the columns 4p − 2 ..= 4p + 1 of its start point (u and u' rows all four, m and m' rows only
+/// m, m') and 4p + 2 ..= 4p + 5 of its end point (u, u' rows only a, b; the m row b and m; the
+/// m' row a and m'), which bounds the band by (3, 3).
+pub(super) const BAND_LOWER: usize = 3;
+pub(super) const BAND_UPPER: usize = 3;
 
 /// What elimination without refinement is trusted to resolve, relative to the largest value
 /// of a kind (generous: a short piece next to long ones makes the system ill-conditioned).
@@ -107,7 +112,14 @@ enum Refinement {
 const REFINED_RESOLUTION: f64 = 1.0 / (1u128 << 98) as f64;
 
 impl Condensed {
-    pub(super) fn new(problem: &Problem, mesh: &Mesh, scales: &Scales) -> Condensed {
+    /// The system of `problem` on `mesh` in the units of `scales`, with σ / diagonal stiffness
+    /// `reversal_fraction` in the reversal prediction until the search sets another.
+    pub(super) fn new(
+        problem: &Problem,
+        mesh: &Mesh,
+        scales: &Scales,
+        reversal_fraction: f64,
+    ) -> Condensed {
         let length = |x: f64| times_power_of_two(x, -scales.length);
         let load = |f: f64| times_power_of_two(f, -scales.load);
         let (f0, f1) = (load(problem.load.f0), load(problem.load.f1));
@@ -177,7 +189,7 @@ impl Condensed {
             obstacle_at_point,
             point_of_obstacle,
             thresholds,
-            reversal_fraction: std::cell::Cell::new(NEWTON_REVERSAL_FRACTIONS[0]),
+            reversal_fraction: std::cell::Cell::new(reversal_fraction),
         }
     }
 
