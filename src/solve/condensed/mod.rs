@@ -4,9 +4,9 @@
 //!
 //! **Pieces.** On a piece between consecutive special points E·J is constant and f linear, so
 //! the beam equation (EJ u'')'' = f has the exact transfer y(b) = Φ y(a) + q for the state
-//! y = (u, u', m, m') with m = EJ u'' (the force formulation of DESIGN.md fact 3, but applied
+//! y = (u, u', m, m') with m = EJ u'' (the force formulation of docs/design.md fact 3, but applied
 //! to one piece at a time). Because the finite-element solution is exact at the nodes
-//! (DESIGN.md fact 1), the states at the special points determine the discrete solution of (38)
+//! (docs/design.md fact 1), the states at the special points determine the discrete solution of (38)
 //! on any mesh.
 //!
 //! **Multiple shooting instead of single shooting.** The unknowns are the state at the start of
@@ -71,6 +71,12 @@
 //! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
 //! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,
 //! and the error does not grow with n.
+//!
+//! **Layout.** `scaling` (the power-of-two units and one piece's exact transfer), `system` (the
+//! banded system of a pattern and its solve), `refinement` (double-double refinement and the
+//! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
+//! search's step), `search` (the Newton phases and the monotone search), `nodes` (every node
+//! from its piece).
 
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, cancelled};
@@ -105,7 +111,10 @@ pub enum CondensedFailure {
     Stopped,
 }
 
+mod decisions;
+mod line_search;
 mod nodes;
+mod refinement;
 mod scaling;
 mod search;
 mod system;

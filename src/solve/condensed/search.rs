@@ -4,185 +4,15 @@
 
 use std::collections::HashSet;
 
+use super::line_search::SearchPoint;
 use super::nodes::nodal_field;
 use super::scaling::Scales;
-use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Condensed, Pattern, PatternSolution};
+use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, ShootingSystem};
 use super::{CondensedFailure, CondensedSolution};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
-use crate::solve::solution::FrictionState;
-
-/// A point of the monotone search on the friction DOFs: the motions c and the forces
-/// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
-/// the point, so a point between two solves carries the same combination of their forces:
-/// no stiffness (1e27 for a piece 1e-9·l long) is ever multiplied by a displacement.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct SearchPoint {
-    pub(super) motion: Vec<f64>,
-    pub(super) force: Vec<f64>,
-}
-
-impl Condensed {
-    /// The friction DOFs' motions and forces of a solve.
-    pub(super) fn search_point(&self, solution: &PatternSolution) -> SearchPoint {
-        SearchPoint {
-            motion: (0..solution.lambda.len())
-                .map(|i| self.friction_value(solution, i))
-                .collect(),
-            force: solution.lambda.clone(),
-        }
-    }
-
-    /// Exact minimisation of J(c + t d), d = target − c, over t ∈ [0, 1]: J is convex and
-    /// piecewise quadratic along the segment, with kinks where a friction DOF crosses zero.
-    /// The slope of its smooth part is −rᵀd and its curvature dᵀK d = dᵀ(r(c) − r(target)).
-    /// Returns the new point (DOFs that stop at their kink set to exactly zero) and whether
-    /// it is the target itself.
-    pub(super) fn line_search(
-        &self,
-        current: &SearchPoint,
-        target: &SearchPoint,
-    ) -> (SearchPoint, bool) {
-        let (c, r) = (&current.motion, &current.force);
-        let d: Vec<f64> = target.motion.iter().zip(c).map(|(t, c)| t - c).collect();
-        let q: f64 = d
-            .iter()
-            .zip(r.iter().zip(&target.force))
-            .map(|(d, (a, b))| d * (a - b))
-            .sum();
-        let sign = |v: f64| {
-            if v > 0.0 {
-                1.0
-            } else if v < 0.0 {
-                -1.0
-            } else {
-                0.0
-            }
-        };
-        // Slope of J at t = 0⁺ and the kinks ahead.
-        let mut slope = 0.0;
-        let mut kinks = Vec::new();
-        for (i, (&ci, &di)) in c.iter().zip(&d).enumerate() {
-            let g = self.thresholds[i / 2][i % 2];
-            if di == 0.0 {
-                continue;
-            }
-            if g == 0.0 {
-                slope -= r[i] * di;
-                continue;
-            }
-            let direction = if ci != 0.0 { sign(ci) } else { sign(di) };
-            // One term per DOF, (g·sign − r)·d: exactly zero for a DOF that moves on at its
-            // threshold, so a large moving DOF cannot round away the slope of the others.
-            slope += (g * direction - r[i]) * di;
-            if ci != 0.0 && sign(ci) != sign(di) {
-                let t = -ci / di;
-                if t < 1.0 {
-                    kinks.push((t, i, 2.0 * g * di.abs()));
-                }
-            }
-        }
-        kinks.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut at = 0.0;
-        let mut stop = None;
-        if slope >= 0.0 {
-            stop = Some((0.0, None));
-        } else {
-            for &(t, i, jump) in &kinks {
-                // J'(s) = slope + q (s − at) on [at, t].
-                if q > 0.0 && slope + q * (t - at) >= 0.0 {
-                    stop = Some((at - slope / q, None));
-                    break;
-                }
-                // The jump first: past a DOF's own kink it often cancels the slope.
-                slope = (slope + jump) + q * (t - at);
-                at = t;
-                if slope >= 0.0 {
-                    stop = Some((t, Some(i)));
-                    break;
-                }
-            }
-            if stop.is_none() && q > 0.0 && slope + q * (1.0 - at) >= 0.0 {
-                stop = Some((at - slope / q, None));
-            }
-        }
-        match stop {
-            None => (target.clone(), true),
-            Some((t, kink)) => {
-                let t = t.clamp(0.0, 1.0);
-                let between = |a: &[f64], b: &[f64]| -> Vec<f64> {
-                    a.iter().zip(b).map(|(a, b)| a + t * (b - a)).collect()
-                };
-                let mut next = SearchPoint {
-                    motion: between(c, &target.motion),
-                    force: between(r, &target.force),
-                };
-                if let Some(i) = kink {
-                    next.motion[i] = 0.0;
-                }
-                // Every DOF whose kink lies at or before t has crossed or stopped at zero.
-                for &(tk, i, _) in &kinks {
-                    if tk == t {
-                        next.motion[i] = 0.0;
-                    }
-                }
-                (next, false)
-            }
-        }
-    }
-
-    /// The pattern of a point: moving DOFs with their sign, zeros stuck.
-    pub(super) fn signs_of(&self, point: &SearchPoint) -> Vec<Pattern> {
-        point
-            .motion
-            .iter()
-            .map(|&v| {
-                if v > 0.0 {
-                    Pattern::Positive
-                } else if v < 0.0 {
-                    Pattern::Negative
-                } else {
-                    Pattern::Stuck
-                }
-            })
-            .collect()
-    }
-
-    /// σ of the semismooth Newton prediction λ + σc for a DOF that reverses: a fraction of
-    /// its diagonal stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope).
-    /// With σ = 0 a reversing DOF is first held stuck.
-    pub(super) fn reversal_stiffness(&self, i: usize) -> f64 {
-        let p = self.point_of_obstacle[i / 2];
-        let diagonal: f64 = [p - 1, p]
-            .iter()
-            .map(|&q| {
-                let piece = &self.pieces[q];
-                if i.is_multiple_of(2) {
-                    12.0 * piece.stiffness / piece.length.powi(3)
-                } else {
-                    4.0 * piece.stiffness / piece.length
-                }
-            })
-            .sum();
-        self.reversal_fraction.get() * diagonal
-    }
-
-    pub(super) fn state(
-        &self,
-        solution: &PatternSolution,
-        pattern: &[Pattern],
-        i: usize,
-    ) -> FrictionState {
-        let (motion_noise, force_noise) = self.resolution(solution, i);
-        match pattern[i] {
-            Pattern::Stuck if self.force_excess(solution, i) < -force_noise => FrictionState::Stuck,
-            Pattern::Stuck => FrictionState::AtThreshold,
-            _ if self.friction_value(solution, i).abs() > motion_noise => FrictionState::Moves,
-            _ => FrictionState::AtThreshold,
-        }
-    }
-}
+use crate::solve::FrictionState;
 
 /// Most solves of one semismooth Newton phase.
 pub(super) const NEWTON_STEPS: usize = 40;
@@ -224,7 +54,7 @@ pub(super) fn solve_with_newton_phases(
         .first()
         .copied()
         .unwrap_or(NEWTON_REVERSAL_FRACTIONS[0]);
-    let condensed = Condensed::new(problem, mesh, &scales, first_fraction);
+    let system = ShootingSystem::new(problem, mesh, &scales, first_fraction);
     let dofs = 2 * problem.obstacles.len();
     let mut pattern = vec![Pattern::Stuck; dofs];
     let limit = 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS;
@@ -236,7 +66,7 @@ pub(super) fn solve_with_newton_phases(
     // Every pattern is solved by elimination alone; when a decision is within what that can
     // resolve (or the pattern looks consistent), the same system is refined from its factors
     // (each value to its own last bits) and the decision is taken on the refined values.
-    let mut system = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
+    let mut banded = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
     let mut newton_phase = !newton_phases.is_empty();
     let (mut phase, mut phase_start) = (0, 0);
     // The fewest inconsistent DOFs seen in this phase, and when.
@@ -251,7 +81,7 @@ pub(super) fn solve_with_newton_phases(
     let changes_of = |solution: &PatternSolution, pattern: &[Pattern]| -> Vec<(usize, Pattern)> {
         (0..dofs)
             .filter_map(|i| {
-                let wanted = condensed.wanted(solution, pattern, i);
+                let wanted = system.wanted(solution, pattern, i);
                 (wanted != pattern[i]).then_some((i, wanted))
             })
             .collect()
@@ -260,21 +90,21 @@ pub(super) fn solve_with_newton_phases(
         if !keep_going() {
             return Err(CondensedFailure::Stopped);
         }
-        let mut solution = condensed.solve_pattern(&pattern, Accuracy::Plain, &mut system)?;
+        let mut solution = system.solve_pattern(&pattern, Accuracy::Plain, &mut banded)?;
         solves += 1;
         let mut changes = changes_of(&solution, &pattern);
         // Newton steps take the decisions that elimination alone settles first, the others
         // on refined values once nothing else is left to change; the monotone search (which
         // must not be misled by a wrong sign) decides on refined values whenever any
         // decision is uncertain.
-        let uncertain = condensed.uncertain(&solution, &pattern);
+        let uncertain = system.uncertain(&solution, &pattern);
         if newton_phase {
             changes.retain(|&(i, _)| !uncertain[i]);
         } else if uncertain.iter().any(|&u| u) {
             changes.clear();
         }
         if changes.is_empty() {
-            solution = condensed.solve_pattern(&pattern, Accuracy::RefineLast, &mut system)?;
+            solution = system.solve_pattern(&pattern, Accuracy::RefineLast, &mut banded)?;
             changes = changes_of(&solution, &pattern);
             if changes.is_empty() {
                 break (solution, true);
@@ -308,7 +138,7 @@ pub(super) fn solve_with_newton_phases(
                 seen.clear();
                 pattern = vec![Pattern::Stuck; dofs];
                 match newton_phases.get(phase) {
-                    Some(&fraction) => condensed.reversal_fraction.set(fraction),
+                    Some(&fraction) => system.reversal_fraction.set(fraction),
                     None => {
                         newton_phase = false;
                         if let Some(start) = best_start.1.take() {
@@ -319,7 +149,7 @@ pub(super) fn solve_with_newton_phases(
             }
             continue;
         }
-        let candidate = condensed.search_point(&solution);
+        let candidate = system.search_point(&solution);
         // Every moving DOF keeps its sign (to within what the solve resolves): the candidate
         // minimises the pattern's quadratic, which equals J there and at the current point
         // (whose moving DOFs have these signs or are zero, and stuck ones are zero), so it is
@@ -330,7 +160,7 @@ pub(super) fn solve_with_newton_phases(
             None => (candidate, true),
             Some(_) if keeps_signs => (candidate, true),
             Some(c) => {
-                let (next, full) = condensed.line_search(&c, &candidate);
+                let (next, full) = system.line_search(&c, &candidate);
                 if !full && next == c {
                     // No descent towards the optimum of the enlarged pattern.
                     match fallback.take() {
@@ -367,7 +197,7 @@ pub(super) fn solve_with_newton_phases(
             for &(i, wanted) in &changes {
                 pattern[i] = wanted;
                 let l = solution.lambda[i].abs();
-                let excess = (l - condensed.thresholds[i / 2][i % 2]) / l;
+                let excess = (l - system.thresholds[i / 2][i % 2]) / l;
                 if worst.is_none_or(|(e, _, _)| excess > e) {
                     worst = Some((excess, i, wanted));
                 }
@@ -378,7 +208,7 @@ pub(super) fn solve_with_newton_phases(
                 fallback = Some((base, i, wanted));
             }
         } else {
-            pattern = condensed.signs_of(&c);
+            pattern = system.signs_of(&c);
         }
         current = Some(c);
     };
@@ -386,8 +216,8 @@ pub(super) fn solve_with_newton_phases(
     let states: Vec<[FrictionState; 2]> = (0..problem.obstacles.len())
         .map(|j| {
             [
-                condensed.state(&solution, &pattern, 2 * j),
-                condensed.state(&solution, &pattern, 2 * j + 1),
+                system.state(&solution, &pattern, 2 * j),
+                system.state(&solution, &pattern, 2 * j + 1),
             ]
         })
         .collect();
@@ -411,7 +241,7 @@ pub(super) fn solve_with_newton_phases(
             ]
         })
         .collect();
-    let field = nodal_field(mesh, &condensed, &solution, &scales);
+    let field = nodal_field(mesh, &system, &solution, &scales);
     Ok(CondensedSolution {
         field,
         friction,
