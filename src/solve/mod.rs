@@ -12,7 +12,6 @@ mod closed_form;
 mod condensed;
 mod dual;
 mod dual_inverse;
-mod equilibrium;
 mod flexibility;
 mod options;
 mod regularized;

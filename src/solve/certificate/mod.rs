@@ -1,28 +1,30 @@
-//! The certificate [`solve`](super::solve) attaches to every method's answer, the same way for
+//! The certificate [`solve`](crate::solve::solve) attaches to every method's answer, the same way for
 //! every method: the relative KKT residual of (38), the friction state of every obstacle,
 //! condition numbers when asked, the error against a reference (the closed form (50) where it
 //! applies, else the `condensed` method on the same mesh) and warnings in words. The reference
-//! of one mesh ([`MeshReference`]) is solved at most once per [`solve`](super::solve) call,
+//! of one mesh ([`MeshReference`]) is solved at most once per [`solve`](crate::solve::solve) call,
 //! whoever asks for it first.
 
 use std::borrow::Cow;
 use std::cell::OnceCell;
 
-use super::closed_form::closed_form;
-use super::condensed;
-use super::equilibrium::{self, Equilibrium, Judging};
-use super::options::{Cancellation, ConditionLevel, SolveOptions};
-use super::shared::MethodOutput;
-use super::solution::{
-    Conditioning, ErrorReport, FrictionState, ObstacleResult, Reference, Solution, Warning,
-    WarningCode,
-};
+use crate::solve::closed_form::closed_form;
+use crate::solve::condensed;
+mod equilibrium;
+
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, stiffness_condition_bounds};
 use crate::linalg::BlockMatrix;
 use crate::linalg::condition::{
     ConditionKind, ConditionNumber, DENSE_LIMIT, block_condition, jacobi_scaled,
 };
 use crate::model::{Method, Problem};
+use crate::solve::options::{Cancellation, ConditionLevel, SolveOptions};
+use crate::solve::shared::MethodOutput;
+use crate::solve::solution::{
+    Conditioning, ErrorReport, FrictionState, ObstacleResult, Reference, Solution, Warning,
+    WarningCode,
+};
+use equilibrium::{Equilibrium, Judging};
 
 /// Certifies a method's `output`. `reference` grades it (and names the alternative of a
 /// non-finite answer); `None` only for the condensed reference's own certificate, which asks
@@ -535,7 +537,7 @@ pub fn reference_field(problem: &Problem, mesh: &Mesh) -> Option<(Reference, Nod
         .map(|(reference, field)| (reference, field.into_owned()))
 }
 
-/// The reference of one mesh for one [`solve`](super::solve) call: the closed form where it
+/// The reference of one mesh for one [`solve`](crate::solve::solve) call: the closed form where it
 /// applies, else the `condensed` method on the same mesh. The condensed method is solved the
 /// first time something asks for it (the error against the reference, the alternative named
 /// with a non-finite answer, a refusal's suggestion tried, the explorer's reference curve) and

@@ -30,11 +30,11 @@
 //! kind, is what the certificate reports as the regularised forces' uncertainty
 //! (`accuracy-loss` above 1e-8).
 
-use super::solution::FrictionState;
 use crate::fem::{Mesh, NodalField};
 use crate::fem::{element_load, element_stiffness};
 use crate::linalg::parallel::run_jobs;
 use crate::model::Problem;
+use crate::solve::FrictionState;
 
 /// Longest run of consecutive special points balanced as one rigid body.
 const CLUSTER: usize = 3;
@@ -47,7 +47,7 @@ const FORCE_ULPS: f64 = 64.0;
 
 /// What the certificate learns from the pieces.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct Equilibrium {
+pub(in crate::solve) struct Equilibrium {
     /// Relative KKT residual in [0, 1]; NaN when the field or forces are not finite.
     pub residual: f64,
     /// (sliding, swivel) state per obstacle.
@@ -61,7 +61,7 @@ pub(super) struct Equilibrium {
 
 /// How a method's answer is judged.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Judging {
+pub(in crate::solve) struct Judging {
     /// The method's own rounding of c relative to the largest |u| and |u'| (0 when it is no
     /// more than a few ulps of the local values).
     pub motion_resolution: f64,
@@ -213,7 +213,7 @@ fn relative(r: f64, scale: f64) -> f64 {
 }
 
 /// Checks (38) piece by piece and decides the friction states (module doc).
-pub(super) fn check(
+pub(in crate::solve) fn check(
     problem: &Problem,
     mesh: &Mesh,
     field: &NodalField,
