@@ -25,7 +25,6 @@ use crate::model::Problem;
 use certificate::MeshReference;
 
 pub use crate::model::Method;
-pub use certificate::{compare, reference_field};
 pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{CondensedFailure, CondensedSolution, solve_condensed, solve_condensed_while};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
@@ -62,7 +61,7 @@ pub fn solve_with_condensed(
     let reference = MeshReference::new(problem, mesh, options.cancel.clone());
     let solution = solve_graded(problem, mesh, method, options, &reference);
     let condensed = (method != Method::Condensed)
-        .then(|| reference.into_condensed())
+        .then(|| certificate::certified_condensed(reference))
         .flatten();
     (solution, condensed)
 }

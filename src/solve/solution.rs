@@ -313,8 +313,8 @@ pub struct ErrorReport {
     pub reference: Reference,
     /// max |u − u_ref| over the nodes [m].
     pub max_abs: Option<f64>,
-    /// max |u − u_ref| / max |u_ref| (see [`crate::solve::compare`] for the guard when u is
-    /// nearly zero at every node).
+    /// max |u − u_ref| / max |u_ref| (see `compare` in the certificate's `reference` for the
+    /// guard when u is nearly zero at every node).
     pub max_rel: Option<f64>,
     /// mean |u − u_ref| over the nodes [m] (the paper's err of section 2.8).
     pub mean_abs: Option<f64>,
