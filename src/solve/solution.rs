@@ -72,20 +72,22 @@ impl fmt::Display for SolveError {
 
 impl std::error::Error for SolveError {}
 
-/// Run time of the stages of a method. For the regularised methods, `dual_solve` is the
-/// work on the friction DOFs: the case enumeration or the Newton iterations.
+/// Run time of the stages of a method.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Timing {
     pub assembly: Duration,
     pub factorization: Duration,
-    pub dual_solve: Duration,
+    /// The work on the friction DOFs: the box QP of the dual methods, the case enumeration or
+    /// the Newton iterations of the regularised ones, the friction search of `condensed`, the
+    /// closed form's choice of case (50)–(51).
+    pub friction_stage: Duration,
     pub reconstruction: Duration,
 }
 
 impl Timing {
     /// Sum of the stages.
     pub fn total(&self) -> Duration {
-        self.assembly + self.factorization + self.dual_solve + self.reconstruction
+        self.assembly + self.factorization + self.friction_stage + self.reconstruction
     }
 }
 

@@ -161,7 +161,7 @@ pub(super) fn solve(
             },
             CondensedFailure::Stopped => cancelled(Method::Condensed),
         })?;
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
     let mut warnings = Vec::new();
     if !solution.converged {
         warnings.push(Warning::new(
