@@ -250,6 +250,9 @@ fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
     if let Some(it) = d.newton_iterations {
         lines.push(format!("Newton           {it} iterations"));
     }
+    if let Some(solves) = d.linear_solves {
+        lines.push(format!("friction search  {solves} linear solves"));
+    }
     if show_time {
         let t = &solution.timing;
         // The stage on the friction DOFs by what the method does there; stages a method does

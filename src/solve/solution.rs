@@ -332,8 +332,12 @@ pub struct ErrorReport {
 pub struct MethodDetails {
     /// Regularised cases enumerated (9^k).
     pub cases: Option<u64>,
-    /// Newton iterations (= factorizations of the condensed system).
+    /// Newton iterations of `regularized-newton` (each one Cholesky factorization of a case
+    /// matrix K + D on the friction DOFs).
     pub newton_iterations: Option<usize>,
+    /// Pattern solves of the `condensed` method's friction search, each one banded
+    /// factorisation and solve of the multiple-shooting system.
+    pub linear_solves: Option<usize>,
     /// Iterations of the box QP.
     pub qp_iterations: Option<usize>,
     /// How many case matrices the reported largest condition number was taken over.

@@ -180,7 +180,7 @@ pub(super) fn solve(
         timing,
         warnings,
         details: MethodDetails {
-            newton_iterations: Some(solution.solves),
+            linear_solves: Some(solution.solves),
             ..MethodDetails::default()
         },
         dual_condition: None,
