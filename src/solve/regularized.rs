@@ -69,7 +69,7 @@ impl EpsilonRegion {
 }
 
 /// Number of cases 9^k, or `None` on overflow.
-pub(super) fn case_count(obstacles: usize) -> Option<u64> {
+fn case_count(obstacles: usize) -> Option<u64> {
     9u64.checked_pow(u32::try_from(obstacles).ok()?)
 }
 
@@ -266,7 +266,7 @@ pub(super) fn regularized_output(
 }
 
 /// Most cases whose condition numbers are all computed (one obstacle: 9).
-pub const CONDITIONED_CASES: u64 = 9;
+const CONDITIONED_CASES: u64 = 9;
 
 /// The diagonal additions of the cases whose condition numbers are reported: every case when
 /// there are at most [`CONDITIONED_CASES`] and the matrices are small enough for exact

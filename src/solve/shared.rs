@@ -34,7 +34,7 @@ pub(crate) struct MethodOutput {
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
 /// (`dual`, `dual-inverse`, `flexibility`, `regularized-newton`): 1024² doubles = 8 MB, and the
 /// box QP's cost grows like k³ beyond. The condensed method has no such limit.
-pub(crate) const MAX_DENSE_OBSTACLES: usize = 512;
+const MAX_DENSE_OBSTACLES: usize = 512;
 
 /// Refuses a method with dense 2k × 2k matrices on more than [`MAX_DENSE_OBSTACLES`].
 pub(crate) fn refuse_many_obstacles(

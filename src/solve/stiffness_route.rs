@@ -64,7 +64,7 @@ pub(super) fn assemble_and_factor<'m>(
 
 impl FactoredStiffness<'_> {
     /// The first node whose pivot was not positive definite, if rounding destroyed A.
-    pub fn first_indefinite_node(&self) -> Option<usize> {
+    fn first_indefinite_node(&self) -> Option<usize> {
         self.factor.first_indefinite.map(|block| block + 1)
     }
 

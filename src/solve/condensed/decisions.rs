@@ -8,7 +8,7 @@ use crate::solve::FrictionState;
 
 /// What elimination without refinement is trusted to resolve, relative to the largest value
 /// of a kind (generous: a short piece next to long ones makes the system ill-conditioned).
-pub(super) const PLAIN_RESOLUTION: f64 = 1e-6;
+const PLAIN_RESOLUTION: f64 = 1e-6;
 
 /// What a refined solve resolves at best, relative to the values around a DOF: a few hundred
 /// units in the last place of double-double (2⁻¹⁰⁶).
@@ -20,7 +20,7 @@ impl ShootingSystem {
     /// 64 ulps of the values around the DOF (the adjacent pieces' own values of its kind, the
     /// shear or moment on both sides). After refinement: a few hundred double-double ulps of
     /// them, or four times the refinement's last correction where that is larger.
-    pub(super) fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
+    fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
         const ULPS: f64 = 64.0 * f64::EPSILON;
         let (j, d) = (i / 2, i % 2);
         let p = self.point_of_obstacle[j];
@@ -48,7 +48,7 @@ impl ShootingSystem {
     }
 
     /// |λ_i| − g_i, in double-double after refinement.
-    pub(super) fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
+    fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
         let g = self.thresholds[i / 2][i % 2];
         match &solution.exact {
             Some(exact) => (exact.force[i].abs() - g.into()).value(),
@@ -128,7 +128,7 @@ impl ShootingSystem {
     /// σ of the semismooth Newton prediction λ + σc for a DOF that reverses: a fraction of
     /// its diagonal stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope).
     /// With σ = 0 a reversing DOF is first held stuck.
-    pub(super) fn reversal_stiffness(&self, i: usize) -> f64 {
+    fn reversal_stiffness(&self, i: usize) -> f64 {
         let p = self.point_of_obstacle[i / 2];
         let diagonal: f64 = [p - 1, p]
             .iter()

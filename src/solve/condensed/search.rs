@@ -15,7 +15,7 @@ use crate::model::Problem;
 use crate::solve::FrictionState;
 
 /// Most solves of one semismooth Newton phase.
-pub(super) const NEWTON_STEPS: usize = 40;
+const NEWTON_STEPS: usize = 40;
 /// The Newton phases tried in turn before the monotone search, by σ / diagonal stiffness of
 /// the reversal prediction. Measured on the benchmark scenes (`condensed-many-obstacles`,
 /// 16–4000 obstacles with random thresholds) once uncertain decisions wait for refinement:
@@ -24,7 +24,7 @@ pub(super) const NEWTON_STEPS: usize = 40;
 pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
-pub(super) const NEWTON_PATIENCE: usize = 6;
+const NEWTON_PATIENCE: usize = 6;
 
 /// A 64-bit fingerprint of a pattern (FNV-1a over the states).
 fn fingerprint(pattern: &[Pattern]) -> u64 {
