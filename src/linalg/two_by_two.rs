@@ -1,5 +1,6 @@
-//! Arithmetic on the 2×2 blocks of the block-tridiagonal factorization: symmetric blocks
-//! stored as [a11, a12, a22], general ones row-major.
+//! Arithmetic on the 2×2 blocks of the block-tridiagonal factorization of A ((38); the
+//! blocks of (52) in the uniform case): symmetric blocks stored as [a11, a12, a22], general
+//! ones row-major.
 
 pub(super) type Sym = [f64; 3];
 pub(super) type Mat = [f64; 4];

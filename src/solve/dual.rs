@@ -21,7 +21,7 @@ pub(super) fn solve(
     super::shared::refuse_many_obstacles(problem, Method::Dual)?;
     let mut timing = Timing::default();
     let factored = assemble_and_factor(problem, mesh, Method::Dual, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&factored, mesh);
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
     let (s, z0, indefinite_k) = factored.dual_matrices(Method::Dual, mesh)?;
     timing.factorization += clock.lap();
@@ -38,7 +38,7 @@ pub(super) fn solve(
     let field = factored.reconstruct(&friction_values);
     timing.reconstruction = clock.lap();
 
-    let warnings = indefinite_warning_opt
+    let warnings = stiffness_indefinite_warning
         .into_iter()
         .chain(indefinite_k)
         .collect();

@@ -5,7 +5,8 @@
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
 //! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
 //! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
-//! method modules share); the method modules depend on those, never on this dispatcher.
+//! method modules share), `stiffness_route` (the factorization of A that `dual` and the
+//! regularised methods share); the method modules depend on those, never on this dispatcher.
 
 mod certificate;
 mod closed_form;

@@ -118,7 +118,7 @@ pub(super) fn solve(
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
     let factored = assemble_and_factor(problem, mesh, Method::Regularized, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&factored, mesh);
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
     let dim = factored.friction_dofs;
     let g = problem.thresholds();
@@ -170,7 +170,7 @@ pub(super) fn solve(
     let field = factored.reconstruct(&friction_values);
     timing.reconstruction = clock.lap();
 
-    let mut warnings: Vec<Warning> = indefinite_warning_opt.into_iter().collect();
+    let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();
     if violation > 1e-6 {
         warnings.push(Warning::new(
             WarningCode::RegularizationInconsistent,

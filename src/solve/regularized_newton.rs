@@ -86,7 +86,7 @@ pub(super) fn solve(
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
     let factored = assemble_and_factor(problem, mesh, Method::RegularizedNewton, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&factored, mesh);
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
     let (k, b, dim) = (
         &factored.friction_stiffness,
@@ -159,7 +159,7 @@ pub(super) fn solve(
     let field = factored.reconstruct(&c);
     timing.reconstruction = clock.lap();
 
-    let mut warnings: Vec<Warning> = indefinite_warning_opt.into_iter().collect();
+    let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();
     if !converged {
         warnings.push(Warning::new(
             WarningCode::NewtonNotConverged,

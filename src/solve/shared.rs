@@ -1,6 +1,6 @@
 //! What the method modules share: the [`MethodOutput`] they hand to the certificate, a
-//! stopwatch for their stages, and the common ending of
-//! the three dual methods.
+//! stopwatch for their stages, the refusal of dense 2k × 2k matrices on too many obstacles,
+//! cancellation, and the common ending of the three dual methods (the box QP of (49)).
 
 use std::time::{Duration, Instant};
 

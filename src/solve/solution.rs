@@ -1,5 +1,6 @@
 //! The [`Solution`] every method returns and the report types it carries: per-obstacle
-//! results, timing, condition numbers, the error against a reference, warnings, and the
+//! results (the friction forces λ of (38) and the [`FrictionState`] of every friction DOF),
+//! timing, condition numbers, the error against a reference, warnings, and the
 //! [`SolveError`] of a method that gives no solution.
 
 use std::fmt;
