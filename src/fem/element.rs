@@ -32,7 +32,7 @@ pub fn unit_hermite(xi: f64) -> ([f64; 4], [f64; 4], [f64; 4], [f64; 4]) {
 }
 
 /// Values and the first three derivatives (with respect to x) of the four Hermite cubics on an
-/// element of length `h` at the local coordinate `xi` = (x − a)/h ∈ [0, 1]: [`unit_hermite`]
+/// element of length `h` at the local coordinate `xi` = (x − a)/h ∈ [0, 1]: `unit_hermite`
 /// scaled to the element. Order of the degrees of freedom: (u_a, u'_a, u_b, u'_b).
 pub fn hermite_basis(xi: f64, h: f64) -> ([f64; 4], [f64; 4], [f64; 4], [f64; 4]) {
     let (n, dn, ddn, dddn) = unit_hermite(xi);
