@@ -68,7 +68,7 @@ pub fn solution_json(
             "unit": "s",
             "assembly": t.assembly.as_secs_f64(),
             "factorization": t.factorization.as_secs_f64(),
-            "dual_solve": t.dual_solve.as_secs_f64(),
+            "friction_stage": t.friction_stage.as_secs_f64(),
             "reconstruction": t.reconstruction.as_secs_f64(),
             "total": t.total().as_secs_f64(),
         },
@@ -250,11 +250,14 @@ fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
     if let Some(it) = d.newton_iterations {
         lines.push(format!("Newton           {it} iterations"));
     }
+    if let Some(solves) = d.linear_solves {
+        lines.push(format!("friction search  {solves} linear solves"));
+    }
     if show_time {
         let t = &solution.timing;
         // The stage on the friction DOFs by what the method does there; stages a method does
         // not have (0 s) are left out rather than shown as 0.0 µs.
-        let friction_stage = match solution.method {
+        let friction_stage_name = match solution.method {
             Method::Condensed => "friction search",
             Method::Regularized | Method::RegularizedNewton => "friction DOFs",
             _ => "dual solve",
@@ -262,7 +265,7 @@ fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
         let stages: Vec<String> = [
             ("assembly", t.assembly),
             ("factorization", t.factorization),
-            (friction_stage, t.dual_solve),
+            (friction_stage_name, t.friction_stage),
             ("reconstruction", t.reconstruction),
         ]
         .iter()

@@ -75,7 +75,7 @@ fn json_has_every_documented_field() {
     for stage in [
         "assembly",
         "factorization",
-        "dual_solve",
+        "friction_stage",
         "reconstruction",
         "total",
     ] {

@@ -6,8 +6,8 @@
 //! element matrix per piece and reads blocks through the mesh's element → piece table, instead
 //! of storing 7 numbers per node. That matters: at n = 10⁶ the explicit blocks are 56 MB, and
 //! touching fresh memory costs more than the arithmetic (see `benches/solve.rs`).
-//! [`BlockTridiagonal`](crate::linalg::BlockTridiagonal) is the explicit form, for modified matrices (condition numbers of the
-//! regularised cases, Jacobi scaling) and dense conversion.
+//! [`BlockTridiagonal`](crate::linalg::BlockTridiagonal) is the explicit form, for modified
+//! matrices (condition numbers of the regularised cases, Jacobi scaling) and dense conversion.
 
 use super::element::{element_load, element_stiffness};
 use super::mesh::Mesh;

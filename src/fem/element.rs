@@ -1,34 +1,49 @@
-//! The Hermite cubic element of paper 2.6: basis functions, the element stiffness
-//! EJ ∫ φ_i'' φ_j'' and the exactly integrated load ∫ f φ_i for a linear f.
+//! The Hermite cubic element of paper 2.6: the basis functions (on the unit element and on an
+//! element of length h), the element stiffness EJ ∫ φ_i'' φ_j'' (the blocks of (52)) and the
+//! exactly integrated load ∫ f φ_i for a linear f, the pieces of A and b in (38).
 
-/// Values and the first three derivatives (with respect to x) of the four Hermite cubics on an
-/// element of length `h` at the local coordinate `xi` = (x − a)/h ∈ [0, 1]. Order of the
-/// degrees of freedom: (u_a, u'_a, u_b, u'_b).
-pub fn hermite_basis(xi: f64, h: f64) -> ([f64; 4], [f64; 4], [f64; 4], [f64; 4]) {
+/// The four Hermite cubics on the unit element ξ ∈ [0, 1] and their first three derivatives
+/// with respect to ξ, the slope DOFs per unit length — the basis of paper 2.6, written once.
+/// Order of the degrees of freedom: (u_a, u'_a, u_b, u'_b). On an element of length h the
+/// basis is (N₀, h N₁, N₂, h N₃), and each x-derivative one more factor 1/h
+/// ([`hermite_basis`]).
+pub fn unit_hermite(xi: f64) -> ([f64; 4], [f64; 4], [f64; 4], [f64; 4]) {
     let (x2, x3) = (xi * xi, xi * xi * xi);
     let value = [
         1.0 - 3.0 * x2 + 2.0 * x3,
-        h * (xi - 2.0 * x2 + x3),
+        xi - 2.0 * x2 + x3,
         3.0 * x2 - 2.0 * x3,
-        h * (x3 - x2),
+        x3 - x2,
     ];
     let first = [
-        6.0 * (x2 - xi) / h,
+        6.0 * (x2 - xi),
         1.0 - 4.0 * xi + 3.0 * x2,
-        6.0 * (xi - x2) / h,
+        6.0 * (xi - x2),
         3.0 * x2 - 2.0 * xi,
     ];
     let second = [
-        (12.0 * xi - 6.0) / (h * h),
-        (6.0 * xi - 4.0) / h,
-        (6.0 - 12.0 * xi) / (h * h),
-        (6.0 * xi - 2.0) / h,
+        12.0 * xi - 6.0,
+        6.0 * xi - 4.0,
+        6.0 - 12.0 * xi,
+        6.0 * xi - 2.0,
     ];
+    let third = [12.0, 6.0, -12.0, 6.0];
+    (value, first, second, third)
+}
+
+/// Values and the first three derivatives (with respect to x) of the four Hermite cubics on an
+/// element of length `h` at the local coordinate `xi` = (x − a)/h ∈ [0, 1]: `unit_hermite`
+/// scaled to the element. Order of the degrees of freedom: (u_a, u'_a, u_b, u'_b).
+pub fn hermite_basis(xi: f64, h: f64) -> ([f64; 4], [f64; 4], [f64; 4], [f64; 4]) {
+    let (n, dn, ddn, dddn) = unit_hermite(xi);
+    let value = [n[0], h * n[1], n[2], h * n[3]];
+    let first = [dn[0] / h, dn[1], dn[2] / h, dn[3]];
+    let second = [ddn[0] / (h * h), ddn[1] / h, ddn[2] / (h * h), ddn[3] / h];
     let third = [
-        12.0 / (h * h * h),
-        6.0 / (h * h),
-        -12.0 / (h * h * h),
-        6.0 / (h * h),
+        dddn[0] / (h * h * h),
+        dddn[1] / (h * h),
+        dddn[2] / (h * h * h),
+        dddn[3] / (h * h),
     ];
     (value, first, second, third)
 }

@@ -123,14 +123,6 @@ impl Mesh {
     pub fn bending_stiffness_of_element(&self, e: usize) -> f64 {
         self.piece_of_element(e).bending_stiffness
     }
-
-    /// Shortest element length [m].
-    pub fn smallest_element(&self) -> f64 {
-        self.pieces
-            .iter()
-            .map(|p| self.element_length(p))
-            .fold(f64::INFINITY, f64::min)
-    }
 }
 
 /// Shares `total` elements among pieces of the given lengths in proportion to their length,

@@ -373,7 +373,7 @@ fn eliminate<M: BlockMatrix>(
     let mut corner = [0.0; 4];
     let last = end - 1;
     for i in first..=last {
-        let (inverse, definite) = sym_inverse(pivot, i)?;
+        let (inverse, definite) = sym_inverse(pivot).ok_or(Breakdown { block: i })?;
         if !definite && result.first_indefinite.is_none() {
             result.first_indefinite = Some(i);
         }

@@ -42,13 +42,9 @@ pub struct QpResult {
     pub converged: bool,
 }
 
-/// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i. `h` is row-major n×n SPD, `g` ≥ 0.
-pub fn solve_box_qp(h: &[f64], z: &[f64], g: &[f64]) -> QpResult {
-    solve_box_qp_until(h, z, g, &|| false)
-}
-
-/// [`solve_box_qp`] that gives up (unconverged) as soon as `stop` says so, checked once per
-/// iteration: the explorer cancels a solve whose result is no longer wanted.
+/// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i (`h` row-major n×n SPD, `g` ≥ 0), giving up
+/// (unconverged) as soon as `stop` says so, checked once per iteration: the explorer cancels a
+/// solve whose result is no longer wanted.
 pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: &dyn Fn() -> bool) -> QpResult {
     let n = z.len();
     if n == 0 {
@@ -451,7 +447,7 @@ mod tests {
     fn active_set_and_mprgp_satisfy_kkt() {
         for (n, seed) in [(1, 1), (2, 2), (8, 3), (20, 4), (33, 5), (80, 6), (200, 7)] {
             let (h, z, g) = random_problem(n, seed);
-            let r = solve_box_qp(&h, &z, &g);
+            let r = solve_box_qp_until(&h, &z, &g, &|| false);
             assert_kkt(&h, &z, &g, &r);
         }
     }
@@ -460,7 +456,7 @@ mod tests {
     fn unconstrained_minimiser_when_bounds_are_loose() {
         let h = [2.0, 0.5, 0.5, 1.0];
         let z = [1.0, -1.0];
-        let r = solve_box_qp(&h, &z, &[100.0, 100.0]);
+        let r = solve_box_qp_until(&h, &z, &[100.0, 100.0], &|| false);
         // H x = z by Cramer's rule.
         let det = 2.0 - 0.25;
         let expected = [(1.0 + 0.5) / det, (-2.0 - 0.5) / det];

@@ -1,6 +1,6 @@
 //! Independent jobs (the factorization's sweeps over independent stretches, the certificate's
-//! check of interior nodes) on two threads when the work is
-//! large enough to pay for one.
+//! check of interior nodes) on two threads when the work is large enough to pay for one. No
+//! equation of its own: it only shares out work.
 
 /// Below this many blocks the sweeps run on one thread (spawning costs more than it saves).
 const PARALLEL_BLOCKS: usize = 100_000;

@@ -1,19 +1,19 @@
-//! Arithmetic on the 2×2 blocks of the block-tridiagonal factorization: symmetric blocks
-//! stored as [a11, a12, a22], general ones row-major.
-
-use super::blocktri::Breakdown;
+//! Arithmetic on the 2×2 blocks of the block-tridiagonal factorization of A ((38); the
+//! blocks of (52) in the uniform case): symmetric blocks stored as [a11, a12, a22], general
+//! ones row-major.
 
 pub(super) type Sym = [f64; 3];
 pub(super) type Mat = [f64; 4];
 
-/// Inverse of a symmetric 2×2 block, and whether it was positive definite.
-pub(super) fn sym_inverse(p: Sym, block: usize) -> Result<(Sym, bool), Breakdown> {
+/// Inverse of a symmetric 2×2 block, and whether it was positive definite; `None` when the
+/// block is singular or its determinant is not finite.
+pub(super) fn sym_inverse(p: Sym) -> Option<(Sym, bool)> {
     let det = p[0] * p[2] - p[1] * p[1];
     if det == 0.0 || !det.is_finite() {
-        return Err(Breakdown { block });
+        return None;
     }
     let r = 1.0 / det;
-    Ok(([p[2] * r, -p[1] * r, p[0] * r], p[0] > 0.0 && det > 0.0))
+    Some(([p[2] * r, -p[1] * r, p[0] * r], p[0] > 0.0 && det > 0.0))
 }
 
 /// S·M for symmetric S.

@@ -212,7 +212,7 @@ pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, Solv
         reason,
         suggestion: Method::Condensed,
     })?;
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
     let field = exact.nodal_field(mesh);
     timing.reconstruction = clock.lap();
     let lambda = match exact.obstacle {

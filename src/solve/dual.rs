@@ -7,7 +7,7 @@
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, Timing};
-use super::stiffness_route::{condense, indefinite_warning};
+use super::stiffness_route::{assemble_and_factor, indefinite_warning};
 use crate::fem::Mesh;
 use crate::linalg::boxqp::solve_box_qp_until;
 use crate::linalg::dense::mat_vec;
@@ -20,25 +20,25 @@ pub(super) fn solve(
 ) -> Result<MethodOutput, SolveError> {
     super::shared::refuse_many_obstacles(problem, Method::Dual)?;
     let mut timing = Timing::default();
-    let condensed = condense(problem, mesh, Method::Dual, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&condensed, mesh);
+    let factored = assemble_and_factor(problem, mesh, Method::Dual, &mut timing)?;
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
-    let (s, z0, indefinite_k) = condensed.dual_matrices(Method::Dual, mesh)?;
+    let (s, z0, indefinite_k) = factored.dual_matrices(Method::Dual, mesh)?;
     timing.factorization += clock.lap();
 
     let g = problem.thresholds();
     let qp = solve_box_qp_until(&s, &z0, &g, &|| options.cancel.is_cancelled());
     check_cancel(options, Method::Dual)?;
     let lambda = &qp.x;
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
 
     // c_F = B A⁻¹ (b − Bᵀλ) = z0 − S λ.
     let s_lambda = mat_vec(&s, lambda);
     let friction_values: Vec<f64> = z0.iter().zip(&s_lambda).map(|(z, sl)| z - sl).collect();
-    let field = condensed.reconstruct(&friction_values);
+    let field = factored.reconstruct(&friction_values);
     timing.reconstruction = clock.lap();
 
-    let warnings = indefinite_warning_opt
+    let warnings = stiffness_indefinite_warning
         .into_iter()
         .chain(indefinite_k)
         .collect();

@@ -97,7 +97,7 @@ pub(super) fn solve(
     });
     check_cancel(options, Method::DualInverse)?;
     let lambda = qp.x.clone();
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
 
     let mut load = b;
     for (q, &d) in dofs.iter().enumerate() {

@@ -112,7 +112,7 @@ pub(super) fn solve(
     });
     check_cancel(options, Method::Flexibility)?;
     let lambda = qp.x.clone();
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
 
     // The actual state, piece by piece, and every node from the start of its piece.
     let mut reaction = reactions(0);

@@ -5,14 +5,14 @@
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
 //! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
 //! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
-//! method modules share); the method modules depend on those, never on this dispatcher.
+//! method modules share), `stiffness_route` (the factorization of A that `dual` and the
+//! regularised methods share); the method modules depend on those, never on this dispatcher.
 
 mod certificate;
 mod closed_form;
 mod condensed;
 mod dual;
 mod dual_inverse;
-mod equilibrium;
 mod flexibility;
 mod options;
 mod regularized;
@@ -26,15 +26,12 @@ use crate::model::Problem;
 use certificate::MeshReference;
 
 pub use crate::model::Method;
-pub use certificate::{compare, reference_field};
 pub use closed_form::{ClosedForm, closed_form};
-pub use condensed::{
-    CondensedFailure, CondensedSolution, FrictionState, solve_condensed, solve_condensed_while,
-};
+pub use condensed::{CondensedFailure, CondensedSolution, solve_condensed, solve_condensed_while};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
-    Conditioning, ErrorReport, MethodDetails, ObstacleResult, Reference, Solution, SolveError,
-    SolveErrorKind, Timing, Warning, WarningCode,
+    Conditioning, ErrorReport, FrictionState, MethodDetails, ObstacleResult, Reference, Solution,
+    SolveError, SolveErrorKind, Timing, Warning, WarningCode,
 };
 
 /// Solves with `method`, then certifies the answer (KKT residual, friction states, optional
@@ -65,7 +62,7 @@ pub fn solve_with_condensed(
     let reference = MeshReference::new(problem, mesh, options.cancel.clone());
     let solution = solve_graded(problem, mesh, method, options, &reference);
     let condensed = (method != Method::Condensed)
-        .then(|| reference.into_condensed())
+        .then(|| certificate::certified_condensed(reference))
         .flatten();
     (solution, condensed)
 }

@@ -1,4 +1,6 @@
-//! How to solve: the options every method reads and their default limits.
+//! How to solve: the options every method reads (ε of (40) for the regularised methods, the
+//! limits of the enumeration of (43) and of the dense inverse of (49), which condition numbers
+//! and whether a reference) and their default limits, and the cancellation of a solve.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -12,14 +12,14 @@ use super::options::SolveOptions;
 use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
-use super::stiffness_route::{condense, indefinite_warning};
+use super::stiffness_route::{assemble_and_factor, indefinite_warning};
 use crate::fem::Mesh;
 use crate::linalg::dense::Cholesky;
 use crate::model::{Method, Problem};
 
-/// The region of a friction DOF in Table 1.
+/// The ε-region of a friction DOF in Table 1: where its value c lies relative to [−ε, ε].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Region {
+pub(super) enum EpsilonRegion {
     /// c < −ε: gradient −g.
     Negative,
     /// |c| ≤ ε: gradient g c / ε.
@@ -28,48 +28,48 @@ pub(super) enum Region {
     Positive,
 }
 
-impl Region {
-    fn from_digit(d: u64) -> Region {
+impl EpsilonRegion {
+    fn from_digit(d: u64) -> EpsilonRegion {
         match d {
-            0 => Region::Middle,
-            1 => Region::Positive,
-            _ => Region::Negative,
+            0 => EpsilonRegion::Middle,
+            1 => EpsilonRegion::Positive,
+            _ => EpsilonRegion::Negative,
         }
     }
 
     /// How far c is outside the region, in units of ε (0 when inside).
     pub(super) fn violation(self, c: f64, epsilon: f64) -> f64 {
         let outside = match self {
-            Region::Negative => c + epsilon,
-            Region::Middle => c.abs() - epsilon,
-            Region::Positive => epsilon - c,
+            EpsilonRegion::Negative => c + epsilon,
+            EpsilonRegion::Middle => c.abs() - epsilon,
+            EpsilonRegion::Positive => epsilon - c,
         };
         outside.max(0.0) / epsilon
     }
 
     /// The region c lies in.
-    pub(super) fn of(c: f64, epsilon: f64) -> Region {
+    pub(super) fn of(c: f64, epsilon: f64) -> EpsilonRegion {
         if c > epsilon {
-            Region::Positive
+            EpsilonRegion::Positive
         } else if c < -epsilon {
-            Region::Negative
+            EpsilonRegion::Negative
         } else {
-            Region::Middle
+            EpsilonRegion::Middle
         }
     }
 
     /// The friction force g ω̃'_ε(c) (41).
     pub(super) fn multiplier(self, c: f64, g: f64, epsilon: f64) -> f64 {
         match self {
-            Region::Negative => -g,
-            Region::Middle => g * c / epsilon,
-            Region::Positive => g,
+            EpsilonRegion::Negative => -g,
+            EpsilonRegion::Middle => g * c / epsilon,
+            EpsilonRegion::Positive => g,
         }
     }
 }
 
 /// Number of cases 9^k, or `None` on overflow.
-pub(super) fn case_count(obstacles: usize) -> Option<u64> {
+fn case_count(obstacles: usize) -> Option<u64> {
     9u64.checked_pow(u32::try_from(obstacles).ok()?)
 }
 
@@ -78,7 +78,7 @@ fn solve_case(
     stiffness: &[f64],
     load: &[f64],
     g: &[f64],
-    regions: &[Region],
+    regions: &[EpsilonRegion],
     epsilon: f64,
 ) -> Option<Vec<f64>> {
     let dim = load.len();
@@ -86,9 +86,9 @@ fn solve_case(
     let mut rhs = load.to_vec();
     for (q, region) in regions.iter().enumerate() {
         match region {
-            Region::Middle => matrix[q * dim + q] += g[q] / epsilon,
-            Region::Positive => rhs[q] -= g[q],
-            Region::Negative => rhs[q] += g[q],
+            EpsilonRegion::Middle => matrix[q * dim + q] += g[q] / epsilon,
+            EpsilonRegion::Positive => rhs[q] -= g[q],
+            EpsilonRegion::Negative => rhs[q] += g[q],
         }
     }
     let factor = Cholesky::new(&matrix, dim)?;
@@ -117,25 +117,30 @@ pub(super) fn solve(
     };
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
-    let condensed = condense(problem, mesh, Method::Regularized, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&condensed, mesh);
+    let factored = assemble_and_factor(problem, mesh, Method::Regularized, &mut timing)?;
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
-    let dim = condensed.dim;
+    let dim = factored.friction_dofs;
     let g = problem.thresholds();
 
-    let mut best: Option<(f64, Vec<Region>, Vec<f64>)> = None;
-    let mut regions = vec![Region::Middle; dim];
+    let mut best: Option<(f64, Vec<EpsilonRegion>, Vec<f64>)> = None;
+    let mut regions = vec![EpsilonRegion::Middle; dim];
     for case in 0..cases {
         if case % 4096 == 0 {
             check_cancel(options, Method::Regularized)?;
         }
         let mut code = case;
         for r in regions.iter_mut() {
-            *r = Region::from_digit(code % 3);
+            *r = EpsilonRegion::from_digit(code % 3);
             code /= 3;
         }
-        let Some(c) = solve_case(&condensed.stiffness, &condensed.load, &g, &regions, epsilon)
-        else {
+        let Some(c) = solve_case(
+            &factored.friction_stiffness,
+            &factored.friction_load,
+            &g,
+            &regions,
+            epsilon,
+        ) else {
             continue;
         };
         let violation = regions
@@ -150,7 +155,7 @@ pub(super) fn solve(
             }
         }
     }
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
     let Some((violation, regions, friction_values)) = best else {
         return Err(super::stiffness_route::breakdown(
             Method::Regularized,
@@ -160,12 +165,12 @@ pub(super) fn solve(
     };
     let lambda = regularized_forces(
         (&regions, &friction_values, &g, epsilon),
-        (&condensed.stiffness, &condensed.load),
+        (&factored.friction_stiffness, &factored.friction_load),
     );
-    let field = condensed.reconstruct(&friction_values);
+    let field = factored.reconstruct(&friction_values);
     timing.reconstruction = clock.lap();
 
-    let mut warnings: Vec<Warning> = indefinite_warning_opt.into_iter().collect();
+    let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();
     if violation > 1e-6 {
         warnings.push(Warning::new(
             WarningCode::RegularizationInconsistent,
@@ -191,11 +196,15 @@ pub(super) fn solve(
 }
 
 /// The g/ε additions to K's diagonal of the case with these regions (43).
-pub(super) fn middle_additions(regions: &[Region], g: &[f64], epsilon: f64) -> Vec<(usize, f64)> {
+pub(super) fn middle_additions(
+    regions: &[EpsilonRegion],
+    g: &[f64],
+    epsilon: f64,
+) -> Vec<(usize, f64)> {
     regions
         .iter()
         .enumerate()
-        .filter(|(_, r)| **r == Region::Middle)
+        .filter(|(_, r)| **r == EpsilonRegion::Middle)
         .map(|(q, _)| (q, g[q] / epsilon))
         .collect()
 }
@@ -203,10 +212,10 @@ pub(super) fn middle_additions(regions: &[Region], g: &[f64], epsilon: f64) -> V
 /// The friction forces g ω̃'_ε(c) of (41) of both regularised methods, per obstacle. In the
 /// middle region g·c/ε multiplies the rounding of a tiny c by g/ε (issue 10, finding 9: a
 /// relative error of 2.4e-7 where the enumeration got 3e-12, and worse for g = 1e20); there the
-/// force is taken from the equilibrium of the condensed system, λ = b̃ − K c (exact at the
+/// force is taken from the equilibrium on the friction DOFs, λ = b̃ − K c (exact at the
 /// ε-solution), whenever its rounding, eps·(|b̃_i| + Σ|K_ij c_j|), is the smaller.
 pub(super) fn regularized_forces(
-    (regions, values, g, epsilon): (&[Region], &[f64], &[f64], f64),
+    (regions, values, g, epsilon): (&[EpsilonRegion], &[f64], &[f64], f64),
     (stiffness, load): (&[f64], &[f64]),
 ) -> Vec<[f64; 2]> {
     let dim = values.len();
@@ -214,7 +223,7 @@ pub(super) fn regularized_forces(
     let lambda: Vec<f64> = (0..dim)
         .map(|i| {
             let from_region = regions[i].multiplier(values[i], g[i], epsilon);
-            if regions[i] != Region::Middle {
+            if regions[i] != EpsilonRegion::Middle {
                 return from_region;
             }
             let row = &stiffness[i * dim..(i + 1) * dim];
@@ -257,7 +266,7 @@ pub(super) fn regularized_output(
 }
 
 /// Most cases whose condition numbers are all computed (one obstacle: 9).
-pub const CONDITIONED_CASES: u64 = 9;
+const CONDITIONED_CASES: u64 = 9;
 
 /// The diagonal additions of the cases whose condition numbers are reported: every case when
 /// there are at most [`CONDITIONED_CASES`] and the matrices are small enough for exact
@@ -267,18 +276,18 @@ fn condition_cases(
     g: &[f64],
     epsilon: f64,
     cases: u64,
-    kept: &[Region],
+    kept: &[EpsilonRegion],
     unknowns: usize,
 ) -> Vec<Vec<(usize, f64)>> {
     let dim = g.len();
-    let additions = |regions: &[Region]| middle_additions(regions, g, epsilon);
+    let additions = |regions: &[EpsilonRegion]| middle_additions(regions, g, epsilon);
     if cases <= CONDITIONED_CASES && unknowns <= crate::linalg::condition::DENSE_LIMIT {
         (0..cases)
             .map(|case| {
                 let mut code = case;
-                let regions: Vec<Region> = (0..dim)
+                let regions: Vec<EpsilonRegion> = (0..dim)
                     .map(|_| {
-                        let r = Region::from_digit(code % 3);
+                        let r = EpsilonRegion::from_digit(code % 3);
                         code /= 3;
                         r
                     })
@@ -287,6 +296,9 @@ fn condition_cases(
             })
             .collect()
     } else {
-        vec![additions(kept), additions(&vec![Region::Middle; dim])]
+        vec![
+            additions(kept),
+            additions(&vec![EpsilonRegion::Middle; dim]),
+        ]
     }
 }

@@ -8,11 +8,11 @@
 //! exponential cost of the paper's method is the enumeration's, not ε's.
 
 use super::options::SolveOptions;
-use super::regularized::{Region, middle_additions, regularized_forces, regularized_output};
+use super::regularized::{EpsilonRegion, middle_additions, regularized_forces, regularized_output};
 use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, Timing, Warning, WarningCode};
-use super::stiffness_route::{condense, indefinite_warning};
+use super::stiffness_route::{assemble_and_factor, indefinite_warning};
 use crate::fem::Mesh;
 use crate::linalg::dense::Cholesky;
 use crate::model::{Method, Problem};
@@ -37,7 +37,7 @@ fn exact_line_search(
             + t * curvature
             + (0..c.len())
                 .map(|i| {
-                    let at = |s: f64| Region::of(s, epsilon).multiplier(s, g[i], epsilon);
+                    let at = |s: f64| EpsilonRegion::of(s, epsilon).multiplier(s, g[i], epsilon);
                     d[i] * (at(c[i] + t * d[i]) - at(c[i]))
                 })
                 .sum::<f64>()
@@ -85,10 +85,14 @@ pub(super) fn solve(
     super::shared::refuse_many_obstacles(problem, Method::RegularizedNewton)?;
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
-    let condensed = condense(problem, mesh, Method::RegularizedNewton, &mut timing)?;
-    let indefinite_warning_opt = indefinite_warning(&condensed, mesh);
+    let factored = assemble_and_factor(problem, mesh, Method::RegularizedNewton, &mut timing)?;
+    let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
-    let (k, b, dim) = (&condensed.stiffness, &condensed.load, condensed.dim);
+    let (k, b, dim) = (
+        &factored.friction_stiffness,
+        &factored.friction_load,
+        factored.friction_dofs,
+    );
     let g = problem.thresholds();
 
     let kc = |c: &[f64]| -> Vec<f64> {
@@ -100,7 +104,9 @@ pub(super) fn solve(
     let gradient = |c: &[f64]| -> Vec<f64> {
         let kc = kc(c);
         (0..dim)
-            .map(|i| kc[i] - b[i] + Region::of(c[i], epsilon).multiplier(c[i], g[i], epsilon))
+            .map(|i| {
+                kc[i] - b[i] + EpsilonRegion::of(c[i], epsilon).multiplier(c[i], g[i], epsilon)
+            })
             .collect()
     };
     // Scale-free convergence: every row of ∇φ within rounding of its own terms,
@@ -110,7 +116,7 @@ pub(super) fn solve(
         (0..dim).all(|i| {
             let terms: f64 = (0..dim).map(|j| (k[i * dim + j] * c[j]).abs()).sum::<f64>()
                 + b[i].abs()
-                + Region::of(c[i], epsilon)
+                + EpsilonRegion::of(c[i], epsilon)
                     .multiplier(c[i], g[i], epsilon)
                     .abs();
             grad[i].abs() <= 64.0 * dim as f64 * f64::EPSILON * terms
@@ -125,7 +131,7 @@ pub(super) fn solve(
         let grad = gradient(&c);
         let mut matrix = k.clone();
         for q in 0..dim {
-            if Region::of(c[q], epsilon) == Region::Middle {
+            if EpsilonRegion::of(c[q], epsilon) == EpsilonRegion::Middle {
                 matrix[q * dim + q] += g[q] / epsilon;
             }
         }
@@ -141,19 +147,19 @@ pub(super) fn solve(
         let moved = c
             .iter()
             .zip(&next)
-            .any(|(a, b)| Region::of(*a, epsilon) != Region::of(*b, epsilon));
+            .any(|(a, b)| EpsilonRegion::of(*a, epsilon) != EpsilonRegion::of(*b, epsilon));
         c = next;
         // The model is exact inside a fixed pattern of regions: a full step that keeps the
         // pattern lands on the solution.
         converged = (!moved && t == 1.0) || row_converged(&c, &gradient(&c));
     }
-    let regions: Vec<Region> = c.iter().map(|&c| Region::of(c, epsilon)).collect();
-    timing.dual_solve = clock.lap();
+    let regions: Vec<EpsilonRegion> = c.iter().map(|&c| EpsilonRegion::of(c, epsilon)).collect();
+    timing.friction_stage = clock.lap();
     let lambda = regularized_forces((&regions, &c, &g, epsilon), (k, b));
-    let field = condensed.reconstruct(&c);
+    let field = factored.reconstruct(&c);
     timing.reconstruction = clock.lap();
 
-    let mut warnings: Vec<Warning> = indefinite_warning_opt.into_iter().collect();
+    let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();
     if !converged {
         warnings.push(Warning::new(
             WarningCode::NewtonNotConverged,
@@ -162,7 +168,7 @@ pub(super) fn solve(
     }
     let condition_cases = vec![
         middle_additions(&regions, &g, epsilon),
-        middle_additions(&vec![Region::Middle; dim], &g, epsilon),
+        middle_additions(&vec![EpsilonRegion::Middle; dim], &g, epsilon),
     ];
     let details = MethodDetails {
         newton_iterations: Some(iterations),

@@ -1,11 +1,11 @@
 //! What the method modules share: the [`MethodOutput`] they hand to the certificate, a
-//! stopwatch for their stages, and the common ending of
-//! the three dual methods.
+//! stopwatch for their stages, the refusal of dense 2k × 2k matrices on too many obstacles,
+//! cancellation, and the common ending of the three dual methods (the box QP of (49)).
 
 use std::time::{Duration, Instant};
 
 use super::options::{ConditionLevel, SolveOptions};
-use super::solution::{MethodDetails, Timing, Warning, WarningCode};
+use super::solution::{FrictionState, MethodDetails, Timing, Warning, WarningCode};
 use crate::fem::NodalField;
 use crate::linalg::boxqp::QpResult;
 use crate::linalg::condition::{ConditionNumber, dense_condition};
@@ -20,7 +20,7 @@ pub(crate) struct MethodOutput {
     /// only where its independent check finds the DOF at the threshold within rounding, i.e.
     /// where both descriptions fit the returned values; it never overrides a state the check
     /// decides.
-    pub states: Option<Vec<[super::condensed::FrictionState; 2]>>,
+    pub states: Option<Vec<[FrictionState; 2]>>,
     pub timing: Timing,
     pub warnings: Vec<Warning>,
     pub details: MethodDetails,
@@ -34,7 +34,7 @@ pub(crate) struct MethodOutput {
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
 /// (`dual`, `dual-inverse`, `flexibility`, `regularized-newton`): 1024² doubles = 8 MB, and the
 /// box QP's cost grows like k³ beyond. The condensed method has no such limit.
-pub(crate) const MAX_DENSE_OBSTACLES: usize = 512;
+const MAX_DENSE_OBSTACLES: usize = 512;
 
 /// Refuses a method with dense 2k × 2k matrices on more than [`MAX_DENSE_OBSTACLES`].
 pub(crate) fn refuse_many_obstacles(

@@ -1,5 +1,6 @@
 //! The [`Solution`] every method returns and the report types it carries: per-obstacle
-//! results, timing, condition numbers, the error against a reference, warnings, and the
+//! results (the friction forces λ of (38) and the [`FrictionState`] of every friction DOF),
+//! timing, condition numbers, the error against a reference, warnings, and the
 //! [`SolveError`] of a method that gives no solution.
 
 use std::fmt;
@@ -7,7 +8,6 @@ use std::time::Duration;
 
 use serde::Serialize;
 
-use super::condensed::FrictionState;
 use crate::fem::NodalField;
 use crate::linalg::condition::ConditionNumber;
 use crate::model::Method;
@@ -73,20 +73,22 @@ impl fmt::Display for SolveError {
 
 impl std::error::Error for SolveError {}
 
-/// Run time of the stages of a method. For the regularised methods, `dual_solve` is the
-/// work on the friction DOFs: the case enumeration or the Newton iterations.
+/// Run time of the stages of a method.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Timing {
     pub assembly: Duration,
     pub factorization: Duration,
-    pub dual_solve: Duration,
+    /// The work on the friction DOFs: the box QP of the dual methods, the case enumeration or
+    /// the Newton iterations of the regularised ones, the friction search of `condensed`, the
+    /// closed form's choice of case (50)–(51).
+    pub friction_stage: Duration,
     pub reconstruction: Duration,
 }
 
 impl Timing {
     /// Sum of the stages.
     pub fn total(&self) -> Duration {
-        self.assembly + self.factorization + self.dual_solve + self.reconstruction
+        self.assembly + self.factorization + self.friction_stage + self.reconstruction
     }
 }
 
@@ -193,6 +195,17 @@ impl Warning {
             message: message.into(),
         }
     }
+}
+
+/// The friction state of one DOF (value or slope) of an obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FrictionState {
+    /// c = 0 and |λ| < g by more than rounding.
+    Stuck,
+    /// c ≠ 0 by more than rounding, λ = g·sign c.
+    Moves,
+    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
+    AtThreshold,
 }
 
 impl FrictionState {
@@ -303,8 +316,8 @@ pub struct ErrorReport {
     pub reference: Reference,
     /// max |u − u_ref| over the nodes [m].
     pub max_abs: Option<f64>,
-    /// max |u − u_ref| / max |u_ref| (see [`crate::solve::compare`] for the guard when u is
-    /// nearly zero at every node).
+    /// max |u − u_ref| / max |u_ref| (see `compare` in the certificate's `reference` for the
+    /// guard when u is nearly zero at every node).
     pub max_rel: Option<f64>,
     /// mean |u − u_ref| over the nodes [m] (the paper's err of section 2.8).
     pub mean_abs: Option<f64>,
@@ -320,8 +333,12 @@ pub struct ErrorReport {
 pub struct MethodDetails {
     /// Regularised cases enumerated (9^k).
     pub cases: Option<u64>,
-    /// Newton iterations (= factorizations of the condensed system).
+    /// Newton iterations of `regularized-newton` (each one Cholesky factorization of a case
+    /// matrix K + D on the friction DOFs).
     pub newton_iterations: Option<usize>,
+    /// Pattern solves of the `condensed` method's friction search, each one banded
+    /// factorisation and solve of the multiple-shooting system.
+    pub linear_solves: Option<usize>,
     /// Iterations of the box QP.
     pub qp_iterations: Option<usize>,
     /// How many case matrices the reported largest condition number was taken over.

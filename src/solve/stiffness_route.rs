@@ -14,27 +14,28 @@ use crate::linalg::blocktri::FrictionLastFactor;
 use crate::linalg::dense::{Cholesky, mat_vec};
 use crate::model::{Method, Problem};
 
-/// A factored stiffness matrix, condensed on the friction DOFs.
-pub(super) struct Condensed<'m> {
+/// The stiffness matrix A factored with the friction nodes last, and its Schur complement K and
+/// condensed load b̃ on the friction DOFs.
+pub(super) struct FactoredStiffness<'m> {
     factor: FrictionLastFactor<StiffnessMatrix<'m>>,
     /// The forward-eliminated right-hand side by node (u-part, u'-part), ends included; it
     /// becomes the solution in place.
     rhs: (Vec<f64>, Vec<f64>),
     /// K, 2k×2k row-major.
-    pub stiffness: Vec<f64>,
+    pub friction_stiffness: Vec<f64>,
     /// b̃ (2k).
-    pub load: Vec<f64>,
+    pub friction_load: Vec<f64>,
     /// 2k.
-    pub dim: usize,
+    pub friction_dofs: usize,
 }
 
 /// Assembles and factors; times the two stages into `timing`.
-pub(super) fn condense<'m>(
+pub(super) fn assemble_and_factor<'m>(
     problem: &Problem,
     mesh: &'m Mesh,
     method: Method,
     timing: &mut Timing,
-) -> Result<Condensed<'m>, SolveError> {
+) -> Result<FactoredStiffness<'m>, SolveError> {
     let mut clock = Stopwatch::start();
     let matrix = StiffnessMatrix::new(mesh);
     let (mut u, mut t) = load_vector(problem, mesh);
@@ -52,18 +53,18 @@ pub(super) fn condense<'m>(
             },
         )?;
     timing.factorization = clock.lap();
-    Ok(Condensed {
-        stiffness: factor.schur.clone(),
-        dim: factor.friction_dofs(),
+    Ok(FactoredStiffness {
+        friction_stiffness: factor.schur.clone(),
+        friction_dofs: factor.friction_dofs(),
         factor,
         rhs: (u, t),
-        load,
+        friction_load: load,
     })
 }
 
-impl Condensed<'_> {
+impl FactoredStiffness<'_> {
     /// The first node whose pivot was not positive definite, if rounding destroyed A.
-    pub fn first_indefinite_node(&self) -> Option<usize> {
+    fn first_indefinite_node(&self) -> Option<usize> {
         self.factor.first_indefinite.map(|block| block + 1)
     }
 
@@ -83,16 +84,16 @@ impl Condensed<'_> {
 /// S (2k×2k row-major), z0, and a warning when K had to be inverted by LU.
 pub(super) type DualMatrices = (Vec<f64>, Vec<f64>, Option<Warning>);
 
-impl Condensed<'_> {
+impl FactoredStiffness<'_> {
     /// S = K⁻¹ and z0 = K⁻¹ b̃ of (49). K is SPD in exact arithmetic; when rounding has made it
     /// indefinite, the inverse comes from an LU factorization instead and the warning says so.
     pub fn dual_matrices(&self, method: Method, mesh: &Mesh) -> Result<DualMatrices, SolveError> {
-        let dim = self.dim;
-        if let Some(k) = Cholesky::new(&self.stiffness, dim) {
-            return Ok((k.inverse(), k.solve(&self.load), None));
+        let dim = self.friction_dofs;
+        if let Some(k) = Cholesky::new(&self.friction_stiffness, dim) {
+            return Ok((k.inverse(), k.solve(&self.friction_load), None));
         }
         use faer::linalg::solvers::DenseSolveCore;
-        let k = faer::Mat::from_fn(dim, dim, |i, j| self.stiffness[i * dim + j]);
+        let k = faer::Mat::from_fn(dim, dim, |i, j| self.friction_stiffness[i * dim + j]);
         let inverse = k.partial_piv_lu().inverse();
         let s: Vec<f64> = (0..dim * dim)
             .map(|ij| inverse[(ij / dim, ij % dim)])
@@ -104,7 +105,7 @@ impl Condensed<'_> {
                 "the condensed stiffness on the friction DOFs is singular".into(),
             ));
         }
-        let z0 = mat_vec(&s, &self.load);
+        let z0 = mat_vec(&s, &self.friction_load);
         let warning = Warning::new(
             WarningCode::IndefiniteFactorization,
             format!(
@@ -118,8 +119,8 @@ impl Condensed<'_> {
 }
 
 /// The warning for a factorization that went on through indefinite pivots.
-pub(super) fn indefinite_warning(condensed: &Condensed, mesh: &Mesh) -> Option<Warning> {
-    condensed.first_indefinite_node().map(|node| {
+pub(super) fn indefinite_warning(factored: &FactoredStiffness, mesh: &Mesh) -> Option<Warning> {
+    factored.first_indefinite_node().map(|node| {
         Warning::new(
             WarningCode::IndefiniteFactorization,
             format!(

@@ -1,6 +1,6 @@
-//! MPRGP (Dostál's modified proportioning with reduced gradient projections), the box QP's
-//! fallback when projected Newton fails: it finds an active set that the primal active-set
-//! method then finishes exactly.
+//! MPRGP (Dostál's modified proportioning with reduced gradient projections) for the box QP of
+//! (49), the fallback when projected Newton fails: it finds an active set that the primal
+//! active-set method then finishes exactly.
 
 use super::gradient;
 

@@ -4,9 +4,9 @@
 //!
 //! **Pieces.** On a piece between consecutive special points E·J is constant and f linear, so
 //! the beam equation (EJ u'')'' = f has the exact transfer y(b) = Φ y(a) + q for the state
-//! y = (u, u', m, m') with m = EJ u'' (the force formulation of DESIGN.md fact 3, but applied
+//! y = (u, u', m, m') with m = EJ u'' (the force formulation of docs/design.md fact 3, but applied
 //! to one piece at a time). Because the finite-element solution is exact at the nodes
-//! (DESIGN.md fact 1), the states at the special points determine the discrete solution of (38)
+//! (docs/design.md fact 1), the states at the special points determine the discrete solution of (38)
 //! on any mesh.
 //!
 //! **Multiple shooting instead of single shooting.** The unknowns are the state at the start of
@@ -71,24 +71,21 @@
 //! **Nodes.** Every node inside a piece is evaluated from that piece's end values (Hermite
 //! cubic) plus the piece's exact clamped–clamped response to its linear load: O(n) in total,
 //! and the error does not grow with n.
+//!
+//! **Layout.** `scaling` (the power-of-two units and one piece's exact transfer), `system` (the
+//! banded system of a pattern and its solve), `refinement` (double-double refinement and the
+//! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
+//! search's step), `search` (the Newton phases and the monotone search), `nodes` (every node
+//! from its piece).
 
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, cancelled};
-use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode};
+use super::solution::{
+    FrictionState, MethodDetails, SolveError, SolveErrorKind, Timing, Warning, WarningCode,
+};
 use crate::fem::{Mesh, NodalField};
 use crate::model::{Method, Problem};
 use search::{NEWTON_REVERSAL_FRACTIONS, solve_with_newton_phases};
-
-/// The friction state of one DOF (value or slope) of an obstacle.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FrictionState {
-    /// c = 0 and |λ| < g by more than rounding.
-    Stuck,
-    /// c ≠ 0 by more than rounding, λ = g·sign c.
-    Moves,
-    /// c = 0 within rounding and |λ| = g within rounding: both descriptions fit.
-    AtThreshold,
-}
 
 /// The result of the condensed method, in SI units.
 #[derive(Debug, Clone, PartialEq)]
@@ -114,7 +111,10 @@ pub enum CondensedFailure {
     Stopped,
 }
 
+mod decisions;
+mod line_search;
 mod nodes;
+mod refinement;
 mod scaling;
 mod search;
 mod system;
@@ -161,7 +161,7 @@ pub(super) fn solve(
             },
             CondensedFailure::Stopped => cancelled(Method::Condensed),
         })?;
-    timing.dual_solve = clock.lap();
+    timing.friction_stage = clock.lap();
     let mut warnings = Vec::new();
     if !solution.converged {
         warnings.push(Warning::new(
@@ -180,7 +180,7 @@ pub(super) fn solve(
         timing,
         warnings,
         details: MethodDetails {
-            newton_iterations: Some(solution.solves),
+            linear_solves: Some(solution.solves),
             ..MethodDetails::default()
         },
         dual_condition: None,

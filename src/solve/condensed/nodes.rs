@@ -2,7 +2,7 @@
 //! clamped–clamped response to the linear load — O(n), with no sum running along the beam.
 
 use super::scaling::Scales;
-use super::system::{Condensed, PatternSolution};
+use super::system::{PatternSolution, ShootingSystem};
 use crate::fem::{Mesh, NodalField};
 use crate::linalg::banded_lu::times_power_of_two;
 use crate::linalg::double_double::DoubleDouble;
@@ -11,7 +11,7 @@ use crate::linalg::double_double::DoubleDouble;
 /// piece's exact clamped–clamped response to its linear load, in SI units.
 pub(super) fn nodal_field(
     mesh: &Mesh,
-    condensed: &Condensed,
+    system: &ShootingSystem,
     solution: &PatternSolution,
     scales: &Scales,
 ) -> NodalField {
@@ -21,9 +21,9 @@ pub(super) fn nodal_field(
     let factor = |e: i32| (-1000..=1000).contains(&e).then(|| 2f64.powi(e));
     let factors = factor(u_exponent).zip(factor(slope_exponent));
     let (u_factor, slope_factor) = factors.unwrap_or((1.0, 1.0));
-    for (p, (mesh_piece, piece)) in mesh.pieces.iter().zip(&condensed.pieces).enumerate() {
-        let [ua, sa] = condensed.point_values(solution, p);
-        let [ub, sb] = condensed.point_values(solution, p + 1);
+    for (p, (mesh_piece, piece)) in mesh.pieces.iter().zip(&system.pieces).enumerate() {
+        let [ua, sa] = system.point_values(solution, p);
+        let [ub, sb] = system.point_values(solution, p + 1);
         let (first, last) = (mesh_piece.first_node, mesh_piece.last_node);
         let (a, b) = (mesh.nodes[first], mesh.nodes[last]);
         let to_local = 1.0 / (b - a);

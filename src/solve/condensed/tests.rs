@@ -1,4 +1,5 @@
-//! Unit tests of the condensed method's search.
+//! Unit tests of the condensed method's search: the monotone search alone and each Newton
+//! variant first find the same solution of (38).
 
 use super::*;
 use crate::model::{LinearLoad, Obstacle, StiffnessPiece};

@@ -1,0 +1,161 @@
+//! What one solve of a pattern says about each friction DOF: what rounding resolves there, how
+//! far its force is from the threshold, whether a decision must wait for refinement, the
+//! pattern it wants (semismooth Newton's prediction for a reversal) and its final friction
+//! state.
+
+use super::system::{Pattern, PatternSolution, ShootingSystem};
+use crate::solve::FrictionState;
+
+/// What elimination without refinement is trusted to resolve, relative to the largest value
+/// of a kind (generous: a short piece next to long ones makes the system ill-conditioned).
+const PLAIN_RESOLUTION: f64 = 1e-6;
+
+/// What a refined solve resolves at best, relative to the values around a DOF: a few hundred
+/// units in the last place of double-double (2⁻¹⁰⁶).
+const REFINED_RESOLUTION: f64 = 1.0 / (1u128 << 98) as f64;
+
+impl ShootingSystem {
+    /// What rounding can resolve at friction DOF i: (motion, force) below which a value is
+    /// indistinguishable from zero, resp. a force from its threshold. After elimination alone:
+    /// 64 ulps of the values around the DOF (the adjacent pieces' own values of its kind, the
+    /// shear or moment on both sides). After refinement: a few hundred double-double ulps of
+    /// them, or four times the refinement's last correction where that is larger.
+    fn resolution(&self, solution: &PatternSolution, i: usize) -> (f64, f64) {
+        const ULPS: f64 = 64.0 * f64::EPSILON;
+        let (j, d) = (i / 2, i % 2);
+        let p = self.point_of_obstacle[j];
+        let [left, right] = [p - 1, p].map(|q| {
+            let piece = &self.pieces[q];
+            piece.magnitude(
+                self.point_values(solution, q),
+                self.point_values(solution, q + 1),
+                d,
+            )
+        });
+        let motion_scale = left.min(right);
+        // m' for the force, m for the moment, on both sides of the obstacle.
+        let component = if d == 0 { 3 } else { 2 };
+        let force_scale = solution.end[p - 1][component]
+            .abs()
+            .max(solution.start[p][component].abs());
+        match &solution.exact {
+            None => (ULPS * motion_scale, ULPS * force_scale),
+            Some(exact) => (
+                (REFINED_RESOLUTION * motion_scale).max(4.0 * exact.motion_error[i]),
+                (REFINED_RESOLUTION * force_scale).max(4.0 * exact.force_error[i]),
+            ),
+        }
+    }
+
+    /// |λ_i| − g_i, in double-double after refinement.
+    fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
+        let g = self.thresholds[i / 2][i % 2];
+        match &solution.exact {
+            Some(exact) => (exact.force[i].abs() - g.into()).value(),
+            None => solution.lambda[i].abs() - g,
+        }
+    }
+
+    /// Which decisions of this solve are within what elimination without refinement resolves:
+    /// a motion within [`PLAIN_RESOLUTION`] of the largest value of its kind, or a stuck force
+    /// that close to its threshold, relative to the largest internal force of its kind.
+    pub(super) fn uncertain(&self, solution: &PatternSolution, pattern: &[Pattern]) -> Vec<bool> {
+        let motion_scale = solution.largest_motion.map(|v| PLAIN_RESOLUTION * v);
+        let force_scale = solution.largest_force.map(|v| PLAIN_RESOLUTION * v);
+        pattern
+            .iter()
+            .enumerate()
+            .map(|(i, state)| {
+                let d = i % 2;
+                match state {
+                    Pattern::Stuck => {
+                        let g = self.thresholds[i / 2][d];
+                        (solution.lambda[i].abs() - g).abs() <= force_scale[d]
+                    }
+                    _ => self.friction_value(solution, i).abs() <= motion_scale[d],
+                }
+            })
+            .collect()
+    }
+
+    /// The pattern each DOF should have given this solution (the same when consistent).
+    pub(super) fn wanted(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+        i: usize,
+    ) -> Pattern {
+        // The resolution is asked for only when the value itself does not settle it.
+        let g = self.thresholds[i / 2][i % 2];
+        match pattern[i] {
+            Pattern::Stuck => {
+                let l = solution.lambda[i];
+                let excess = self.force_excess(solution, i);
+                if excess > 0.0 && excess > self.resolution(solution, i).1 {
+                    if l > 0.0 {
+                        Pattern::Positive
+                    } else {
+                        Pattern::Negative
+                    }
+                } else {
+                    Pattern::Stuck
+                }
+            }
+            moving => {
+                let sign = if moving == Pattern::Positive {
+                    1.0
+                } else {
+                    -1.0
+                };
+                let c = self.friction_value(solution, i);
+                if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
+                    moving
+                } else if sign * (sign * g + self.reversal_stiffness(i) * c) < -g {
+                    // Semismooth Newton's prediction λ + σc: a large reversal goes straight to
+                    // the other bound.
+                    if moving == Pattern::Positive {
+                        Pattern::Negative
+                    } else {
+                        Pattern::Positive
+                    }
+                } else {
+                    Pattern::Stuck
+                }
+            }
+        }
+    }
+
+    /// σ of the semismooth Newton prediction λ + σc for a DOF that reverses: a fraction of
+    /// its diagonal stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope).
+    /// With σ = 0 a reversing DOF is first held stuck.
+    fn reversal_stiffness(&self, i: usize) -> f64 {
+        let p = self.point_of_obstacle[i / 2];
+        let diagonal: f64 = [p - 1, p]
+            .iter()
+            .map(|&q| {
+                let piece = &self.pieces[q];
+                if i.is_multiple_of(2) {
+                    12.0 * piece.stiffness / piece.length.powi(3)
+                } else {
+                    4.0 * piece.stiffness / piece.length
+                }
+            })
+            .sum();
+        self.reversal_fraction.get() * diagonal
+    }
+
+    pub(super) fn state(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+        i: usize,
+    ) -> FrictionState {
+        let (motion_noise, force_noise) = self.resolution(solution, i);
+        match pattern[i] {
+            Pattern::Stuck if self.force_excess(solution, i) < -force_noise => FrictionState::Stuck,
+            Pattern::Stuck => FrictionState::AtThreshold,
+            _ if self.friction_value(solution, i).abs() > motion_noise => FrictionState::Moves,
+            _ => FrictionState::AtThreshold,
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! The monotone search's step: a point on the friction DOFs (motions and forces), the exact
+//! line search on the convex, piecewise quadratic J of (38) between two points, and the pattern
+//! of a point.
+
+use super::system::{Pattern, PatternSolution, ShootingSystem};
+
+/// A point of the monotone search on the friction DOFs: the motions c and the forces
+/// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
+/// the point, so a point between two solves carries the same combination of their forces:
+/// no stiffness (1e27 for a piece 1e-9·l long) is ever multiplied by a displacement.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct SearchPoint {
+    pub(super) motion: Vec<f64>,
+    pub(super) force: Vec<f64>,
+}
+
+impl ShootingSystem {
+    /// The friction DOFs' motions and forces of a solve.
+    pub(super) fn search_point(&self, solution: &PatternSolution) -> SearchPoint {
+        SearchPoint {
+            motion: (0..solution.lambda.len())
+                .map(|i| self.friction_value(solution, i))
+                .collect(),
+            force: solution.lambda.clone(),
+        }
+    }
+
+    /// Exact minimisation of J(c + t d), d = target − c, over t ∈ [0, 1]: J is convex and
+    /// piecewise quadratic along the segment, with kinks where a friction DOF crosses zero.
+    /// The slope of its smooth part is −rᵀd and its curvature dᵀK d = dᵀ(r(c) − r(target)).
+    /// Returns the new point (DOFs that stop at their kink set to exactly zero) and whether
+    /// it is the target itself.
+    pub(super) fn line_search(
+        &self,
+        current: &SearchPoint,
+        target: &SearchPoint,
+    ) -> (SearchPoint, bool) {
+        let (c, r) = (&current.motion, &current.force);
+        let d: Vec<f64> = target.motion.iter().zip(c).map(|(t, c)| t - c).collect();
+        let q: f64 = d
+            .iter()
+            .zip(r.iter().zip(&target.force))
+            .map(|(d, (a, b))| d * (a - b))
+            .sum();
+        let sign = |v: f64| {
+            if v > 0.0 {
+                1.0
+            } else if v < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        };
+        // Slope of J at t = 0⁺ and the kinks ahead.
+        let mut slope = 0.0;
+        let mut kinks = Vec::new();
+        for (i, (&ci, &di)) in c.iter().zip(&d).enumerate() {
+            let g = self.thresholds[i / 2][i % 2];
+            if di == 0.0 {
+                continue;
+            }
+            if g == 0.0 {
+                slope -= r[i] * di;
+                continue;
+            }
+            let direction = if ci != 0.0 { sign(ci) } else { sign(di) };
+            // One term per DOF, (g·sign − r)·d: exactly zero for a DOF that moves on at its
+            // threshold, so a large moving DOF cannot round away the slope of the others.
+            slope += (g * direction - r[i]) * di;
+            if ci != 0.0 && sign(ci) != sign(di) {
+                let t = -ci / di;
+                if t < 1.0 {
+                    kinks.push((t, i, 2.0 * g * di.abs()));
+                }
+            }
+        }
+        kinks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut at = 0.0;
+        let mut stop = None;
+        if slope >= 0.0 {
+            stop = Some((0.0, None));
+        } else {
+            for &(t, i, jump) in &kinks {
+                // J'(s) = slope + q (s − at) on [at, t].
+                if q > 0.0 && slope + q * (t - at) >= 0.0 {
+                    stop = Some((at - slope / q, None));
+                    break;
+                }
+                // The jump first: past a DOF's own kink it often cancels the slope.
+                slope = (slope + jump) + q * (t - at);
+                at = t;
+                if slope >= 0.0 {
+                    stop = Some((t, Some(i)));
+                    break;
+                }
+            }
+            if stop.is_none() && q > 0.0 && slope + q * (1.0 - at) >= 0.0 {
+                stop = Some((at - slope / q, None));
+            }
+        }
+        match stop {
+            None => (target.clone(), true),
+            Some((t, kink)) => {
+                let t = t.clamp(0.0, 1.0);
+                let between = |a: &[f64], b: &[f64]| -> Vec<f64> {
+                    a.iter().zip(b).map(|(a, b)| a + t * (b - a)).collect()
+                };
+                let mut next = SearchPoint {
+                    motion: between(c, &target.motion),
+                    force: between(r, &target.force),
+                };
+                if let Some(i) = kink {
+                    next.motion[i] = 0.0;
+                }
+                // Every DOF whose kink lies at or before t has crossed or stopped at zero.
+                for &(tk, i, _) in &kinks {
+                    if tk == t {
+                        next.motion[i] = 0.0;
+                    }
+                }
+                (next, false)
+            }
+        }
+    }
+
+    /// The pattern of a point: moving DOFs with their sign, zeros stuck.
+    pub(super) fn signs_of(&self, point: &SearchPoint) -> Vec<Pattern> {
+        point
+            .motion
+            .iter()
+            .map(|&v| {
+                if v > 0.0 {
+                    Pattern::Positive
+                } else if v < 0.0 {
+                    Pattern::Negative
+                } else {
+                    Pattern::Stuck
+                }
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,216 @@
+//! Iterative refinement of a pattern's solve with the residual of the exact piece relations in
+//! double-double (`linalg::double_double`), and, where refinement with the f64 factors
+//! diverges, the exact relations themselves factored in double-double
+//! (`linalg::banded_lu_dd`): every friction DOF's motion and force to about 106 bits, with the
+//! refinement's own estimate of the error left (the "Decisions" of the module `condensed`).
+
+use super::CondensedFailure;
+use super::system::{
+    BAND_LOWER, BAND_UPPER, ExactValues, JUMPS, Pattern, PatternSolution, ShootingSystem,
+};
+use crate::linalg::banded_lu::BandedSystem;
+use crate::linalg::banded_lu_dd::DoubleDoubleBanded;
+use crate::linalg::double_double::DoubleDouble;
+
+/// Most refinement steps with the exact residual.
+const EXACT_REFINEMENT_STEPS: usize = 8;
+
+/// A component whose correction is below this fraction of its value has converged (2⁻¹⁰⁰:
+/// the double-double noise of the residual, about 2⁻¹⁰⁶ of the terms, moves corrections
+/// around 2⁻¹⁰³ of the value from step to step).
+const CONVERGED: f64 = 1.0 / (1u128 << 100) as f64;
+
+/// How a run of refinement steps ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Refinement {
+    /// Converged, or stopped gaining.
+    Settled,
+    /// The corrections grew (or could not be computed): the factors are too inaccurate.
+    Diverged,
+}
+
+impl ShootingSystem {
+    /// The pattern of the previous solve again ([`Accuracy::RefineLast`]): its system is
+    /// unchanged, so `banded` still holds its factors and right-hand side; solved from those
+    /// and refined.
+    ///
+    /// [`Accuracy::RefineLast`]: super::system::Accuracy::RefineLast
+    pub(super) fn refine_last(
+        &self,
+        pattern: &[Pattern],
+        banded: &BandedSystem,
+    ) -> Result<PatternSolution, CondensedFailure> {
+        let mut x = banded.rhs().to_vec();
+        if !banded.apply_inverse(&mut x) {
+            return Err(CondensedFailure::Singular { column: 0 });
+        }
+        Ok(self.refined_solution(pattern, banded, x))
+    }
+
+    /// Iterative refinement of `x` (a solve of `pattern`'s system, whose factors `banded`
+    /// holds) with the residual of the exact piece relations in double-double; the solution
+    /// with its friction DOFs in double-double and their error estimates.
+    fn refined_solution(
+        &self,
+        pattern: &[Pattern],
+        banded: &BandedSystem,
+        x: Vec<f64>,
+    ) -> PatternSolution {
+        let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
+        // Per component: the last correction (the error estimate once it stops shrinking).
+        let mut correction_size = vec![f64::INFINITY; x.len()];
+        let with_f64_factors = self.refine(pattern, &mut x, &mut correction_size, |d| {
+            banded.apply_inverse(d)
+        });
+        if with_f64_factors == Refinement::Diverged {
+            // The f64 factors are too far from the exact relations: factor those themselves,
+            // in double-double (banded_lu_dd), and go on from the last iterate.
+            let mut matrix = self.exact_matrix(pattern);
+            if matrix.factor().is_ok() {
+                correction_size.fill(f64::INFINITY);
+                self.refine(pattern, &mut x, &mut correction_size, |d| {
+                    let solved = matrix.solve(d);
+                    for (d, s) in d.iter_mut().zip(solved) {
+                        *d = s.value();
+                    }
+                    true
+                });
+            }
+        }
+        let hi: Vec<f64> = x.iter().map(|v| v.hi).collect();
+        let mut solution = self.pattern_solution(pattern, &hi);
+        let dofs = pattern.len();
+        let mut exact = ExactValues {
+            force: vec![DoubleDouble::ZERO; dofs],
+            motion_error: vec![0.0; dofs],
+            force_error: vec![0.0; dofs],
+        };
+        for (i, state) in pattern.iter().enumerate() {
+            let (j, d) = (i / 2, i % 2);
+            let column = Self::column(self.point_of_obstacle[j], d);
+            let g = self.thresholds[j][d];
+            match state {
+                Pattern::Stuck => {
+                    exact.force[i] = x[column];
+                    exact.force_error[i] = correction_size[column];
+                }
+                Pattern::Positive => {
+                    exact.motion_error[i] = correction_size[column];
+                    exact.force[i] = g.into();
+                }
+                Pattern::Negative => {
+                    exact.motion_error[i] = correction_size[column];
+                    exact.force[i] = (-g).into();
+                }
+            }
+        }
+        solution.exact = Some(exact);
+        solution
+    }
+
+    /// Refinement steps x += A⁻¹ (b − A x) with the exact residual and `apply_inverse` for
+    /// A⁻¹, until no component converges any more or the corrections grow.
+    fn refine(
+        &self,
+        pattern: &[Pattern],
+        x: &mut [DoubleDouble],
+        correction_size: &mut [f64],
+        mut apply_inverse: impl FnMut(&mut [f64]) -> bool,
+    ) -> Refinement {
+        let mut previous_largest = f64::INFINITY;
+        for _ in 0..EXACT_REFINEMENT_STEPS {
+            let mut d = self.exact_residual(pattern, x);
+            if !apply_inverse(&mut d) {
+                return Refinement::Diverged;
+            }
+            let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if !largest.is_finite() || largest > 2.0 * previous_largest {
+                // Diverging (singular to working precision): keep the last iterate.
+                return Refinement::Diverged;
+            }
+            previous_largest = largest;
+            // A component needs another step while its correction shrinks fast (refinement
+            // gains digits geometrically; at the noise floor of its rows corrections only
+            // wander, shrinking by 2 or 3 now and then) and the next one, predicted from that
+            // rate, is still above the double-double resolution of its value. Small
+            // components converge on their own scale, so the largest correction alone is no
+            // stopping rule.
+            let mut converging = false;
+            for ((xi, di), last) in x.iter_mut().zip(&d).zip(correction_size.iter_mut()) {
+                let size = di.abs();
+                let next = if last.is_finite() {
+                    size * (size / *last)
+                } else {
+                    size
+                };
+                converging |= size < *last / 16.0 && next > CONVERGED * xi.hi.abs();
+                *last = size;
+                *xi = xi.plus(*di);
+            }
+            if !converging {
+                break;
+            }
+        }
+        Refinement::Settled
+    }
+
+    /// The matrix of `solve_pattern` with the exact piece relations' coefficients, in
+    /// double-double.
+    fn exact_matrix(&self, pattern: &[Pattern]) -> DoubleDoubleBanded {
+        let mut matrix = DoubleDoubleBanded::new(4 * self.pieces.len() - 2, BAND_LOWER, BAND_UPPER);
+        self.assemble_matrix(
+            pattern,
+            |p| self.exact_pieces[p].transfer_matrix(),
+            DoubleDouble::from,
+            |row, column, value| matrix.add(row, column, value),
+        );
+        matrix
+    }
+
+    /// b − A x for the system of `pattern`, with A and b the exact piece relations (each
+    /// piece's coefficients in double-double), rounded once per row: −(Φ y_p + q − y_{p+1}
+    /// + jump) for every transfer row.
+    fn exact_residual(&self, pattern: &[Pattern], x: &[DoubleDouble]) -> Vec<f64> {
+        let pieces = self.pieces.len();
+        let stuck = |p: usize, d: usize| {
+            self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
+        };
+        let state = |p: usize| -> [DoubleDouble; 4] {
+            std::array::from_fn(|c| {
+                if c < 2 && (p == 0 || stuck(p, c)) {
+                    DoubleDouble::ZERO
+                } else {
+                    x[Self::column(p, c)]
+                }
+            })
+        };
+        let mut residual = vec![0.0; x.len()];
+        for (p, piece) in self.exact_pieces.iter().enumerate() {
+            let last = p + 1 == pieces;
+            let mut end = piece.transfer(state(p));
+            if !last {
+                let next = state(p + 1);
+                for (e, n) in end.iter_mut().zip(next) {
+                    *e = *e - n;
+                }
+                if let Some(j) = self.obstacle_at_point[p + 1] {
+                    // m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2 (as in `solve_pattern`).
+                    for (d, jump_row, sign) in JUMPS {
+                        let g = self.thresholds[j][d];
+                        let force = match pattern[2 * j + d] {
+                            Pattern::Stuck => x[Self::column(p + 1, d)],
+                            Pattern::Positive => g.into(),
+                            Pattern::Negative => (-g).into(),
+                        };
+                        end[jump_row] = end[jump_row] + force.times(sign);
+                    }
+                }
+            }
+            let rows = if last { 2 } else { 4 };
+            for r in 0..rows {
+                residual[4 * p + r] = -end[r].value();
+            }
+        }
+        residual
+    }
+}
