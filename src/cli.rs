@@ -2,6 +2,8 @@
 //! parses and calls [`dispatch`]; everything else lives here and in the modules it calls.
 
 use std::io::Write;
+
+use serde_json::json;
 use std::process::ExitCode;
 
 use crate::fem::Mesh;
@@ -10,8 +12,10 @@ use crate::scene::{self, LoadedScene};
 use crate::solve::{Method, SolveOptions, WarningCode, solve};
 
 mod args;
+mod error;
 
 pub use args::*;
+pub use error::CliError;
 
 /// A line on stderr. Unlike `eprintln!`, a closed stderr (a terminal that went away) is no
 /// reason to panic.
@@ -93,15 +97,16 @@ pub fn load_with_overrides(
     method: Option<Method>,
     elements: Option<usize>,
     epsilon: Option<f64>,
-) -> Result<LoadedScene, String> {
-    let mut loaded = scene::load(name).map_err(|e| e.to_string())?;
+) -> Result<LoadedScene, CliError> {
+    let mut loaded = scene::load(name)?;
     if let Some(n) = elements {
-        scene::check_elements(n).map_err(|rule| format!("--elements {rule}"))?;
+        scene::check_elements(n)
+            .map_err(|rule| CliError::Argument(format!("--elements {rule}")))?;
         loaded.scene.mesh.elements = n;
         loaded.settings.elements = n;
     }
     if let Some(e) = epsilon {
-        scene::check_epsilon(e).map_err(|rule| format!("--epsilon {rule}"))?;
+        scene::check_epsilon(e).map_err(|rule| CliError::Argument(format!("--epsilon {rule}")))?;
         loaded.scene.solver.epsilon = e;
         loaded.settings.epsilon = e;
     }
@@ -123,16 +128,15 @@ fn explore(
     no_color: bool,
     no_mouse: bool,
     palette: crate::plot::Palette,
-) -> Result<ExitCode, String> {
+) -> Result<ExitCode, CliError> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
-        return Err(
+        return Err(CliError::NotATerminal(
             "the explorer draws on a terminal, and standard output is not one; `beamfric \
-             render` prints a frame as text"
-                .into(),
-        );
+             render` prints a frame as text",
+        ));
     }
-    let loaded = scene::load(name).map_err(|e| e.to_string())?;
+    let loaded = scene::load(name)?;
     let look = crate::plot::Look {
         ascii: ascii
             || !crate::plot::locale_is_utf8(
@@ -147,7 +151,7 @@ fn explore(
         show_timings: true,
         ..crate::tui::state::Options::new(look)
     };
-    let ending = crate::tui::explore(loaded, options).map_err(|e| e.to_string())?;
+    let ending = crate::tui::explore(loaded, options)?;
     Ok(exit_code(ending))
 }
 
@@ -165,20 +169,19 @@ fn exit_code(ending: crate::tui::Ending) -> ExitCode {
 }
 
 #[cfg(unix)]
-fn serve_command(args: &ServeArgs) -> Result<ExitCode, String> {
+fn serve_command(args: &ServeArgs) -> Result<ExitCode, CliError> {
     crate::serve::serve_until_stopped(&serve_options(args))?;
     Ok(ExitCode::SUCCESS)
 }
 
 #[cfg(unix)]
-fn present_command(args: &PresentArgs) -> Result<ExitCode, String> {
+fn present_command(args: &PresentArgs) -> Result<ExitCode, CliError> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
-        return Err(
+        return Err(CliError::NotATerminal(
             "present draws your explorer on this terminal, and standard output is not one; \
-             `beamfric serve` serves without it"
-                .into(),
-        );
+             `beamfric serve` serves without it",
+        ));
     }
     let look = crate::plot::Look {
         ascii: args.ascii,
@@ -191,8 +194,8 @@ fn present_command(args: &PresentArgs) -> Result<ExitCode, String> {
 }
 
 #[cfg(not(unix))]
-fn present_command(_args: &PresentArgs) -> Result<ExitCode, String> {
-    Err("present needs a Unix system".into())
+fn present_command(_args: &PresentArgs) -> Result<ExitCode, CliError> {
+    Err(CliError::Unsupported("present needs a Unix system"))
 }
 
 #[cfg(unix)]
@@ -215,12 +218,12 @@ fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
 }
 
 #[cfg(not(unix))]
-fn serve_command(_args: &ServeArgs) -> Result<ExitCode, String> {
-    Err("serve needs a Unix system".into())
+fn serve_command(_args: &ServeArgs) -> Result<ExitCode, CliError> {
+    Err(CliError::Unsupported("serve needs a Unix system"))
 }
 
-fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
-    let loaded = scene::load(&args.scene).map_err(|e| e.to_string())?;
+fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
+    let loaded = scene::load(&args.scene)?;
     let keys = crate::tui::input::keys::parse_keys(&args.keys);
     let options = crate::tui::RenderOptions {
         width: args.size.0,
@@ -233,7 +236,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, String> {
         timings: args.timings,
         allow_save: args.allow_save.clone(),
     };
-    let buffer = crate::tui::render(loaded, &keys, options).map_err(|e| e.to_string())?;
+    let buffer = crate::tui::render(loaded, &keys, options)?;
     let text = crate::plot::buffer_to_text(&buffer, args.color);
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     Ok(ExitCode::SUCCESS)
@@ -279,23 +282,38 @@ fn check_count(
     what: &str,
     value: usize,
     range: std::ops::RangeInclusive<usize>,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     if range.contains(&value) {
         Ok(())
     } else {
-        Err(format!(
+        Err(CliError::Argument(format!(
             "{what} {value}: must be from {} to {}",
             range.start(),
             range.end()
-        ))
+        )))
     }
 }
 
-fn check_elements_range(from: usize, to: usize) -> Result<(), String> {
-    scene::check_elements(from).map_err(|rule| format!("--from {rule}"))?;
-    scene::check_elements(to).map_err(|rule| format!("--to {rule}"))?;
+/// The mesh sizes and repeats of a sweep over n, checked: sizes the scene rules allow, from
+/// the smaller to the larger, at most 200 of them, at most 100 runs each.
+fn check_mesh_sweep(sizes: &MeshSizes, repeat: usize) -> Result<(), CliError> {
+    check_elements_range(sizes.from, sizes.to)?;
+    check_count("--points", sizes.points, 1..=200)?;
+    check_count("--repeat", repeat, 1..=100)
+}
+
+/// The mesh sizes asked for.
+fn mesh_sizes(sizes: &MeshSizes) -> Vec<usize> {
+    crate::study::mesh_sizes(sizes.from, sizes.to, sizes.points)
+}
+
+fn check_elements_range(from: usize, to: usize) -> Result<(), CliError> {
+    scene::check_elements(from).map_err(|rule| CliError::Argument(format!("--from {rule}")))?;
+    scene::check_elements(to).map_err(|rule| CliError::Argument(format!("--to {rule}")))?;
     if from > to {
-        return Err(format!("--from {from} is larger than --to {to}"));
+        return Err(CliError::Argument(format!(
+            "--from {from} is larger than --to {to}"
+        )));
     }
     Ok(())
 }
@@ -318,22 +336,22 @@ fn print_table(
     });
 }
 
-fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
+fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> {
     for (name, value) in [("--from", args.from), ("--to", args.to)] {
-        scene::check_epsilon(value).map_err(|rule| format!("{name} {rule}"))?;
+        scene::check_epsilon(value).map_err(|rule| CliError::Argument(format!("{name} {rule}")))?;
     }
     if args.from > args.to {
-        return Err(format!(
+        return Err(CliError::Argument(format!(
             "--from {} is larger than --to {}",
             args.from, args.to
-        ));
+        )));
     }
     check_count("--points", args.points, 1..=1000)?;
     if !args.method.is_regularized() {
-        return Err(format!(
+        return Err(CliError::Argument(format!(
             "--method {}: the ε sweep needs regularized or regularized-newton",
             args.method
-        ));
+        )));
     }
     let LoadedScene {
         source,
@@ -363,21 +381,18 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, String> {
         args.format,
         || crate::output::epsilon_sweep_csv(&points),
         || {
-            serde_json::json!({
-                "scene": source.to_string(),
-                "method": args.method.name(),
-                "elements": settings.elements,
-                "points": points,
-            })
+            let ran_with = [
+                ("method", json!(args.method.name())),
+                ("elements", json!(settings.elements)),
+            ];
+            crate::output::sweep_json(&source, &ran_with, &points)
         },
     );
     Ok(ExitCode::SUCCESS)
 }
 
-fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> {
-    check_elements_range(args.from, args.to)?;
-    check_count("--points", args.points, 1..=200)?;
-    check_count("--repeat", args.repeat, 1..=100)?;
+fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, CliError> {
+    check_mesh_sweep(&args.sizes, args.repeat)?;
     let LoadedScene {
         source,
         problem,
@@ -389,7 +404,7 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
     } else {
         args.methods.clone()
     };
-    let sizes = crate::study::mesh_sizes(args.from, args.to, args.points);
+    let sizes = mesh_sizes(&args.sizes);
     let progress = ProgressLine::new("sweep elements");
     let points = crate::study::mesh_sweep(
         &problem,
@@ -406,22 +421,19 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, String> 
         args.format,
         || crate::output::mesh_sweep_csv(&points),
         || {
-            serde_json::json!({
-                "scene": source.to_string(),
-                "repeat": args.repeat,
-                "epsilon": settings.epsilon,
-                "points": points,
-            })
+            let ran_with = [
+                ("repeat", json!(args.repeat)),
+                ("epsilon", json!(settings.epsilon)),
+            ];
+            crate::output::sweep_json(&source, &ran_with, &points)
         },
     );
     Ok(ExitCode::SUCCESS)
 }
 
-fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
-    check_elements_range(args.from, args.to)?;
-    check_count("--points", args.points, 1..=200)?;
-    check_count("--repeat", args.repeat, 1..=100)?;
-    let loaded = scene::load(&args.scene).map_err(|e| e.to_string())?;
+fn report_command(args: &ReportArgs) -> Result<ExitCode, CliError> {
+    check_mesh_sweep(&args.sizes, args.repeat)?;
+    let loaded = scene::load(&args.scene)?;
     let out = args
         .out
         .clone()
@@ -429,12 +441,12 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
     // Checked before measuring, not after.
     let destination = crate::report::prepare(std::path::Path::new(&out), args.force)?;
     let options = crate::report::ReportOptions {
-        sizes: crate::study::mesh_sizes(args.from, args.to, args.points),
+        sizes: mesh_sizes(&args.sizes),
         repeat: args.repeat,
         epsilons: crate::study::log_space(1e-16, 1.0, 33),
         command: format!(
             "beamfric report --scene {} --out {out} --from {} --to {} --points {} --repeat {}",
-            args.scene, args.from, args.to, args.points, args.repeat
+            args.scene, args.sizes.from, args.sizes.to, args.sizes.points, args.repeat
         ),
     };
     let progress = ProgressLine::new("report");
@@ -442,17 +454,17 @@ fn report_command(args: &ReportArgs) -> Result<ExitCode, String> {
         progress.report(done, total, what)
     });
     progress.finish();
-    let written = crate::report::write(&report?, &destination)?;
+    let written = crate::report::write(&report, &destination)?;
     for path in written {
         say!("wrote {path}");
     }
     Ok(ExitCode::SUCCESS)
 }
 
-fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
+fn check_command(args: &CheckArgs) -> Result<ExitCode, CliError> {
     let reports = match &args.scene {
         Some(name) => {
-            let loaded = scene::load(name).map_err(|e| e.to_string())?;
+            let loaded = scene::load(name)?;
             vec![crate::check::check_scene(
                 &loaded.source.to_string(),
                 &loaded.scene,
@@ -475,7 +487,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, String> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
+fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
     let LoadedScene {
         scene,
         source,
@@ -485,10 +497,10 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, String> {
     let source = source.to_string();
     for &x in &args.at {
         if !(x.is_finite() && (0.0..=problem.length).contains(&x)) {
-            return Err(format!(
+            return Err(CliError::Argument(format!(
                 "--at {x}: positions must lie on the beam, in [0, {}] m",
                 problem.length
-            ));
+            )));
         }
     }
     let mesh = Mesh::new(&problem, settings.elements);

@@ -389,3 +389,19 @@ pub fn epsilon_sweep_csv(points: &[crate::study::EpsPoint]) -> String {
     }
     String::from_utf8(writer.into_inner().unwrap_or_default()).unwrap_or_default()
 }
+
+/// A sweep as one JSON document (`beamfric sweep … --format json`): the scene, what the sweep
+/// ran with (`settings`: name and value pairs), and its points.
+pub fn sweep_json(
+    scene: &crate::scene::SceneSource,
+    settings: &[(&str, Value)],
+    points: &impl Serialize,
+) -> Value {
+    let mut document = serde_json::Map::new();
+    document.insert("scene".into(), Value::String(scene.to_string()));
+    for (name, value) in settings {
+        document.insert((*name).into(), value.clone());
+    }
+    document.insert("points".into(), to_value(points));
+    Value::Object(document)
+}

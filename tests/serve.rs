@@ -8,7 +8,7 @@
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use beamfric::serve::{ServeOptions, Server};
+use beamfric::serve::{ServeError, ServeOptions, Server};
 use russh::client::{self, AuthResult, Handle};
 use russh::keys::ssh_key::private::Ed25519Keypair;
 use russh::keys::{PrivateKey, PrivateKeyWithHashAlg, PublicKeyOrCertificate};
@@ -436,7 +436,9 @@ fn without_open_or_credentials_the_server_refuses_to_start() {
         open: false,
         ..options(&dir)
     });
-    let message = refused.err().expect("refused");
+    let error = refused.err().expect("refused");
+    assert!(matches!(error, ServeError::Option(_)), "{error:?}");
+    let message = error.to_string();
     assert!(message.contains("--open"), "{message}");
 
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
@@ -967,7 +969,9 @@ fn a_save_dir_that_does_not_exist_is_refused_at_start() {
         save_dir: Some(dir.path().join("missing")),
         ..options(&dir)
     });
-    let message = refused.err().expect("refused");
+    let error = refused.err().expect("refused");
+    assert!(matches!(error, ServeError::Option(_)), "{error:?}");
+    let message = error.to_string();
     assert!(message.contains("--save-dir"), "{message}");
 }
 

@@ -195,15 +195,10 @@ pub struct EpsilonSweepArgs {
     pub format: TableFormat,
 }
 
-/// `beamfric sweep elements`.
+/// The mesh sizes of a sweep over n: `--points` sizes from `--from` to `--to` elements,
+/// log-spaced.
 #[derive(Debug, Args)]
-pub struct ElementsSweepArgs {
-    /// Scene file or preset name.
-    #[arg(long, default_value = "benchmark-1")]
-    pub scene: String,
-    /// Methods, comma-separated (default: all).
-    #[arg(long, value_enum, value_delimiter = ',')]
-    pub methods: Vec<Method>,
+pub struct MeshSizes {
     /// Smallest number of elements.
     #[arg(long, default_value_t = 10)]
     pub from: usize,
@@ -213,6 +208,19 @@ pub struct ElementsSweepArgs {
     /// Number of mesh sizes, log-spaced.
     #[arg(long, default_value_t = 11)]
     pub points: usize,
+}
+
+/// `beamfric sweep elements`.
+#[derive(Debug, Args)]
+pub struct ElementsSweepArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Methods, comma-separated (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub methods: Vec<Method>,
+    #[command(flatten)]
+    pub sizes: MeshSizes,
     /// Runs per point; the run time is their median.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
@@ -232,15 +240,8 @@ pub struct ReportArgs {
     /// Directory for report.md and the CSV and SVG files (default: report-<scene>).
     #[arg(long)]
     pub out: Option<String>,
-    /// Smallest number of elements.
-    #[arg(long, default_value_t = 10)]
-    pub from: usize,
-    /// Largest number of elements.
-    #[arg(long, default_value_t = 1_000_000)]
-    pub to: usize,
-    /// Number of mesh sizes, log-spaced.
-    #[arg(long, default_value_t = 11)]
-    pub points: usize,
+    #[command(flatten)]
+    pub sizes: MeshSizes,
     /// Runs per point; the run time is their median.
     #[arg(long, default_value_t = 5)]
     pub repeat: usize,

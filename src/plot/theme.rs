@@ -50,11 +50,6 @@ impl Palette {
         let i = Palette::ALL.iter().position(|p| *p == self).unwrap_or(0);
         Palette::ALL[(i + 1) % Palette::ALL.len()]
     }
-
-    /// The palette of a name, if any.
-    pub fn from_name(name: &str) -> Option<Palette> {
-        Palette::ALL.into_iter().find(|p| p.name() == name)
-    }
 }
 
 /// The styles of every element of a frame, for one [`Look`] and [`Palette`].
@@ -96,10 +91,6 @@ impl Theme {
     }
     pub fn plain(&self) -> Style {
         Style::default()
-    }
-    /// Text the user types or a value to be read: the plain style made to stand out.
-    pub fn strong(&self) -> Style {
-        Style::default().add_modifier(Modifier::BOLD)
     }
     pub fn title(&self) -> Style {
         self.colored(

@@ -18,6 +18,25 @@ mod write;
 use svg::svg_figure;
 pub use write::{Destination, INJECT_WRITE_FAILURE, MIN_FREE_BYTES, prepare, write};
 
+/// Why a report could not be written; each says in words which file and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ReportError {
+    /// The destination cannot take a report (found before anything is measured).
+    Destination(String),
+    /// Writing the report failed; the destination is as it was.
+    Write(String),
+}
+
+impl std::fmt::Display for ReportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReportError::Destination(text) | ReportError::Write(text) => f.write_str(text),
+        }
+    }
+}
+
+impl std::error::Error for ReportError {}
+
 /// What to measure.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReportOptions {
@@ -84,11 +103,7 @@ fn machine() -> String {
 }
 
 /// Runs the studies and builds the report.
-pub fn build(
-    loaded: &LoadedScene,
-    options: &ReportOptions,
-    progress: Progress,
-) -> Result<Report, String> {
+pub fn build(loaded: &LoadedScene, options: &ReportOptions, progress: Progress) -> Report {
     let (problem, settings) = (&loaded.problem, &loaded.settings);
     let never = crate::solve::Cancellation::NEVER;
     let mesh_points = study::mesh_sweep(
@@ -100,7 +115,7 @@ pub fn build(
         &never,
         progress,
     )
-    .map_err(|_| "cancelled".to_string())?;
+    .expect("a sweep that is never cancelled finishes");
     let eps_points = study::epsilon_sweep(
         problem,
         settings.elements,
@@ -109,7 +124,7 @@ pub fn build(
         &never,
         progress,
     )
-    .map_err(|_| "cancelled".to_string())?;
+    .expect("a sweep that is never cancelled finishes");
 
     let source = loaded.source.to_string();
     let title = if loaded.scene.title.is_empty() {
@@ -144,12 +159,12 @@ pub fn build(
             ""
         }
     );
-    Ok(Report {
+    Report {
         markdown: md,
         mesh_csv: crate::output::mesh_sweep_csv(&mesh_points),
         epsilon_csv,
         svg: svg_figure(&mesh_points, title),
-    })
+    }
 }
 
 /// The charts of a report: the explorer's drawing, Unicode, no colour.

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{FILES, Report};
+use super::{FILES, Report, ReportError};
 
 /// Free space the destination's file system must have before anything is measured: a typical
 /// report is 100–300 KB, so 1 MiB leaves room to spare.
@@ -46,7 +46,12 @@ impl Destination {
 /// file; it is missing, empty, or holds only report files (and then `overwrite` is needed);
 /// its parent exists and a directory can be created there; an existing `dir` is writable (its
 /// old files must be removed); and the file system has [`MIN_FREE_BYTES`] free.
-pub fn prepare(dir: &Path, overwrite: bool) -> Result<Destination, String> {
+pub fn prepare(dir: &Path, overwrite: bool) -> Result<Destination, ReportError> {
+    check_destination(dir, overwrite).map_err(ReportError::Destination)
+}
+
+/// [`prepare`], its reasons in words.
+fn check_destination(dir: &Path, overwrite: bool) -> Result<Destination, String> {
     let shown = dir.to_path_buf();
     let target = match std::fs::symlink_metadata(dir) {
         // The directory it points to is replaced; the link stays.
@@ -216,7 +221,12 @@ fn injected_error() -> std::io::Error {
 /// The result holds exactly the new report's files. On any failure the target is as it was —
 /// the old report, or nothing — no temporary directory is left, and the error names the file
 /// and the reason. Returns the paths written.
-pub fn write(report: &Report, destination: &Destination) -> Result<Vec<String>, String> {
+pub fn write(report: &Report, destination: &Destination) -> Result<Vec<String>, ReportError> {
+    write_in_one_step(report, destination).map_err(ReportError::Write)
+}
+
+/// [`write`], its reasons in words.
+fn write_in_one_step(report: &Report, destination: &Destination) -> Result<Vec<String>, String> {
     let Destination {
         shown,
         target,

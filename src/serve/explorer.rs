@@ -22,6 +22,7 @@ use crate::tui::state::follow::Follow;
 use crate::tui::state::{App, Options, SavePolicy};
 use crate::tui::update::{Msg, update};
 
+use super::ServeError;
 use super::limits::SessionSlot;
 use super::{Shared, lock};
 
@@ -108,7 +109,7 @@ pub(crate) fn start(
     handle: Handle,
     channel: ChannelId,
     client: &ClientTerminal,
-) -> Result<Feed, String> {
+) -> Result<Feed, ServeError> {
     let settings = &shared.explorer;
     let (feed, events) = remote::events();
     // Follow mode: a presenter publishes every frame's state, a student joins the hub.
@@ -148,7 +149,7 @@ pub(crate) fn start(
         follow,
         ..Options::new(client.look())
     };
-    let mut app = App::new(settings.scene.clone(), options).map_err(|e| e.to_string())?;
+    let mut app = App::new(settings.scene.clone(), options)?;
     if let Some(exploration) = latest {
         update(&mut app, Msg::Follow(exploration));
     }
@@ -186,7 +187,7 @@ pub(crate) fn start(
             lock(&leaving.explorers).retain(|(id, _)| *id != explorer_id);
             // Dropping the writer here ends the output task, which closes the channel.
         })
-        .map_err(|e| format!("cannot start a session thread: {e}"))?;
+        .map_err(|e| ServeError::Start(format!("cannot start a session thread: {e}")))?;
     Ok(feed)
 }
 

@@ -11,16 +11,23 @@ use russh::keys::ssh_key::private::Ed25519Keypair;
 use russh::keys::ssh_key::{AuthorizedKeys, LineEnding};
 use russh::keys::{HashAlg, PrivateKey, PublicKey};
 
+use super::ServeError;
+
+/// A key or password file's problem, in words.
+fn secret(text: String) -> ServeError {
+    ServeError::Secret(text)
+}
+
 /// The host key at `path`, created (with its directory) when there is none. Returns the key
 /// and whether it was created now.
-pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), String> {
+pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), ServeError> {
     let shown = path.display();
     if path.exists() {
         refuse_if_others_can_read(path, "host key")?;
         let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read the host key {shown}: {e}"))?;
+            .map_err(|e| secret(format!("cannot read the host key {shown}: {e}")))?;
         let key = PrivateKey::from_openssh(text)
-            .map_err(|e| format!("{shown} is not an OpenSSH private key: {e}"))?;
+            .map_err(|e| secret(format!("{shown} is not an OpenSSH private key: {e}")))?;
         return Ok((key, false));
     }
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
@@ -28,25 +35,25 @@ pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), String
             .recursive(true)
             .mode(0o700)
             .create(parent)
-            .map_err(|e| format!("cannot create {}: {e}", parent.display()))?;
+            .map_err(|e| secret(format!("cannot create {}: {e}", parent.display())))?;
     }
     let mut seed = [0u8; 32];
     std::fs::File::open("/dev/urandom")
         .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut seed))
-        .map_err(|e| format!("cannot read /dev/urandom for a host key: {e}"))?;
+        .map_err(|e| secret(format!("cannot read /dev/urandom for a host key: {e}")))?;
     let key = PrivateKey::from(Ed25519Keypair::from_seed(&seed));
     let text = key
         .to_openssh(LineEnding::LF)
-        .map_err(|e| format!("cannot encode the host key: {e}"))?;
+        .map_err(|e| secret(format!("cannot encode the host key: {e}")))?;
     let mut file = std::fs::OpenOptions::new()
         .write(true)
         .create_new(true)
         .mode(0o600)
         .open(path)
-        .map_err(|e| format!("cannot create the host key {shown}: {e}"))?;
+        .map_err(|e| secret(format!("cannot create the host key {shown}: {e}")))?;
     file.write_all(text.as_bytes())
         .and_then(|()| file.sync_all())
-        .map_err(|e| format!("cannot write the host key {shown}: {e}"))?;
+        .map_err(|e| secret(format!("cannot write the host key {shown}: {e}")))?;
     Ok((key, true))
 }
 
@@ -70,34 +77,41 @@ pub fn fingerprint(key: &PublicKey) -> String {
 
 /// The public keys of an `authorized_keys` file (options such as `from=` are not supported
 /// and refused, so that nothing is silently ignored).
-pub fn read_authorized_keys(path: &Path) -> Result<Vec<PublicKey>, String> {
+pub fn read_authorized_keys(path: &Path) -> Result<Vec<PublicKey>, ServeError> {
     let shown = path.display();
     let entries = AuthorizedKeys::read_file(path)
-        .map_err(|e| format!("cannot read the authorized keys {shown}: {e}"))?;
+        .map_err(|e| secret(format!("cannot read the authorized keys {shown}: {e}")))?;
     let mut keys = Vec::new();
     for entry in entries {
         if !entry.config_opts().is_empty() {
-            return Err(format!(
+            return Err(secret(format!(
                 "{shown}: options ({}) are not supported",
                 entry.config_opts().as_str()
-            ));
+            )));
         }
         keys.push(entry.public_key().clone());
     }
     if keys.is_empty() {
-        return Err(format!("{shown} lists no key"));
+        return Err(secret(format!("{shown} lists no key")));
     }
     Ok(keys)
 }
 
 /// The class password: the first line of the file, which others must not be able to read.
-pub fn read_password(path: &Path) -> Result<String, String> {
+pub fn read_password(path: &Path) -> Result<String, ServeError> {
     refuse_if_others_can_read(path, "password file")?;
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read the password file {}: {e}", path.display()))?;
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        secret(format!(
+            "cannot read the password file {}: {e}",
+            path.display()
+        ))
+    })?;
     let password = text.lines().next().unwrap_or("").to_string();
     if password.is_empty() {
-        return Err(format!("{}: the first line is empty", path.display()));
+        return Err(secret(format!(
+            "{}: the first line is empty",
+            path.display()
+        )));
     }
     Ok(password)
 }
@@ -112,17 +126,17 @@ pub fn same_secret(given: &str, expected: &str) -> bool {
     difference == 0
 }
 
-fn refuse_if_others_can_read(path: &Path, what: &str) -> Result<(), String> {
+fn refuse_if_others_can_read(path: &Path, what: &str) -> Result<(), ServeError> {
     let mode = std::fs::metadata(path)
-        .map_err(|e| format!("cannot read the {what} {}: {e}", path.display()))?
+        .map_err(|e| secret(format!("cannot read the {what} {}: {e}", path.display())))?
         .permissions()
         .mode();
     if mode & 0o077 != 0 {
-        return Err(format!(
+        return Err(secret(format!(
             "the {what} {} can be read by others (mode {:o}): chmod 600 it",
             path.display(),
             mode & 0o777
-        ));
+        )));
     }
     Ok(())
 }
@@ -156,6 +170,7 @@ mod tests {
         );
         std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o644)).unwrap();
         let refused = load_or_create_host_key(&path).unwrap_err();
-        assert!(refused.contains("chmod 600"), "{refused}");
+        assert!(matches!(refused, ServeError::Secret(_)), "{refused:?}");
+        assert!(refused.to_string().contains("chmod 600"), "{refused}");
     }
 }

@@ -14,6 +14,7 @@
 //! - [`limits`]: the cap on sessions and the input budget.
 
 pub mod connection;
+mod error;
 pub mod explorer;
 pub mod follow;
 pub mod keys;
@@ -32,6 +33,7 @@ use tokio::sync::oneshot;
 
 use crate::tui::runtime::cores::Cores;
 use crate::tui::runtime::remote::Feed;
+pub use error::ServeError;
 use explorer::ExplorerSettings;
 use limits::SessionSlots;
 
@@ -186,13 +188,13 @@ pub struct Server {
 
 impl Server {
     /// Checks the options, loads or creates the host key, binds, and starts serving.
-    pub fn start(options: &ServeOptions) -> Result<Server, String> {
+    pub fn start(options: &ServeOptions) -> Result<Server, ServeError> {
         Server::start_as(options, false)
     }
 
     /// As [`Server::start`]; with `presenting`, there is always a follow hub (the lecturer's
     /// own explorer presents) and log lines are kept in memory (see [`present`]).
-    fn start_as(options: &ServeOptions, presenting: bool) -> Result<Server, String> {
+    fn start_as(options: &ServeOptions, presenting: bool) -> Result<Server, ServeError> {
         let access = access(options)?;
         let mut notes = Vec::new();
         if access.open {
@@ -201,15 +203,17 @@ impl Server {
                 options.listen
             ));
         }
-        let scene = crate::scene::load(&options.scene).map_err(|e| e.to_string())?;
+        let scene = crate::scene::load(&options.scene)?;
         if scene.scene.mesh.elements > options.max_elements {
-            return Err(format!(
+            return Err(ServeError::Option(format!(
                 "the scene has {} elements, more than --max-elements {}",
                 scene.scene.mesh.elements, options.max_elements
-            ));
+            )));
         }
         if options.max_sessions == 0 {
-            return Err("--max-sessions must be at least 1".into());
+            return Err(ServeError::Option(
+                "--max-sessions must be at least 1".into(),
+            ));
         }
         let save_dir = match &options.save_dir {
             Some(dir) => Some(save_directory(dir)?),
@@ -225,10 +229,13 @@ impl Server {
             notes.push(format!("created the host key {}", key_path.display()));
         }
         let config = russh_config(options, &access, host_key);
-        let listener = std::net::TcpListener::bind(&options.listen)
-            .map_err(|e| format!("cannot listen on {}: {e}", options.listen))?;
-        let address = listener.local_addr().map_err(|e| e.to_string())?;
-        listener.set_nonblocking(true).map_err(|e| e.to_string())?;
+        let cannot_listen = |source| ServeError::Listen {
+            address: options.listen.clone(),
+            source,
+        };
+        let listener = std::net::TcpListener::bind(&options.listen).map_err(cannot_listen)?;
+        let address = listener.local_addr().map_err(cannot_listen)?;
+        listener.set_nonblocking(true).map_err(cannot_listen)?;
         let shared = Arc::new(Shared {
             access,
             explorer: ExplorerSettings {
@@ -256,7 +263,7 @@ impl Server {
             .thread_name("serve")
             .enable_all()
             .build()
-            .map_err(|e| format!("cannot start the server's runtime: {e}"))?;
+            .map_err(|e| ServeError::Start(format!("cannot start the server's runtime: {e}")))?;
         let (stop, stopped) = oneshot::channel();
         let accepting = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
@@ -266,7 +273,7 @@ impl Server {
                 // Dropping the runtime ends every connection; their explorers hang up.
                 runtime.shutdown_timeout(Duration::from_secs(1));
             })
-            .map_err(|e| format!("cannot start the server thread: {e}"))?;
+            .map_err(|e| ServeError::Start(format!("cannot start the server thread: {e}")))?;
         Ok(Server {
             address,
             fingerprint,
@@ -356,7 +363,7 @@ impl Drop for Server {
 }
 
 /// `beamfric serve`: start, say where and with which host key, serve.
-pub fn serve_until_stopped(options: &ServeOptions) -> Result<(), String> {
+pub fn serve_until_stopped(options: &ServeOptions) -> Result<(), ServeError> {
     let server = Server::start(options)?;
     for note in server.notes() {
         log(note);
@@ -371,15 +378,15 @@ pub fn serve_until_stopped(options: &ServeOptions) -> Result<(), String> {
     Ok(())
 }
 
-/// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer in this
-/// terminal, which presents — its scene and view go to every following session, as a session
-/// logged in with a presenter key does. Log lines are kept while the explorer has the terminal
+/// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer
+/// in this terminal, which presents — its scene and view go to every following session, as a
+/// session logged in with a presenter key does. Log lines are kept while the explorer has the terminal
 /// and printed after it. Quitting the explorer stops the server: every student's explorer
 /// leaves its screen and its connection closes. Returns how the lecturer's explorer ended.
 pub fn present(
     options: &ServeOptions,
     look: crate::plot::Look,
-) -> Result<crate::tui::Ending, String> {
+) -> Result<crate::tui::Ending, ServeError> {
     use crate::tui::runtime::local::run_local;
     use crate::tui::state::follow::Follow;
     use crate::tui::state::{App, Options};
@@ -396,7 +403,9 @@ pub fn present(
     log(&listening);
     let shared = Arc::clone(&server.shared);
     let Some(hub) = &shared.hub else {
-        return Err("internal error: a presenting server without a follow hub".into());
+        return Err(ServeError::Start(
+            "internal error: a presenting server without a follow hub".into(),
+        ));
     };
     let options = Options {
         show_timings: true,
@@ -409,7 +418,7 @@ pub fn present(
         )),
         ..Options::new(look)
     };
-    let app = App::new(shared.explorer.scene.clone(), options).map_err(|e| e.to_string())?;
+    let app = App::new(shared.explorer.scene.clone(), options)?;
     let publishing = Arc::clone(&shared);
     let mut presenter_id = None;
     let ending = run_local(app, |feed| {
@@ -420,7 +429,7 @@ pub fn present(
             }
         }))
     })
-    .map_err(|e| e.to_string());
+    .map_err(ServeError::Terminal);
     if let Some(id) = presenter_id {
         hub.leave(id);
     }
@@ -436,18 +445,21 @@ pub fn present(
 }
 
 /// The `--save-dir` directory, resolved; it must exist and be a directory.
-fn save_directory(dir: &std::path::Path) -> Result<PathBuf, String> {
+fn save_directory(dir: &std::path::Path) -> Result<PathBuf, ServeError> {
     let resolved = dir
         .canonicalize()
-        .map_err(|e| format!("--save-dir {}: {e}", dir.display()))?;
+        .map_err(|e| ServeError::Option(format!("--save-dir {}: {e}", dir.display())))?;
     if !resolved.is_dir() {
-        return Err(format!("--save-dir {}: not a directory", dir.display()));
+        return Err(ServeError::Option(format!(
+            "--save-dir {}: not a directory",
+            dir.display()
+        )));
     }
     Ok(resolved)
 }
 
 /// Who may log in, from the options; refuses an open server unless `--open` says so.
-fn access(options: &ServeOptions) -> Result<Access, String> {
+fn access(options: &ServeOptions) -> Result<Access, ServeError> {
     let keys = match &options.authorized_keys {
         Some(path) => keys::read_authorized_keys(path)?,
         None => Vec::new(),
@@ -462,11 +474,11 @@ fn access(options: &ServeOptions) -> Result<Access, String> {
     };
     let anyone = keys.is_empty() && presenter_keys.is_empty() && password.is_none();
     if anyone && !options.open {
-        return Err(
+        return Err(ServeError::Option(
             "no --authorized-keys or --password-file: anyone could log in; give one, or --open \
              to allow that"
                 .into(),
-        );
+        ));
     }
     Ok(Access {
         open: anyone,

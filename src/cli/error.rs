@@ -1,0 +1,70 @@
+//! Why a command failed before it could give its answer (exit status 2, one line on stderr):
+//! an argument, a scene, the terminal, the server or a report's destination.
+
+use crate::report::ReportError;
+use crate::scene::SceneError;
+#[cfg(unix)]
+use crate::serve::ServeError;
+use crate::tui::ExploreError;
+
+/// A command's failure, in categories a caller can tell apart; each says in words what.
+#[derive(Debug)]
+pub enum CliError {
+    /// An argument breaks its rule (the text names the argument and the rule).
+    Argument(String),
+    /// A scene could not be loaded or is not valid.
+    Scene(SceneError),
+    /// The command draws on a terminal, and standard output is not one (the text says what
+    /// to use instead).
+    NotATerminal(&'static str),
+    /// The command needs a system this is not (the text says which).
+    Unsupported(&'static str),
+    /// `beamfric serve` or `beamfric present` failed.
+    #[cfg(unix)]
+    Serve(ServeError),
+    /// The explorer failed.
+    Explore(ExploreError),
+    /// A report's destination cannot be used or written.
+    Report(ReportError),
+}
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CliError::Argument(text) => f.write_str(text),
+            CliError::Scene(e) => e.fmt(f),
+            CliError::NotATerminal(text) | CliError::Unsupported(text) => f.write_str(text),
+            #[cfg(unix)]
+            CliError::Serve(e) => e.fmt(f),
+            CliError::Explore(e) => e.fmt(f),
+            CliError::Report(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for CliError {}
+
+impl From<SceneError> for CliError {
+    fn from(e: SceneError) -> Self {
+        CliError::Scene(e)
+    }
+}
+
+#[cfg(unix)]
+impl From<ServeError> for CliError {
+    fn from(e: ServeError) -> Self {
+        CliError::Serve(e)
+    }
+}
+
+impl From<ExploreError> for CliError {
+    fn from(e: ExploreError) -> Self {
+        CliError::Explore(e)
+    }
+}
+
+impl From<ReportError> for CliError {
+    fn from(e: ReportError) -> Self {
+        CliError::Report(e)
+    }
+}
