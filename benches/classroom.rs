@@ -240,7 +240,7 @@ fn forty_students(server: &ServerProcess) {
     );
     println!(
         "server memory: {before} KiB idle, {during} KiB with {SESSIONS} sessions at work: {:.2} \
-         MB per session",
+         MiB per session",
         (during.saturating_sub(before)) as f64 / SESSIONS as f64 / 1024.0
     );
 }

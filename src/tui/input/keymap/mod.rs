@@ -116,6 +116,133 @@ mod tests {
             action_for(&Mode::Normal, Key::Ctrl('c')),
             Some(Action::Interrupt)
         );
+        // Ctrl-C and Ctrl-Z mean the same in every mode, prompts and questions included.
+        let prompt = crate::tui::state::prompt::Prompt::new("0.8", true);
+        let modes = [
+            Mode::Normal,
+            Mode::Help { offset: 0 },
+            Mode::Warnings { offset: 3 },
+            Mode::SceneText,
+            Mode::Presets(Default::default()),
+            Mode::Save {
+                prompt: prompt.clone(),
+            },
+            Mode::Editing {
+                row: crate::tui::state::params::Row::Epsilon,
+                prompt,
+            },
+            Mode::ConfirmOverwrite { path: "x".into() },
+            Mode::ConfirmDiscard {
+                then: crate::tui::state::Discard::Quit,
+            },
+        ];
+        for mode in &modes {
+            assert_eq!(action_for(mode, Key::Ctrl('c')), Some(Action::Interrupt));
+            assert_eq!(action_for(mode, Key::Ctrl('z')), Some(Action::Suspend));
+        }
+    }
+
+    #[test]
+    fn each_mode_does_what_its_table_and_its_other_keys_say() {
+        use crate::tui::state::prompt::Prompt;
+        let editing = Mode::Save {
+            prompt: Prompt::new("", false),
+        };
+        // A prompt types characters (even those bound in normal mode) and edits with its keys.
+        assert_eq!(
+            action_for(&editing, Key::Char('q')),
+            Some(Action::Type('q'))
+        );
+        assert_eq!(
+            action_for(&editing, Key::Ctrl('u')),
+            Some(Action::EraseToStart)
+        );
+        assert_eq!(action_for(&editing, Key::Enter), Some(Action::Confirm));
+        assert_eq!(action_for(&editing, Key::Tab), None);
+        // The picker types too; its list keys are not letters.
+        let picker = Mode::Presets(Default::default());
+        assert_eq!(action_for(&picker, Key::Char('j')), Some(Action::Type('j')));
+        assert_eq!(action_for(&picker, Key::PageDown), Some(Action::PageDown));
+        // The scrolled views scroll with ↑↓ and k j; any other key closes them.
+        let help = Mode::Help { offset: 0 };
+        assert_eq!(action_for(&help, Key::Char('j')), Some(Action::SelectNext));
+        assert_eq!(action_for(&help, Key::Char('x')), Some(Action::Cancel));
+        // The questions: y (and s to save first), anything else is no.
+        let question = Mode::ConfirmDiscard {
+            then: crate::tui::state::Discard::Reset,
+        };
+        assert_eq!(action_for(&question, Key::Char('Y')), Some(Action::Confirm));
+        assert_eq!(action_for(&question, Key::Char('s')), Some(Action::Save));
+        assert_eq!(action_for(&question, Key::Esc), Some(Action::Cancel));
+        let overwrite = Mode::ConfirmOverwrite { path: "x".into() };
+        assert_eq!(action_for(&overwrite, Key::Char('s')), Some(Action::Cancel));
+        // A paste is typed only where characters are.
+        assert_eq!(
+            paste_actions(&editing, "a\nb"),
+            vec![Action::Type('a'), Action::Type('b')]
+        );
+        assert_eq!(paste_actions(&help, "q"), vec![Action::PasteIgnored]);
+    }
+
+    #[test]
+    fn the_hints_of_prompts_lists_and_questions_name_bound_keys() {
+        use super::help::{
+            discard_hints, label_of, overwrite_question, picker_hints, prompt_keys, scroll_keys,
+        };
+        // Every key a hint names is looked up in its mode's table: a key missing there would
+        // leave an empty label.
+        for ascii in [false, true] {
+            for (table, action) in [
+                (PROMPT, Action::Confirm),
+                (PROMPT, Action::Cancel),
+                (PICKER, Action::SelectPrevious),
+                (PICKER, Action::SelectNext),
+                (PICKER, Action::PageUp),
+                (PICKER, Action::PageDown),
+                (PICKER, Action::SelectFirst),
+                (PICKER, Action::SelectLast),
+                (PICKER, Action::Confirm),
+                (PICKER, Action::Cancel),
+                (SCROLLING, Action::SelectPrevious),
+                (SCROLLING, Action::SelectNext),
+                (OVERWRITE_QUESTION, Action::Confirm),
+                (DISCARD_QUESTION, Action::Confirm),
+                (DISCARD_QUESTION, Action::Save),
+            ] {
+                assert!(!label_of(table, action, ascii).is_empty(), "{action:?}");
+            }
+        }
+        assert_eq!(prompt_keys("sets", false), "Enter sets, Esc cancels");
+        assert_eq!(scroll_keys(false), "↑↓ scroll");
+        assert_eq!(scroll_keys(true), "Up/Down scroll");
+        assert_eq!(
+            overwrite_question("a.toml", false),
+            "a.toml exists: overwrite it? y / n"
+        );
+        let picker: Vec<String> = picker_hints(false).into_iter().map(|(_, t)| t).collect();
+        assert_eq!(
+            picker,
+            [
+                "type to search",
+                "↑↓ choose",
+                "PgUp PgDn Home End",
+                "Enter loads",
+                "Esc cancels"
+            ]
+        );
+        let discard: Vec<String> = discard_hints("quit", false)
+            .into_iter()
+            .map(|(_, t)| t)
+            .collect();
+        assert_eq!(
+            discard,
+            [
+                "unsaved changes: quit and lose them?",
+                "y: yes",
+                "s: save, then quit",
+                "n/Esc: no"
+            ]
+        );
     }
 
     #[test]
