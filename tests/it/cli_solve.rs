@@ -1,15 +1,13 @@
 //! `beamfric solve` from the outside: the JSON document, the table, and errors as one line.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
+use crate::harness::process::{NO_COLOR, beamfric_with};
+
 fn beamfric(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beamfric"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        .output()
-        .expect("the binary runs")
+    beamfric_with(args, NO_COLOR)
 }
 
 fn json(args: &[&str]) -> Value {

@@ -1,8 +1,8 @@
 //! The explorer (issue 3): frames after key sequences as insta snapshots, and what keys do to
 //! the state and the solution. The frames of every preset are in `render.rs`.
 
-use beamfric::plot::{Look, buffer_to_text};
-use beamfric::scene::{LoadedScene, PRESETS, Panel, SceneSource, preset};
+use beamfric::plot::buffer_to_text;
+use beamfric::scene::{PRESETS, Panel, SceneSource};
 use beamfric::solve::{Method, SolveErrorKind};
 use beamfric::tui::input::keys::{Key, parse_keys};
 use beamfric::tui::jobs::sweeps::compute_now;
@@ -12,35 +12,28 @@ use beamfric::tui::state::{App, Mode, Options};
 use beamfric::tui::update::{Msg, update};
 use beamfric::tui::{RenderOptions, draw_to_buffer, render, settled};
 
-const LOOK: Look = Look {
-    ascii: false,
-    color: false,
-};
-
-fn scene(name: &str) -> LoadedScene {
-    LoadedScene::preset(preset(name).unwrap()).unwrap()
-}
+use crate::harness::scenes::{PLAIN, loaded_preset};
 
 fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
     let options = RenderOptions {
         width,
         height,
-        look: LOOK,
+        look: PLAIN,
         timings: false,
         palette: Default::default(),
         allow_save: None,
     };
-    let buffer = render(scene(name), &parse_keys(keys), options).unwrap();
+    let buffer = render(loaded_preset(name), &parse_keys(keys), options).unwrap();
     buffer_to_text(&buffer, false)
 }
 
 /// The explorer on a preset at 120 × 40, solved.
 fn app(name: &str) -> App {
-    app_with(name, Options::new(LOOK))
+    app_with(name, Options::new(PLAIN))
 }
 
 fn app_with(name: &str, options: Options) -> App {
-    let mut app = settled(App::new(scene(name), options).unwrap());
+    let mut app = settled(App::new(loaded_preset(name), options).unwrap());
     update(&mut app, Msg::Resize(120, 40));
     app
 }
@@ -49,7 +42,7 @@ fn app_with(name: &str, options: Options) -> App {
 fn app_saving_to(name: &str, dir: &std::path::Path) -> App {
     let options = Options {
         save_directory: Some(dir.to_path_buf()),
-        ..Options::new(LOOK)
+        ..Options::new(PLAIN)
     };
     app_with(name, options)
 }
@@ -213,7 +206,7 @@ fn keys_change_the_state_and_the_solution() {
     assert!(app.message.as_deref().unwrap().contains("zero or positive"));
     // Reset (it asks first: the scene has unsaved changes).
     press(&mut app, "r y");
-    assert_eq!(*app.scene(), scene("benchmark-1").scene);
+    assert_eq!(*app.scene(), loaded_preset("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
     assert_eq!(
@@ -452,7 +445,7 @@ fn unsaved_changes_are_never_thrown_away_without_asking() {
     // y does what was asked.
     let mut app = self::app("benchmark-1");
     press(&mut app, "Right r y");
-    assert_eq!(*app.scene(), scene("benchmark-1").scene);
+    assert_eq!(*app.scene(), loaded_preset("benchmark-1").scene);
     assert!(!app.modified());
 }
 
@@ -468,7 +461,10 @@ fn undo_and_redo_step_through_the_changes() {
     assert_eq!(*app.scene(), original);
     assert!(!app.modified());
     // The solution follows the scene.
-    assert_eq!(app.exploration.problem, scene("benchmark-1").problem);
+    assert_eq!(
+        app.exploration.problem,
+        loaded_preset("benchmark-1").problem
+    );
     press(&mut app, "u");
     assert_eq!(app.message.as_deref(), Some("nothing to undo"));
     press(&mut app, "C-r C-r");
@@ -613,7 +609,7 @@ fn save_first_then_quit_saves_and_quits() {
     press(&mut app, "Right r s Esc");
     assert!(app.modified());
     press(&mut app, "s Enter y");
-    assert!(!app.modified() && *app.scene() != scene("benchmark-1").scene);
+    assert!(!app.modified() && *app.scene() != loaded_preset("benchmark-1").scene);
 }
 
 #[test]
@@ -731,7 +727,7 @@ fn student() -> App {
     use beamfric::tui::state::follow::{Follow, Followers};
     let options = Options {
         follow: Some(Follow::student(&Followers::new(|| {}))),
-        ..Options::new(LOOK)
+        ..Options::new(PLAIN)
     };
     app_with("benchmark-1", options)
 }

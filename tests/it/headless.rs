@@ -2,16 +2,11 @@
 //! point; the ε sweep reproduces the paper's Figure 5; the report marks refusals and the
 //! reference instead of printing numbers that mean nothing.
 
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-fn beamfric(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_beamfric"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use crate::harness::process::beamfric;
 
 fn csv_rows(out: &Output) -> Vec<csv::StringRecord> {
     assert!(

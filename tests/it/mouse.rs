@@ -3,8 +3,7 @@
 //! obstacle's marker, a panel's title), clicks there, and checks the state — and, for a drag,
 //! that the marker is drawn again where the pointer let go.
 
-use beamfric::plot::Look;
-use beamfric::scene::{LoadedScene, Panel, preset};
+use beamfric::scene::Panel;
 use beamfric::tui::input::keys::parse_keys;
 use beamfric::tui::input::pointer::Pointer;
 use beamfric::tui::layout::hit::{Target, target};
@@ -13,14 +12,11 @@ use beamfric::tui::state::{App, Mode, Options};
 use beamfric::tui::update::{Msg, update};
 use beamfric::tui::{draw_to_buffer, press, settle};
 
-const LOOK: Look = Look {
-    ascii: false,
-    color: false,
-};
+use crate::harness::scenes::{PLAIN, loaded_preset};
+use crate::harness::screen::find;
 
 fn app(name: &str, width: u16, height: u16) -> App {
-    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
-    let mut app = App::new(loaded, Options::new(LOOK)).unwrap();
+    let mut app = App::new(loaded_preset(name), Options::new(PLAIN)).unwrap();
     update(&mut app, Msg::Resize(width, height));
     settle(&mut app);
     app
@@ -36,14 +32,6 @@ fn screen(app: &App) -> Vec<String> {
                 .collect()
         })
         .collect()
-}
-
-/// The cell (column, row) where `needle` starts on screen, the first from the top.
-fn find(screen: &[String], needle: &str) -> Option<(u16, u16)> {
-    screen.iter().enumerate().find_map(|(y, line)| {
-        let at = line.find(needle)?;
-        Some((line[..at].chars().count() as u16, y as u16))
-    })
 }
 
 /// Every cell showing `glyph`, left to right within rows.

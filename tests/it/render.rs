@@ -5,8 +5,11 @@
 use std::process::Command;
 
 use beamfric::plot::{Look, buffer_to_text};
-use beamfric::scene::{LoadedScene, PRESETS, preset};
+use beamfric::scene::PRESETS;
 use beamfric::tui::{RenderOptions, draw_to_buffer, prepare};
+
+use crate::harness::process::beamfric;
+use crate::harness::scenes::loaded_preset;
 
 const SIZES: [(u16, u16); 2] = [(120, 40), (80, 24)];
 
@@ -26,7 +29,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
 
 /// The four frames of a preset (two sizes, two looks), from one prepared state.
 fn frames(name: &str) -> Vec<(String, String)> {
-    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let loaded = loaded_preset(name);
     let mut app = prepare(loaded, &[], options(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
@@ -38,13 +41,6 @@ fn frames(name: &str) -> Vec<(String, String)> {
         }
     }
     out
-}
-
-fn beamfric(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_beamfric"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
 }
 
 macro_rules! preset_snapshots {
@@ -114,7 +110,7 @@ fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() 
         keys,
     ]);
     assert_eq!(first.stdout, second.stdout, "two renders differ");
-    let loaded = LoadedScene::preset(preset("benchmark-3").unwrap()).unwrap();
+    let loaded = loaded_preset("benchmark-3");
     let keys = beamfric::tui::input::keys::parse_keys(keys);
     let buffer = beamfric::tui::render(loaded, &keys, options(100, 30, false)).unwrap();
     assert_eq!(
@@ -249,7 +245,7 @@ fn lesson_frames(
 ) -> Vec<(String, u16, bool, String)> {
     let mut out = Vec::new();
     for (w, h) in LESSON_SIZES {
-        let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
+        let loaded = loaded_preset(scene);
         let keys = beamfric::tui::input::keys::parse_keys(&keys_at(w));
         let mut app = prepare(loaded, &keys, options(w, h, false)).unwrap();
         adjust(&mut app);
@@ -270,7 +266,7 @@ fn lesson_frames(
 
 /// The frame after `keys` on a preset, at each size and look.
 fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
-    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let loaded = loaded_preset(name);
     let keys = beamfric::tui::input::keys::parse_keys(keys);
     let mut app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
     let mut out = Vec::new();
@@ -408,7 +404,7 @@ fn lesson_mesh_error_against_run_time() {
 /// independent run of the sweep), and cond₂'s plateau drawn on top of the scaled markers.
 #[test]
 fn benchmark_1_epsilon_charts() {
-    let problem = LoadedScene::preset(preset("benchmark-1").unwrap()).unwrap();
+    let problem = loaded_preset("benchmark-1");
     let sweep = beamfric::study::epsilon_sweep(
         &problem.problem,
         20,
@@ -532,7 +528,7 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
     for scene in ["benchmark-1", "lesson-mesh"] {
         for palette in Palette::ALL {
             for (w, h) in LESSON_SIZES {
-                let loaded = LoadedScene::preset(preset(scene).unwrap()).unwrap();
+                let loaded = loaded_preset(scene);
                 let mut options = options(w, h, false);
                 options.look.color = true;
                 options.palette = palette;
@@ -562,7 +558,7 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
 
 /// The warnings of a preset's solution after `keys`, from the solver (not from the screen).
 fn warning_messages(name: &str, keys: &str) -> Vec<String> {
-    let loaded = LoadedScene::preset(preset(name).unwrap()).unwrap();
+    let loaded = loaded_preset(name);
     let keys = beamfric::tui::input::keys::parse_keys(keys);
     let app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
     match app.exploration.solution() {

@@ -9,6 +9,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use crate::harness::process::names;
+
 /// Options that make a report in a fraction of a second.
 const SMALL: [&str; 6] = ["--to", "100", "--points", "2", "--repeat", "1"];
 
@@ -46,16 +48,6 @@ fn refused(out: &Output) -> String {
     assert_eq!(message.lines().count(), 1, "{message}");
     assert!(!message.contains("wrote"), "{message}");
     message
-}
-
-/// Every name in `dir`, sorted (hidden ones included).
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Every file of `dir` with its bytes.

@@ -4,11 +4,12 @@
 
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use beamfric::scene::{
     self, MAX_SCENE_BYTES, SaveError, Scene, save_atomic, save_scene, write_atomic,
 };
+
+use crate::harness::process::{NO_COLOR, beamfric_with, names};
 
 fn benchmark_1() -> Scene {
     Scene::from_toml(scene::preset("benchmark-1").unwrap().text, "b1").unwrap()
@@ -16,16 +17,6 @@ fn benchmark_1() -> Scene {
 
 fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap()
-}
-
-/// Every name in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 #[test]
@@ -184,11 +175,7 @@ fn an_existing_file_is_kept_without_confirmation() {
 }
 
 fn beamfric(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_beamfric"))
-        .args(args)
-        .env("NO_COLOR", "1")
-        .output()
-        .expect("the binary runs")
+    beamfric_with(args, NO_COLOR)
 }
 
 #[test]

@@ -5,7 +5,8 @@
 
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
-use beamfric::scene::{self, Scene};
+use beamfric::plot::Look;
+use beamfric::scene::{self, LoadedScene, Scene};
 use beamfric::solve::{ConditionLevel, Method, Solution, SolveOptions, solve};
 
 /// A preset's scene.
@@ -114,3 +115,14 @@ pub fn crowded_scene_text() -> String {
     );
     text
 }
+
+/// A preset as the explorer loads it.
+pub fn loaded_preset(name: &str) -> LoadedScene {
+    LoadedScene::preset(scene::preset(name).expect("preset exists")).expect("preset loads")
+}
+
+/// How the in-process explorer is drawn in tests: Unicode, no colours.
+pub const PLAIN: Look = Look {
+    ascii: false,
+    color: false,
+};
