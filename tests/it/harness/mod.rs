@@ -4,8 +4,13 @@
 //!   reference values of `tests/data/`, the crowded scene whose solve takes seconds.
 //! - [`process`]: the program run to its end as a script runs it (no terminal), and the names
 //!   of the files it leaves.
+//! - [`pty`]: the program on a pseudo-terminal of its own, as a person at a terminal runs it.
 //! - [`screen`]: finding text on a screen and mouse reports to send to it.
+//! - [`wait`]: waiting for a condition (`eventually`) instead of sleeping or timing.
 
 pub mod process;
+#[cfg(unix)]
+pub mod pty;
 pub mod scenes;
 pub mod screen;
+pub mod wait;

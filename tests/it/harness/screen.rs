@@ -9,3 +9,10 @@ pub fn find(rows: &[impl AsRef<str>], needle: &str) -> Option<(u16, u16)> {
         Some((row[..at].chars().count() as u16, y as u16))
     })
 }
+
+/// An SGR mouse report of button code `code` at the 0-based cell (x, y): a press (or motion)
+/// when `press`, else a release.
+pub fn sgr(code: u8, (x, y): (u16, u16), press: bool) -> Vec<u8> {
+    let end = if press { 'M' } else { 'm' };
+    format!("\x1b[<{code};{};{}{end}", x + 1, y + 1).into_bytes()
+}
