@@ -10,6 +10,12 @@ pub fn find(rows: &[impl AsRef<str>], needle: &str) -> Option<(u16, u16)> {
     })
 }
 
+/// The rows of a `vt100` screen as text.
+pub fn rows(screen: &vt100::Screen) -> Vec<String> {
+    let (_, width) = screen.size();
+    screen.rows(0, width).collect()
+}
+
 /// An SGR mouse report of button code `code` at the 0-based cell (x, y): a press (or motion)
 /// when `press`, else a release.
 pub fn sgr(code: u8, (x, y): (u16, u16), press: bool) -> Vec<u8> {
