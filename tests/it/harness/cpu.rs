@@ -3,6 +3,15 @@
 
 use std::time::Duration;
 
+/// The calling thread's id (the `tid` of `/proc/self/task/<tid>`).
+pub fn this_thread() -> u32 {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").expect("/proc is mounted");
+    stat.split_whitespace()
+        .next()
+        .and_then(|tid| tid.parse().ok())
+        .expect("a thread id")
+}
+
 /// User and system time thread `tid` has used so far; `None` once it has ended.
 pub fn thread_time(tid: u32) -> Option<Duration> {
     let stat = std::fs::read_to_string(format!("/proc/self/task/{tid}/stat")).ok()?;
