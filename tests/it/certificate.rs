@@ -1,4 +1,4 @@
-//! The certificate of issue 10 against the independent 384-bit reference (`tests/reference`):
+//! The certificate of issue 10 against the independent 384-bit reference (`tests/it/reference`):
 //! on every regression scene of `tests/scenes/hard` every method either agrees with the
 //! reference (1e-10 in u, u' and the forces, right flags) or warns; the friction states, the
 //! KKT residual and the condition numbers on the cases the issue names.
