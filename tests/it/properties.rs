@@ -12,7 +12,7 @@ use beamfric::scene::{
 use beamfric::solve::{ConditionLevel, Method, SolveOptions, solve};
 use proptest::prelude::*;
 
-use crate::harness::scenes;
+use crate::harness::{scenes, seed};
 
 fn section() -> impl Strategy<Value = Section> {
     prop_oneof![
@@ -119,7 +119,7 @@ prop_compose! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(40))]
+    #![proptest_config(seed::config(ProptestConfig::with_cases(40)))]
 
     #[test]
     fn crowded_beams_solve_exactly_by_every_dual_route(scene in crowded_scene()) {
@@ -155,7 +155,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(seed::config(ProptestConfig::with_cases(200)))]
 
     #[test]
     fn all_applicable_methods_agree_and_certify(scene in scene()) {

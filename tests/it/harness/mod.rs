@@ -10,6 +10,7 @@
 //! - [`screen`]: finding text on a screen and mouse reports to send to it.
 //! - [`wait`]: waiting for a condition (`eventually`) instead of sleeping or timing.
 //! - [`cpu`]: a thread's CPU time, to wait until work is provably under way.
+//! - [`seed`]: the one seed of every random draw, `BEAMFRIC_SEED`, printed to repeat a run.
 
 pub mod cpu;
 pub mod process;
@@ -17,6 +18,7 @@ pub mod process;
 pub mod pty;
 pub mod scenes;
 pub mod screen;
+pub mod seed;
 #[cfg(unix)]
 pub mod ssh;
 pub mod wait;
