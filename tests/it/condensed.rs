@@ -14,10 +14,6 @@ use beamfric::solve::{
 
 use crate::harness::scenes::*;
 
-/// u(x̂) of Benchmark 1, 0.0057016100178890876565 m, rounded to double precision.
-const BENCHMARK_1_U: f64 = 0.005_701_610_017_889_088;
-const BENCHMARK_1_MOMENT: f64 = -4_798.461_538_461_538;
-
 fn fast_options() -> SolveOptions {
     SolveOptions {
         condition: ConditionLevel::Off,

@@ -8,10 +8,6 @@ use beamfric::solve::{
 
 use crate::harness::scenes::*;
 
-/// u(x̂) of docs/design.md section 6, 0.0057016100178890876565 m, rounded to double precision.
-const BENCHMARK_1_U: f64 = 0.005_701_610_017_889_088;
-const BENCHMARK_1_MOMENT: f64 = -4_798.461_538_461_538;
-
 #[test]
 fn closed_form_reproduces_benchmark_1() {
     let problem = problem(&preset_scene("benchmark-1"));

@@ -20,6 +20,12 @@ pub fn problem(scene: &Scene) -> Problem {
     scene.validate("test").expect("valid scene").0
 }
 
+/// u(x̂) of Benchmark 1 (docs/design.md section 6), 0.0057016100178890876565 m, rounded to
+/// double precision.
+pub const BENCHMARK_1_U: f64 = 0.005_701_610_017_889_088;
+/// The moment at the obstacle of Benchmark 1, N·m.
+pub const BENCHMARK_1_MOMENT: f64 = -4_798.461_538_461_538;
+
 /// Options without condition numbers (fast) and with the reference error.
 pub fn options(epsilon: f64) -> SolveOptions {
     SolveOptions {
