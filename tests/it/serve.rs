@@ -659,6 +659,8 @@ fn the_work_of_all_sessions_never_runs_on_more_than_the_machines_cores() {
                     explorer
                         .send(if index % 2 == 0 { b"]" } else { b"[" })
                         .await;
+                    // A load's pace, not a synchronisation: keys 20 ms apart, so that each
+                    // asks for work of its own while the other sessions' work runs.
                     tokio::time::sleep(Duration::from_millis(20)).await;
                 }
                 explorer.wait_for("cond2 of the cases").await;
