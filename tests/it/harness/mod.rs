@@ -1,0 +1,24 @@
+//! What the integration tests share.
+//!
+//! - [`scenes`]: presets as scenes, loaded scenes and validated problems, solve options, the
+//!   reference values of `tests/data/`, the crowded scene whose solve takes seconds.
+//! - [`process`]: the program run to its end as a script runs it (no terminal), and the names
+//!   of the files it leaves.
+//! - [`pty`]: the program on a pseudo-terminal of its own, as a person at a terminal runs it.
+//! - [`ssh`]: a russh client of `beamfric serve`, logins, and a served explorer as the client
+//!   sees it.
+//! - [`screen`]: finding text on a screen and mouse reports to send to it.
+//! - [`wait`]: waiting for a condition (`eventually`) instead of sleeping or timing.
+//! - [`cpu`]: a thread's CPU time, to wait until work is provably under way.
+//! - [`seed`]: the one seed of every random draw, `BEAMFRIC_SEED`, printed to repeat a run.
+
+pub mod cpu;
+pub mod process;
+#[cfg(unix)]
+pub mod pty;
+pub mod scenes;
+pub mod screen;
+pub mod seed;
+#[cfg(unix)]
+pub mod ssh;
+pub mod wait;

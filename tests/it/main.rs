@@ -1,0 +1,33 @@
+//! The integration tests, one binary (one link of the library instead of one per file).
+//!
+//! One module per area, each named after the file it was before (`cargo test --test it
+//! serve::` runs the served explorer's tests, `cargo test --test it explorer::` the
+//! explorer's); [`harness`] is what they share, [`reference`] the independent multi-precision
+//! reference solver the numerical checks compare with (also used by `benches/reference.rs`).
+//! Fixtures stay in `tests/scenes/` and `tests/data/`, insta snapshots in `tests/it/snapshots/`.
+
+mod harness;
+mod reference;
+
+mod architecture;
+mod cancel;
+mod certificate;
+mod cli_solve;
+mod condensed;
+mod explorer;
+mod fuzz;
+mod headless;
+mod mouse;
+mod numerics;
+mod presets;
+mod properties;
+mod reference_check;
+mod render;
+mod report_atomic;
+mod save_roundtrip;
+mod save_safety;
+mod scene;
+#[cfg(unix)]
+mod serve;
+#[cfg(unix)]
+mod terminal;
