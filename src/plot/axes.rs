@@ -288,7 +288,7 @@ mod tests {
             "{texts:?}"
         );
         // The extremes of f64 stay finite; a span so small that span / cells underflows to
-        // zero (found by tests/fuzz.rs) does not overflow the exponent.
+        // zero (found by tests/it/fuzz.rs) does not overflow the exponent.
         for (a, b) in [
             (-f64::MAX, f64::MAX),
             (0.0, 0.0),

@@ -187,7 +187,7 @@ pub(super) fn reference_error(
 /// beam is nearly flat (a node at the middle of a nearly symmetric scene, where u' is 1e-8 of
 /// u/l), the slopes are a cancellation that f64 values of u at the ends of a piece resolve
 /// only to ulps of u/l, and a ratio to them would call that rounding "lost digits". The test
-/// suite's independent comparison (tests/reference/compare.rs) uses the same rule.
+/// suite's independent comparison (tests/it/reference/compare.rs) uses the same rule.
 pub(super) fn compare(
     reference: Reference,
     field: &NodalField,

@@ -14,7 +14,17 @@ pub fn this_thread() -> u32 {
 
 /// User and system time thread `tid` has used so far; `None` once it has ended.
 pub fn thread_time(tid: u32) -> Option<Duration> {
-    let stat = std::fs::read_to_string(format!("/proc/self/task/{tid}/stat")).ok()?;
+    task_time("self", tid)
+}
+
+/// [`thread_time`] of a thread of another process (`pid`).
+pub fn thread_time_in(pid: u32, tid: u32) -> Option<Duration> {
+    task_time(&pid.to_string(), tid)
+}
+
+/// User and system time of task `tid` of the process `/proc/<process>`.
+fn task_time(process: &str, tid: u32) -> Option<Duration> {
+    let stat = std::fs::read_to_string(format!("/proc/{process}/task/{tid}/stat")).ok()?;
     // The command name, in parentheses, may hold spaces: count the fields after it. They
     // start with the state (field 3); utime and stime are fields 14 and 15, in clock ticks.
     let fields: Vec<&str> = stat[stat.rfind(')')? + 1..].split_whitespace().collect();
@@ -27,7 +37,17 @@ pub fn thread_time(tid: u32) -> Option<Duration> {
 
 /// The ids of this process's threads named `name` now.
 pub fn threads_named(name: &str) -> Vec<u32> {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+    tasks_named("self", name)
+}
+
+/// [`threads_named`] of another process (`pid`).
+pub fn threads_named_in(pid: u32, name: &str) -> Vec<u32> {
+    tasks_named(&pid.to_string(), name)
+}
+
+/// The ids of the tasks of `/proc/<process>` named `name`.
+fn tasks_named(process: &str, name: &str) -> Vec<u32> {
+    let Ok(tasks) = std::fs::read_dir(format!("/proc/{process}/task")) else {
         return Vec::new();
     };
     tasks
