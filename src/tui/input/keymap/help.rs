@@ -6,7 +6,7 @@
 use super::super::keys::Key;
 use super::action::Action;
 use super::tables::{
-    Binding, DISCARD_QUESTION, Hint, NORMAL, OVERWRITE_QUESTION, PICKER, PROMPT, SCROLLING,
+    Binding, DISCARD_QUESTION, GLOBAL, Hint, NORMAL, OVERWRITE_QUESTION, PICKER, PROMPT, SCROLLING,
 };
 
 /// Joins key labels the way the help writes them: keys of one family (arrows, shifted arrows,
@@ -51,10 +51,12 @@ pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
     help_lines_with(ascii, &[])
 }
 
-/// The help's lines of [`NORMAL`] and then of `extra` (e.g. [`FOLLOW`]).
+/// The help's lines of [`NORMAL`], of [`GLOBAL`] (those not listed there already) and then of
+/// `extra` (e.g. [`FOLLOW`]).
 pub fn help_lines_with(ascii: bool, extra: &[Binding]) -> Vec<(String, &'static str)> {
     NORMAL
         .iter()
+        .chain(GLOBAL.iter().filter(|b| !b.help.is_empty()))
         .chain(extra)
         .map(|b| {
             let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();

@@ -262,17 +262,22 @@ pub const FOLLOW: &[Binding] = &[
 ];
 
 /// Keys of every mode, looked up before the mode's own: Ctrl-C quits from anywhere (asking
-/// first when that loses changes), Ctrl-Z suspends (the shell's `fg` resumes). Listed in the
-/// help through [`NORMAL`]'s quit line (Ctrl-C) and not at all (Ctrl-Z: a terminal's own key).
-pub const GLOBAL: &[Binding] = &[Binding {
-    keys: &[
-        (Key::Ctrl('c'), Action::Interrupt),
-        (Key::Ctrl('z'), Action::Suspend),
-    ],
-    aliases: &[],
-    help: "quit from anywhere / suspend",
-    hint: None,
-}];
+/// first when that loses changes; the help lists it on [`NORMAL`]'s quit line), Ctrl-Z
+/// suspends (the shell's `fg` resumes; a served session says it cannot).
+pub const GLOBAL: &[Binding] = &[
+    Binding {
+        keys: &[(Key::Ctrl('c'), Action::Interrupt)],
+        aliases: &[],
+        help: "",
+        hint: None,
+    },
+    Binding {
+        keys: &[(Key::Ctrl('z'), Action::Suspend)],
+        aliases: &[],
+        help: "suspend to the shell (fg resumes; not in a served session)",
+        hint: None,
+    },
+];
 
 /// A binding the help does not list (the keys of prompts, lists and questions, which their
 /// own hint lines name).
