@@ -491,6 +491,30 @@ fn a_save_clears_the_modified_mark() {
     assert!(app.ending.is_some());
 }
 
+#[cfg(unix)]
+#[test]
+fn saving_over_a_dangling_symlink_says_how_to_go_on() {
+    // Issue 22: the explorer suggested a `--force` that does not exist.
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.toml");
+    std::os::unix::fs::symlink(&missing, dir.path().join("benchmark-1.toml")).unwrap();
+    let mut app = app_saving_to("benchmark-1", dir.path());
+    press(&mut app, "Right s Enter");
+    let message = app.message.clone().unwrap_or_default();
+    assert!(message.starts_with("not saved: "), "{message}");
+    assert!(
+        message.contains("benchmark-1.toml is a symbolic link"),
+        "{message}"
+    );
+    assert!(
+        message.contains("remove the link or choose another name"),
+        "{message}"
+    );
+    assert!(!message.contains("--force"), "{message}");
+    assert!(app.modified());
+    assert!(!missing.exists());
+}
+
 #[test]
 fn a_failed_save_says_why_and_loses_nothing() {
     let dir = std::env::temp_dir().join(format!("beamfric-save-fail-{}", std::process::id()));
