@@ -223,8 +223,9 @@ fn serve_command(_args: &ServeArgs) -> Result<ExitCode, CliError> {
 }
 
 fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
+    let keys = crate::tui::input::keys::parse_keys(&args.keys)
+        .map_err(|unknown| CliError::Argument(format!("--keys: {unknown}")))?;
     let loaded = scene::load(&args.scene)?;
-    let keys = crate::tui::input::keys::parse_keys(&args.keys);
     let options = crate::tui::RenderOptions {
         width: args.size.0,
         height: args.size.1,

@@ -260,8 +260,9 @@ pub struct RenderArgs {
     #[arg(long, default_value = "120x40", value_parser = parse_size)]
     pub size: (u16, u16),
     /// Keys to apply first, space-separated: Up Down Left Right S-Left S-Right Enter Esc Tab
-    /// BackTab Backspace Space, C-x (Ctrl and a letter), single characters, or text typed
-    /// after Enter.
+    /// BackTab Backspace Home End PgUp PgDn Space, C-x (Ctrl and a letter) and single
+    /// characters (text one character at a time: Enter 3 e 4 Enter); any other word is an
+    /// error.
     #[arg(long, default_value = "", allow_hyphen_values = true)]
     pub keys: String,
     /// Draw without Unicode.
