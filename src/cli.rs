@@ -299,8 +299,8 @@ fn check_count(
 /// the smaller to the larger, at most 200 of them, at most 100 runs each.
 fn check_mesh_sweep(sizes: &MeshSizes, repeat: usize) -> Result<(), CliError> {
     check_elements_range(sizes.from, sizes.to)?;
-    check_count("--points", sizes.points, 1..=200)?;
-    check_count("--repeat", repeat, 1..=100)
+    check_count("--points", sizes.points, 1..=MAX_MESH_POINTS)?;
+    check_count("--repeat", repeat, 1..=MAX_REPEAT)
 }
 
 /// The mesh sizes asked for.
@@ -347,7 +347,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> 
             args.from, args.to
         )));
     }
-    check_count("--points", args.points, 1..=1000)?;
+    check_count("--points", args.points, 1..=MAX_EPSILON_POINTS)?;
     if !args.method.is_regularized() {
         return Err(CliError::Argument(format!(
             "--method {}: the ε sweep needs regularized or regularized-newton",

@@ -553,11 +553,37 @@ fn a_failed_save_says_why_and_loses_nothing() {
 }
 
 #[test]
+fn typed_values_out_of_range_are_refused_quoting_what_was_typed() {
+    // Issue 22: a typed 1e300 in the elements row said "18446744073709551615 asked for".
+    let mut app = app("benchmark-1");
+    let before = app.scene().clone();
+    let elements = "Down Down Down Down Down Down Down Down Down";
+    for value in ["1e300", "-1", "2.5", "0", "20000000"] {
+        press(
+            &mut app,
+            &format!("{elements} Enter {} Enter g", typed(value)),
+        );
+        let message = app.message.clone().unwrap_or_default();
+        assert_eq!(
+            message,
+            format!("rejected: mesh.elements = {value}: must be a whole number from 1 to 10000000")
+        );
+    }
+    // A number beyond f64 in any row: quoted, not shown as "inf".
+    press(&mut app, "Enter 1 e 4 0 0 Enter");
+    assert_eq!(
+        app.message.as_deref(),
+        Some("rejected: load.f0 = 1e400: must be a finite number (at most 1.8e308 in size)")
+    );
+    assert_eq!(*app.scene(), before);
+}
+
+#[test]
 fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
     let mut app = app("benchmark-1");
     press(
         &mut app,
-        "Down Down Down Down Down Down Down Down Down Enter 2000 Enter",
+        "Down Down Down Down Down Down Down Down Down Enter 2 0 0 0 Enter",
     );
     assert_eq!(app.scene().mesh.elements, 2000);
     for _ in 0..4 {
