@@ -7,7 +7,7 @@ use serde_json::json;
 use std::process::ExitCode;
 
 use crate::fem::Mesh;
-use crate::output::{SolveContext, refusal_json, solution_json, solution_table};
+use crate::output::{SolveContext, json_text, refusal_json, solution_json, solution_table};
 use crate::scene::{self, LoadedScene};
 use crate::solve::{Method, SolveOptions, WarningCode, solve};
 
@@ -331,9 +331,7 @@ fn print_table(
 ) {
     write_stdout(&match format {
         TableFormat::Csv => csv(),
-        TableFormat::Json => {
-            serde_json::to_string_pretty(&json()).expect("JSON values serialize") + "\n"
-        }
+        TableFormat::Json => json_text(&json()),
     });
 }
 
@@ -475,9 +473,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, CliError> {
     };
     let text = match args.format {
         CheckFormat::Markdown => crate::check::markdown(&reports),
-        CheckFormat::Json => {
-            serde_json::to_string_pretty(&reports).expect("reports serialize") + "\n"
-        }
+        CheckFormat::Json => json_text(&reports),
     };
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     let failed = reports.iter().filter(|r| !r.passed()).count();
@@ -524,10 +520,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
                 .map(|&x| (x, solution.field.at(&mesh, x)))
                 .collect();
             let text = match args.format {
-                Format::Json => {
-                    let doc = solution_json(&context, &solution, !args.no_nodes, &at);
-                    serde_json::to_string_pretty(&doc).expect("JSON values serialize") + "\n"
-                }
+                Format::Json => json_text(&solution_json(&context, &solution, !args.no_nodes, &at)),
                 Format::Table => solution_table(&context, &solution, &at, true),
             };
             let _ = stdout.write_all(text.as_bytes());
@@ -544,12 +537,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
         }
         Err(error) => {
             if args.format == Format::Json {
-                let doc = refusal_json(&context, &error);
-                let _ = writeln!(
-                    stdout,
-                    "{}",
-                    serde_json::to_string_pretty(&doc).expect("JSON values serialize")
-                );
+                let _ = stdout.write_all(json_text(&refusal_json(&context, &error)).as_bytes());
             }
             say!("beamfric: {error}");
             Ok(ExitCode::from(EXIT_NO_SOLUTION))
