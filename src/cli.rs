@@ -7,7 +7,7 @@ use serde_json::json;
 use std::process::ExitCode;
 
 use crate::fem::Mesh;
-use crate::output::{SolveContext, refusal_json, solution_json, solution_table};
+use crate::output::{SolveContext, json_text, refusal_json, solution_json, solution_table};
 use crate::scene::{self, LoadedScene};
 use crate::solve::{Method, SolveOptions, WarningCode, solve};
 
@@ -223,8 +223,9 @@ fn serve_command(_args: &ServeArgs) -> Result<ExitCode, CliError> {
 }
 
 fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
+    let keys = crate::tui::input::keys::parse_keys(&args.keys)
+        .map_err(|unknown| CliError::Argument(format!("--keys: {unknown}")))?;
     let loaded = scene::load(&args.scene)?;
-    let keys = crate::tui::input::keys::parse_keys(&args.keys);
     let options = crate::tui::RenderOptions {
         width: args.size.0,
         height: args.size.1,
@@ -298,8 +299,8 @@ fn check_count(
 /// the smaller to the larger, at most 200 of them, at most 100 runs each.
 fn check_mesh_sweep(sizes: &MeshSizes, repeat: usize) -> Result<(), CliError> {
     check_elements_range(sizes.from, sizes.to)?;
-    check_count("--points", sizes.points, 1..=200)?;
-    check_count("--repeat", repeat, 1..=100)
+    check_count("--points", sizes.points, 1..=MAX_MESH_POINTS)?;
+    check_count("--repeat", repeat, 1..=MAX_REPEAT)
 }
 
 /// The mesh sizes asked for.
@@ -330,9 +331,7 @@ fn print_table(
 ) {
     write_stdout(&match format {
         TableFormat::Csv => csv(),
-        TableFormat::Json => {
-            serde_json::to_string_pretty(&json()).expect("JSON values serialize") + "\n"
-        }
+        TableFormat::Json => json_text(&json()),
     });
 }
 
@@ -346,7 +345,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> 
             args.from, args.to
         )));
     }
-    check_count("--points", args.points, 1..=1000)?;
+    check_count("--points", args.points, 1..=MAX_EPSILON_POINTS)?;
     if !args.method.is_regularized() {
         return Err(CliError::Argument(format!(
             "--method {}: the ε sweep needs regularized or regularized-newton",
@@ -474,9 +473,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, CliError> {
     };
     let text = match args.format {
         CheckFormat::Markdown => crate::check::markdown(&reports),
-        CheckFormat::Json => {
-            serde_json::to_string_pretty(&reports).expect("reports serialize") + "\n"
-        }
+        CheckFormat::Json => json_text(&reports),
     };
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     let failed = reports.iter().filter(|r| !r.passed()).count();
@@ -523,10 +520,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
                 .map(|&x| (x, solution.field.at(&mesh, x)))
                 .collect();
             let text = match args.format {
-                Format::Json => {
-                    let doc = solution_json(&context, &solution, !args.no_nodes, &at);
-                    serde_json::to_string_pretty(&doc).expect("JSON values serialize") + "\n"
-                }
+                Format::Json => json_text(&solution_json(&context, &solution, !args.no_nodes, &at)),
                 Format::Table => solution_table(&context, &solution, &at, true),
             };
             let _ = stdout.write_all(text.as_bytes());
@@ -543,12 +537,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
         }
         Err(error) => {
             if args.format == Format::Json {
-                let doc = refusal_json(&context, &error);
-                let _ = writeln!(
-                    stdout,
-                    "{}",
-                    serde_json::to_string_pretty(&doc).expect("JSON values serialize")
-                );
+                let _ = stdout.write_all(json_text(&refusal_json(&context, &error)).as_bytes());
             }
             say!("beamfric: {error}");
             Ok(ExitCode::from(EXIT_NO_SOLUTION))

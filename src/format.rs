@@ -1,6 +1,8 @@
-//! Number formatting for people: engineering-style mantissa and exponent (5.0e4, not 50000.000),
-//! units, durations. Never prints NaN or infinity as a number.
+//! Formatting for people: numbers in engineering style (5.0e4, not 50000.000), units,
+//! durations — never NaN or infinity as a number — and text from a scene file made safe to
+//! show ([`printable`]).
 
+use std::borrow::Cow;
 use std::time::Duration;
 
 /// `value` with `digits` significant digits in scientific form, e.g. `5.70e-3`; zero as `0`;
@@ -62,6 +64,29 @@ pub fn duration(d: Duration) -> String {
     }
 }
 
+/// Text from a scene file (a title, a description, a file name) as every output shows it —
+/// the terminal, Markdown, SVG, the solve table: each control character (C0, DEL and C1,
+/// `char::is_control`; a newline and a tab too) written as its `\u{..}` escape, e.g. ESC as
+/// `\u{1b}`. An escape sequence in a title would otherwise recolour, retitle or clear the
+/// terminal that shows it, a newline break a Markdown heading, and a control byte make an SVG
+/// file invalid XML. Text without control characters is returned as it is.
+pub fn printable(text: &str) -> Cow<'_, str> {
+    if !text.contains(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    Cow::Owned(
+        text.chars()
+            .map(|c| {
+                if c.is_control() {
+                    c.escape_unicode().to_string()
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -82,5 +107,14 @@ mod tests {
         assert_eq!(eng(-4798.46), "-4798");
         assert_eq!(eng(0.0057016), "5.7e-3");
         assert_eq!(eng(1.5e5), "1.5e5");
+    }
+
+    #[test]
+    fn control_characters_are_escaped_visibly() {
+        assert_eq!(
+            printable("a\x1b[31mred\x07\nb\tc\u{7f}\u{9b}é"),
+            "a\\u{1b}[31mred\\u{7}\\u{a}b\\u{9}c\\u{7f}\\u{9b}é"
+        );
+        assert!(matches!(printable("Benchmark 1"), Cow::Borrowed(_)));
     }
 }

@@ -5,7 +5,7 @@ use serde::Serialize;
 use serde_json::{Value, json};
 
 use crate::fem::{Mesh, PointValues};
-use crate::format::{duration, sci};
+use crate::format::{duration, printable, sci};
 use crate::linalg::condition::ConditionNumber;
 use crate::solve::{Method, Reference, Solution, SolveError};
 
@@ -121,18 +121,22 @@ pub fn solution_table(
     lines.iter().map(|l| format!("{l}\n")).collect()
 }
 
-/// Text from a scene file as a terminal may show it: control characters (an escape sequence in
-/// a title would retitle or clear the user's terminal) written as `\u{1b}`-style escapes.
-fn printable(text: &str) -> String {
-    text.chars()
-        .map(|c| {
-            if c.is_control() {
-                c.escape_unicode().to_string()
-            } else {
-                c.to_string()
-            }
-        })
-        .collect()
+/// A JSON document as the commands print it: pretty, with a final new line, and every control
+/// character escaped — serde_json escapes those below U+0020 in strings, and this the rest
+/// (DEL and the C1 controls, which it leaves raw and a terminal may act on) as `\u00XX`.
+/// Outside strings pretty JSON has no control character but its new lines.
+pub fn json_text(value: &impl Serialize) -> String {
+    let text = serde_json::to_string_pretty(value).expect("JSON values serialize");
+    let mut out = String::with_capacity(text.len() + 1);
+    for c in text.chars() {
+        if c.is_control() && c != '\n' {
+            out.push_str(&format!("\\u{:04x}", u32::from(c)));
+        } else {
+            out.push(c);
+        }
+    }
+    out.push('\n');
+    out
 }
 
 fn heading_lines(lines: &mut Vec<String>, context: &SolveContext, solution: &Solution) {

@@ -1,6 +1,8 @@
 //! The command line's argument types (clap derive) and the value parsers for the crate's own
 //! enums: [`Method`] and [`ConditionLevel`] know nothing of clap, so their clap names and help
-//! come from their `name()` and `description()` here.
+//! come from their `name()` and `description()` here. Numeric options take negative numbers
+//! as values (so `--elements -1` is refused for its value, quoted, not taken for an option)
+//! and refuse what cannot be a count or a finite number in words.
 
 use std::sync::LazyLock;
 
@@ -8,6 +10,7 @@ use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::plot::Palette;
+use crate::scene::MAX_ELEMENTS;
 use crate::solve::{ConditionLevel, Method};
 
 /// The methods in declaration order (the order clap has always listed them in).
@@ -176,20 +179,20 @@ pub struct EpsilonSweepArgs {
     #[arg(long, default_value = "benchmark-1")]
     pub scene: String,
     /// Smallest ε.
-    #[arg(long, default_value_t = 1e-16)]
+    #[arg(long, default_value_t = 1e-16, value_parser = finite_number, allow_hyphen_values = true)]
     pub from: f64,
     /// Largest ε.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = finite_number, allow_hyphen_values = true)]
     pub to: f64,
     /// Number of ε values, log-spaced.
-    #[arg(long, default_value_t = 33)]
+    #[arg(long, default_value_t = 33, value_parser = count_up_to(MAX_EPSILON_POINTS), allow_negative_numbers = true)]
     pub points: usize,
     /// The enumeration of paper 2.7.1, or semismooth Newton on the same ε-problem (which
     /// works with any number of obstacles).
     #[arg(long, value_enum, default_value = "regularized")]
     pub method: Method,
     /// Number of elements (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
     pub elements: Option<usize>,
     #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
     pub format: TableFormat,
@@ -200,13 +203,13 @@ pub struct EpsilonSweepArgs {
 #[derive(Debug, Args)]
 pub struct MeshSizes {
     /// Smallest number of elements.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
     pub from: usize,
     /// Largest number of elements.
-    #[arg(long, default_value_t = 1_000_000)]
+    #[arg(long, default_value_t = 1_000_000, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
     pub to: usize,
     /// Number of mesh sizes, log-spaced.
-    #[arg(long, default_value_t = 11)]
+    #[arg(long, default_value_t = 11, value_parser = count_up_to(MAX_MESH_POINTS), allow_negative_numbers = true)]
     pub points: usize,
 }
 
@@ -222,10 +225,10 @@ pub struct ElementsSweepArgs {
     #[command(flatten)]
     pub sizes: MeshSizes,
     /// Runs per point; the run time is their median.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = count_up_to(MAX_REPEAT), allow_negative_numbers = true)]
     pub repeat: usize,
     /// ε for the regularised methods (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = finite_number, allow_hyphen_values = true)]
     pub epsilon: Option<f64>,
     #[arg(long, value_enum, default_value_t = TableFormat::Csv)]
     pub format: TableFormat,
@@ -243,7 +246,7 @@ pub struct ReportArgs {
     #[command(flatten)]
     pub sizes: MeshSizes,
     /// Runs per point; the run time is their median.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = count_up_to(MAX_REPEAT), allow_negative_numbers = true)]
     pub repeat: usize,
     /// Replace the files of an existing report in --out.
     #[arg(long)]
@@ -257,11 +260,12 @@ pub struct RenderArgs {
     #[arg(long, default_value = "benchmark-1")]
     pub scene: String,
     /// Frame size in cells, WIDTHxHEIGHT.
-    #[arg(long, default_value = "120x40", value_parser = parse_size)]
+    #[arg(long, default_value = "120x40", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u16, u16),
     /// Keys to apply first, space-separated: Up Down Left Right S-Left S-Right Enter Esc Tab
-    /// BackTab Backspace Space, C-x (Ctrl and a letter), single characters, or text typed
-    /// after Enter.
+    /// BackTab Backspace Home End PgUp PgDn Space, C-x (Ctrl and a letter) and single
+    /// characters (text one character at a time: Enter 3 e 4 Enter); any other word is an
+    /// error.
     #[arg(long, default_value = "", allow_hyphen_values = true)]
     pub keys: String,
     /// Draw without Unicode.
@@ -280,6 +284,46 @@ pub struct RenderArgs {
     /// nothing on disk changes).
     #[arg(long, value_name = "DIR")]
     pub allow_save: Option<std::path::PathBuf>,
+}
+
+/// Most mesh sizes in a sweep over n (`--points` of `sweep elements` and `report`).
+pub const MAX_MESH_POINTS: usize = 200;
+/// Most ε values in `sweep epsilon`.
+pub const MAX_EPSILON_POINTS: usize = 1000;
+/// Most runs per point (`--repeat`).
+pub const MAX_REPEAT: usize = 100;
+
+/// The value parser of a count option (`--elements`, `--points`, `--repeat`, …) whose rule is
+/// a whole number from 1 to `max`: what cannot be a count at all — a negative number, a
+/// fraction, an exponent, a word, a number beyond `max` too large to hold — is refused here
+/// (clap quotes what was typed and names the option: "invalid value '-1' for '--elements
+/// <ELEMENTS>': must be a whole number from 1 to 10000000"); any other number reaches the
+/// command, whose check of the range quotes it in the same words as the scene's rules.
+fn count_up_to(max: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
+    move |text: &str| {
+        let digits = text.trim();
+        let digits = digits.strip_prefix('+').unwrap_or(digits);
+        let rule = || format!("must be a whole number from 1 to {max}");
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(rule());
+        }
+        digits.parse().map_err(|_| rule())
+    }
+}
+
+/// The value parser of a real-number option (ε, positions): a number, and a finite one
+/// (`1e400` would be infinity); its sign and range are the command's rules. These options take
+/// any value starting with `-` (clap's own test for a negative number misses `-1e-3`), so an
+/// option in the place of the missing value is named as such.
+fn finite_number(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(value) if value.is_finite() => Ok(value),
+        Ok(_) => Err("must be a finite number (at most 1.8e308 in size)".into()),
+        Err(_) if text.starts_with("--") => Err(format!(
+            "must be a number; {text} is the next option, so the value is missing"
+        )),
+        Err(_) => Err("must be a number, e.g. 1e-8 or 0.5".into()),
+    }
 }
 
 fn parse_size(text: &str) -> Result<(u16, u16), String> {
@@ -335,13 +379,13 @@ pub struct SolveArgs {
     #[arg(long, value_enum)]
     pub method: Option<Method>,
     /// Number of elements (default: the scene's).
-    #[arg(long)]
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
     pub elements: Option<usize>,
     /// Regularisation parameter ε (default: the scene's).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, value_parser = finite_number, allow_hyphen_values = true)]
     pub epsilon: Option<f64>,
     /// Positions [m] where u and u' are reported, comma-separated.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(long, value_delimiter = ',', value_parser = finite_number, allow_hyphen_values = true)]
     pub at: Vec<f64>,
     /// Leave the nodal values out of the JSON output.
     #[arg(long)]

@@ -6,7 +6,7 @@
 
 use std::fmt::Write;
 
-use crate::format::{duration, sci};
+use crate::format::{duration, printable, sci};
 use crate::plot::{Look, StudyChart, buffer_to_text, chart_buffer};
 use crate::scene::LoadedScene;
 use crate::solve::{Method, WarningCode};
@@ -127,13 +127,14 @@ pub fn build(loaded: &LoadedScene, options: &ReportOptions, progress: Progress) 
     .expect("a sweep that is never cancelled finishes");
 
     let source = loaded.source.to_string();
-    let title = if loaded.scene.title.is_empty() {
+    // Control characters escaped in every file (Markdown, and SVG, where they are not XML).
+    let title = printable(if loaded.scene.title.is_empty() {
         source.as_str()
     } else {
         loaded.scene.title.as_str()
-    };
+    });
     let mut md = String::new();
-    write_introduction(&mut md, loaded, title, options);
+    write_introduction(&mut md, loaded, &title, options);
     write_mesh_table(&mut md, &mesh_points);
     write_error_time_chart(&mut md, &mesh_points);
     let epsilon_csv = match &eps_points {
@@ -163,7 +164,7 @@ pub fn build(loaded: &LoadedScene, options: &ReportOptions, progress: Progress) 
         markdown: md,
         mesh_csv: crate::output::mesh_sweep_csv(&mesh_points),
         epsilon_csv,
-        svg: svg_figure(&mesh_points, title),
+        svg: svg_figure(&mesh_points, &title),
     }
 }
 
@@ -177,14 +178,14 @@ const REPORT_LOOK: Look = Look {
 fn write_introduction(md: &mut String, loaded: &LoadedScene, title: &str, options: &ReportOptions) {
     let _ = writeln!(md, "# Error against run time: {title}\n");
     if !loaded.scene.description.is_empty() {
-        let _ = writeln!(md, "{}\n", loaded.scene.description);
+        let _ = writeln!(md, "{}\n", printable(&loaded.scene.description));
     }
     let _ = writeln!(
         md,
         "Produced by `{}`. Run times are medians of {} run(s) of each method's stages \
          (assembly, factorization, dual solve, reconstruction) on this machine: {}. Errors are \
          the largest nodal |u − u_ref| over max |u_ref|, against {}.\n",
-        options.command,
+        printable(&options.command),
         options.repeat,
         machine(),
         if crate::solve::closed_form(&loaded.problem).is_ok() {

@@ -42,8 +42,8 @@ impl Destination {
     }
 }
 
-/// Checks, before anything is measured, that a report can be written to `dir`: it is not a
-/// file; it is missing, empty, or holds only report files (and then `overwrite` is needed);
+/// Checks, before anything is measured, that a report can be written to `dir`: it is named
+/// (not empty); it is not a file; it is missing, empty, or holds only report files (and then `overwrite` is needed);
 /// its parent exists and a directory can be created there; an existing `dir` is writable (its
 /// old files must be removed); and the file system has [`MIN_FREE_BYTES`] free.
 pub fn prepare(dir: &Path, overwrite: bool) -> Result<Destination, ReportError> {
@@ -52,6 +52,13 @@ pub fn prepare(dir: &Path, overwrite: bool) -> Result<Destination, ReportError> 
 
 /// [`prepare`], its reasons in words.
 fn check_destination(dir: &Path, overwrite: bool) -> Result<Destination, String> {
+    if dir.as_os_str().is_empty() {
+        return Err(
+            "--out is empty: name the directory for the report (e.g. --out report), or \
+                    leave --out out for report-<scene>"
+                .into(),
+        );
+    }
     let shown = dir.to_path_buf();
     let target = match std::fs::symlink_metadata(dir) {
         // The directory it points to is replaced; the link stays.

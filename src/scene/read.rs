@@ -1,7 +1,10 @@
-//! Reading a scene file with a size bound: at most [`MAX_SCENE_BYTES`] + 1 bytes are ever
-//! read (through `Read::take`), so `/dev/zero`, a FIFO or stdin that never ends, or a huge
-//! file, is refused with a message instead of filling memory.
+//! Reading a scene file safely: only a regular file is read (a FIFO, a device, a directory or
+//! a socket is refused before it is opened, and the file is opened without blocking and looked
+//! at again, so a FIFO swapped in meanwhile cannot make the read wait for a writer), and at
+//! most [`MAX_SCENE_BYTES`] + 1 bytes are ever read (through `Read::take`), so a huge file is
+//! refused with a message instead of filling memory.
 
+use std::fs::{File, FileType, Metadata};
 use std::io::Read;
 use std::path::Path;
 
@@ -11,7 +14,8 @@ use super::SceneError;
 pub const MAX_SCENE_BYTES: u64 = 1 << 20;
 
 /// The text of the scene file at `path`, or an error naming `source` (the file as the user
-/// wrote it) and the rule: larger than [`MAX_SCENE_BYTES`], not UTF-8, or unreadable.
+/// wrote it) and the rule: not a regular file, larger than [`MAX_SCENE_BYTES`], not UTF-8, or
+/// unreadable.
 pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> {
     let limit = MAX_SCENE_BYTES;
     let error = |rule: String| SceneError {
@@ -19,12 +23,17 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
         field: String::new(),
         rule,
     };
-    let file =
-        std::fs::File::open(path).map_err(|e| error(format!("cannot read the file: {e}")))?;
+    let unreadable = |e: std::io::Error| error(format!("cannot read the file: {e}"));
+    // Looked at before it is opened: opening a FIFO for reading waits for a writer.
+    let meta = std::fs::metadata(path).map_err(unreadable)?;
+    check_regular(&meta).map_err(error)?;
+    let file = open_without_waiting(path).map_err(unreadable)?;
+    // The file opened may not be the one looked at (it may have been replaced meanwhile).
+    check_regular(&file.metadata().map_err(unreadable)?).map_err(error)?;
     let mut bytes = Vec::new();
     file.take(limit + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| error(format!("cannot read the file: {e}")))?;
+        .map_err(unreadable)?;
     if bytes.len() as u64 > limit {
         return Err(error(format!(
             "larger than 1 MB ({limit} bytes), the limit for a scene file; not read"
@@ -36,4 +45,53 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
             e.utf8_error().valid_up_to()
         ))
     })
+}
+
+/// The rule a scene file's type must follow: a regular file (or a symbolic link to one).
+fn check_regular(meta: &Metadata) -> Result<(), String> {
+    if meta.is_file() {
+        return Ok(());
+    }
+    Err(format!(
+        "{}, not a regular file; a scene is read only from a regular file",
+        kind_of(meta.file_type())
+    ))
+}
+
+/// What a file that is not a regular file is, in words.
+fn kind_of(file_type: FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if file_type.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if file_type.is_char_device() {
+            return "a character device";
+        }
+        if file_type.is_block_device() {
+            return "a block device";
+        }
+        if file_type.is_socket() {
+            return "a socket";
+        }
+    }
+    if file_type.is_dir() {
+        "a directory"
+    } else {
+        "a special file"
+    }
+}
+
+/// Opens `path` for reading without ever waiting (`O_NONBLOCK`: a FIFO without a writer
+/// opens at once; a regular file reads as without it).
+fn open_without_waiting(path: &Path) -> std::io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(nix::libc::O_NONBLOCK);
+    }
+    options.open(path)
 }

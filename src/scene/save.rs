@@ -28,6 +28,9 @@ use super::serialize::{SAVED_HEADER, scene_to_toml};
 pub enum SaveError {
     /// The target exists and overwriting was not confirmed.
     Exists(PathBuf),
+    /// The target is a symbolic link to nothing (the link, where it points): a save never
+    /// follows it to create a file elsewhere.
+    DanglingLink(PathBuf, PathBuf),
     /// The file system refused.
     Io(PathBuf, std::io::Error),
 }
@@ -37,8 +40,16 @@ impl fmt::Display for SaveError {
         match self {
             SaveError::Exists(path) => write!(
                 f,
-                "{} exists; confirm to overwrite it (or use --force)",
+                "{} exists and was not overwritten: save again and confirm, or choose another \
+                 name",
                 path.display()
+            ),
+            SaveError::DanglingLink(link, points_to) => write!(
+                f,
+                "{} is a symbolic link to {}, which does not exist; not followed: remove the \
+                 link or choose another name",
+                link.display(),
+                points_to.display()
             ),
             SaveError::Io(path, e) => write!(f, "cannot save {}: {e}", path.display()),
         }
@@ -104,6 +115,14 @@ pub fn write_atomic(path: &Path, bytes: &[u8], overwrite: bool) -> Result<SaveOu
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         Err(e) => return Err(io(e)),
     };
+    if let Some(meta) = &existing
+        && meta.file_type().is_symlink()
+        && let Err(e) = std::fs::metadata(path)
+        && e.kind() == std::io::ErrorKind::NotFound
+    {
+        let points_to = std::fs::read_link(path).map_err(io)?;
+        return Err(SaveError::DanglingLink(path.to_path_buf(), points_to));
+    }
     if existing.is_some() && !overwrite {
         return Err(SaveError::Exists(path.to_path_buf()));
     }

@@ -153,6 +153,86 @@ fn bad_input_is_one_clear_line_and_a_failure() {
 }
 
 #[test]
+fn negative_and_out_of_range_numbers_are_refused_quoting_what_was_typed() {
+    // Issue 22: `--elements -1` said "unexpected argument '-1'" (taken for an option).
+    let count = "must be a whole number from 1 to 10000000";
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &["solve", "--elements", "-1"],
+            &["invalid value '-1' for '--elements", count],
+        ),
+        (
+            &["solve", "--elements", "1e300"],
+            &["invalid value '1e300' for '--elements", count],
+        ),
+        (
+            &["solve", "--elements", "99999999999999999999999"],
+            &[
+                "invalid value '99999999999999999999999' for '--elements",
+                count,
+            ],
+        ),
+        (
+            &["solve", "--elements", "20000000"],
+            &["--elements = 20000000: must be between 1 and 10000000"],
+        ),
+        (
+            &["solve", "--epsilon", "1e400"],
+            &[
+                "invalid value '1e400' for '--epsilon",
+                "must be a finite number",
+            ],
+        ),
+        (
+            &["solve", "--at", "-0.5"],
+            &["--at -0.5: positions must lie on the beam"],
+        ),
+        (
+            &["sweep", "epsilon", "--elements", "-3"],
+            &["invalid value '-3' for '--elements", count],
+        ),
+        (
+            &["sweep", "epsilon", "--from", "-1e-3"],
+            &["--from = -0.001: ε must be a finite number greater than zero"],
+        ),
+        (
+            &["sweep", "epsilon", "--points", "-2"],
+            &["invalid value '-2' for '--points", "from 1 to 1000"],
+        ),
+        (
+            &["sweep", "elements", "--epsilon", "-1"],
+            &["--epsilon = -1: ε must be a finite number greater than zero"],
+        ),
+        (
+            &["sweep", "elements", "--to", "-10"],
+            &["invalid value '-10' for '--to", count],
+        ),
+        (
+            &["report", "--repeat", "-1"],
+            &["invalid value '-1' for '--repeat", "from 1 to 100"],
+        ),
+        (
+            &["report", "--points", "2.5"],
+            &["invalid value '2.5' for '--points", "from 1 to 200"],
+        ),
+        (
+            &["render", "--size", "-1x5"],
+            &["'-1x5': the width must be a whole number from 1 to 1000"],
+        ),
+    ];
+    for (args, expected) in cases {
+        let out = beamfric(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let line = stderr_line(&out);
+        for part in *expected {
+            assert!(line.contains(part), "{args:?}: {line}");
+        }
+        assert!(!line.contains("unexpected argument"), "{args:?}: {line}");
+        assert!(out.stdout.is_empty());
+    }
+}
+
+#[test]
 fn a_refused_method_says_which_one_works() {
     let out = beamfric(&[
         "solve",

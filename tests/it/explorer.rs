@@ -13,6 +13,7 @@ use beamfric::tui::update::{Msg, update};
 use beamfric::tui::{RenderOptions, draw_to_buffer, render, settled};
 
 use crate::harness::scenes::{PLAIN, loaded_preset};
+use crate::harness::screen::typed;
 
 fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
     let options = RenderOptions {
@@ -23,7 +24,7 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         palette: Default::default(),
         allow_save: None,
     };
-    let buffer = render(loaded_preset(name), &parse_keys(keys), options).unwrap();
+    let buffer = render(loaded_preset(name), &parse_keys(keys).unwrap(), options).unwrap();
     buffer_to_text(&buffer, false)
 }
 
@@ -72,7 +73,7 @@ fn finish_pending(app: &mut App) {
 }
 
 fn press(app: &mut App, keys: &str) {
-    for key in parse_keys(keys) {
+    for key in parse_keys(keys).unwrap() {
         beamfric::tui::press(app, key);
     }
 }
@@ -100,8 +101,8 @@ fn frames_after_key_sequences() {
             "lesson-epsilon",
             "Down Down Down Down Down Down Down Down S-Left S-Left",
         ),
-        ("typed-value", "benchmark-1", "Enter 3e4 Enter"),
-        ("rejected-value", "benchmark-1", "Enter abc Enter"),
+        ("typed-value", "benchmark-1", "Enter 3 e 4 Enter"),
+        ("rejected-value", "benchmark-1", "Enter a b c Enter"),
         ("add-obstacle", "benchmark-1", "a"),
         ("delete-obstacle", "benchmark-3", "Down Down Down Down d"),
         ("method-refused", "eight-obstacles", "m m m"),
@@ -109,8 +110,8 @@ fn frames_after_key_sequences() {
         ("help", "benchmark-1", "?"),
         ("presets", "benchmark-1", "p Down"),
         // The picker's search: "mesh" keeps the presets about the mesh; PgDn to the last.
-        ("preset-search", "benchmark-1", "p mesh PgDn"),
-        ("preset-search-nothing", "benchmark-1", "p zzz"),
+        ("preset-search", "benchmark-1", "p m e s h PgDn"),
+        ("preset-search-nothing", "benchmark-1", "p z z z"),
         // z zooms the focused panel; Tab first focuses the next one.
         ("zoom", "benchmark-1", "z"),
         ("zoom-tab", "lesson-mesh", "Tab z"),
@@ -195,13 +196,13 @@ fn keys_change_the_state_and_the_solution() {
             > u0
     );
     // A typed exact value; a bad one changes nothing and says why.
-    press(&mut app, "Enter 3e4 Enter");
+    press(&mut app, "Enter 3 e 4 Enter");
     assert_eq!(app.scene().load.f0, 3e4);
-    press(&mut app, "Enter abc Enter");
+    press(&mut app, "Enter a b c Enter");
     assert_eq!(app.scene().load.f0, 3e4);
     assert!(app.message.as_deref().unwrap().contains("not a number"));
     // A value the scene rules reject: a negative threshold.
-    press(&mut app, "Down Down Down Down Down Down Enter -5 Enter");
+    press(&mut app, "Down Down Down Down Down Down Enter - 5 Enter");
     assert_eq!(app.scene().obstacles[0].sliding, 1e2);
     assert!(app.message.as_deref().unwrap().contains("zero or positive"));
     // Reset (it asks first: the scene has unsaved changes).
@@ -344,7 +345,7 @@ fn saving_writes_a_scene_that_loads_back_and_asks_before_overwriting() {
         }
         beamfric::tui::press(&mut app, Key::Backspace);
     }
-    press(&mut app, &path_text);
+    press(&mut app, &typed(&path_text));
     press(&mut app, "Enter");
     assert!(app.message.as_deref().unwrap().starts_with("saved to"));
     let loaded = beamfric::scene::load(&path_text).unwrap().scene;
@@ -491,6 +492,30 @@ fn a_save_clears_the_modified_mark() {
     assert!(app.ending.is_some());
 }
 
+#[cfg(unix)]
+#[test]
+fn saving_over_a_dangling_symlink_says_how_to_go_on() {
+    // Issue 22: the explorer suggested a `--force` that does not exist.
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.toml");
+    std::os::unix::fs::symlink(&missing, dir.path().join("benchmark-1.toml")).unwrap();
+    let mut app = app_saving_to("benchmark-1", dir.path());
+    press(&mut app, "Right s Enter");
+    let message = app.message.clone().unwrap_or_default();
+    assert!(message.starts_with("not saved: "), "{message}");
+    assert!(
+        message.contains("benchmark-1.toml is a symbolic link"),
+        "{message}"
+    );
+    assert!(
+        message.contains("remove the link or choose another name"),
+        "{message}"
+    );
+    assert!(!message.contains("--force"), "{message}");
+    assert!(app.modified());
+    assert!(!missing.exists());
+}
+
 #[test]
 fn a_failed_save_says_why_and_loses_nothing() {
     let dir = std::env::temp_dir().join(format!("beamfric-save-fail-{}", std::process::id()));
@@ -510,7 +535,7 @@ fn a_failed_save_says_why_and_loses_nothing() {
         }
         beamfric::tui::press(&mut app, Key::Backspace);
     }
-    press(&mut app, target.to_str().unwrap());
+    press(&mut app, &typed(target.to_str().unwrap()));
     press(&mut app, "Enter");
     let message = app.message.clone().unwrap();
     assert!(message.starts_with("not saved: cannot save"), "{message}");
@@ -528,11 +553,37 @@ fn a_failed_save_says_why_and_loses_nothing() {
 }
 
 #[test]
+fn typed_values_out_of_range_are_refused_quoting_what_was_typed() {
+    // Issue 22: a typed 1e300 in the elements row said "18446744073709551615 asked for".
+    let mut app = app("benchmark-1");
+    let before = app.scene().clone();
+    let elements = "Down Down Down Down Down Down Down Down Down";
+    for value in ["1e300", "-1", "2.5", "0", "20000000"] {
+        press(
+            &mut app,
+            &format!("{elements} Enter {} Enter g", typed(value)),
+        );
+        let message = app.message.clone().unwrap_or_default();
+        assert_eq!(
+            message,
+            format!("rejected: mesh.elements = {value}: must be a whole number from 1 to 10000000")
+        );
+    }
+    // A number beyond f64 in any row: quoted, not shown as "inf".
+    press(&mut app, "Enter 1 e 4 0 0 Enter");
+    assert_eq!(
+        app.message.as_deref(),
+        Some("rejected: load.f0 = 1e400: must be a finite number (at most 1.8e308 in size)")
+    );
+    assert_eq!(*app.scene(), before);
+}
+
+#[test]
 fn cycling_the_method_skips_one_expected_to_be_slow_and_says_so() {
     let mut app = app("benchmark-1");
     press(
         &mut app,
-        "Down Down Down Down Down Down Down Down Down Enter 2000 Enter",
+        "Down Down Down Down Down Down Down Down Down Enter 2 0 0 0 Enter",
     );
     assert_eq!(app.scene().mesh.elements, 2000);
     for _ in 0..4 {
@@ -653,7 +704,7 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
 fn a_typed_position_keeps_the_cursor_on_its_obstacle() {
     let mut app = app("eight-obstacles");
     // Row 4 is obstacle 1's position (0.1 m): move it to 0.95 m, past all the others.
-    press(&mut app, "Down Down Down Down Enter 0.95 Enter");
+    press(&mut app, "Down Down Down Down Enter 0 . 9 5 Enter");
     assert_eq!(app.message, None, "accepted");
     let xs: Vec<f64> = app.scene().obstacles.iter().map(|o| o.x).collect();
     assert_eq!(xs.last(), Some(&0.95), "sorted: {xs:?}");
@@ -663,13 +714,13 @@ fn a_typed_position_keeps_the_cursor_on_its_obstacle() {
         "the cursor followed the obstacle to its new number"
     );
     // Its sliding threshold is the next row: the same obstacle.
-    press(&mut app, "Down Enter 777 Enter");
+    press(&mut app, "Down Enter 7 7 7 Enter");
     assert_eq!(app.scene().obstacles[7].sliding, 777.0);
     assert_eq!(app.scene().obstacles[7].x, 0.95);
     // A position that would make it the first again but is too close to obstacle 1 (0.2 m
     // after the move) is rejected naming obstacle 8, the number on screen, not the number
     // it would have had after sorting.
-    press(&mut app, "Up Enter 0.2 Enter");
+    press(&mut app, "Up Enter 0 . 2 Enter");
     let message = app.message.clone().unwrap_or_default();
     assert!(message.contains("rejected"), "{message}");
     assert!(message.contains("obstacle[8]"), "{message}");
@@ -738,7 +789,7 @@ fn screen(app: &App) -> String {
 
 /// Keys as the event loop applies them: follow mode's keys first.
 fn keys(app: &mut App, keys: &str) {
-    for key in parse_keys(keys) {
+    for key in parse_keys(keys).unwrap() {
         update(app, Msg::Key(key));
     }
 }

@@ -14,6 +14,7 @@ mod cancel;
 mod certificate;
 mod cli_solve;
 mod condensed;
+mod escaping;
 mod explorer;
 mod fuzz;
 mod headless;

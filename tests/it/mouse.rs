@@ -92,7 +92,7 @@ fn a_click_selects_the_row_drawn_under_it() {
 fn a_clicked_row_stays_under_the_pointer_when_the_list_scrolls() {
     // eight-obstacles has more rows than fit at 80x24.
     let mut app = app("eight-obstacles", 80, 24);
-    press(&mut app, parse_keys("G")[0]);
+    press(&mut app, parse_keys("G").unwrap()[0]);
     let frame = screen(&app);
     let (x, y) = find(&frame, "│obstacle 7 x").expect("row shown after G");
     click(&mut app, (x + 3, y));
@@ -124,9 +124,9 @@ fn the_wheel_over_the_parameters_steps_the_selected_value() {
     // One fine step up: ×10^0.1, the same as → (checked against the key).
     let mut by_key = self::app("benchmark-1", 120, 40);
     for _ in 0..app.exploration.selected {
-        press(&mut by_key, parse_keys("Down")[0]);
+        press(&mut by_key, parse_keys("Down").unwrap()[0]);
     }
-    press(&mut by_key, parse_keys("Right")[0]);
+    press(&mut by_key, parse_keys("Right").unwrap()[0]);
     assert_eq!(app.scene().beam.young, by_key.scene().beam.young);
     assert!((app.scene().beam.young / young - 10f64.powf(0.1)).abs() < 1e-12);
     update(
@@ -206,7 +206,7 @@ fn dragging_an_obstacle_marker_moves_the_obstacle_to_where_it_is_let_go() {
             mx - 12
         );
         // u undoes the whole drag.
-        press(&mut app, parse_keys("u")[0]);
+        press(&mut app, parse_keys("u").unwrap()[0]);
         assert_eq!(app.scene().obstacles[0].x, 0.8);
     }
 }
@@ -273,14 +273,14 @@ fn clicking_a_panel_focuses_it_and_its_title_or_a_double_click_zooms() {
         app.exploration.panels()[app.exploration.focus],
         Panel::ErrorTime
     );
-    press(&mut app, parse_keys("z")[0]);
+    press(&mut app, parse_keys("z").unwrap()[0]);
     assert!(!app.zoom);
 }
 
 #[test]
 fn the_preset_picker_takes_clicks_and_the_wheel() {
     let mut app = app("benchmark-1", 80, 24);
-    press(&mut app, parse_keys("p")[0]);
+    press(&mut app, parse_keys("p").unwrap()[0]);
     let frame = screen(&app);
     let (x, y) = find(&frame, "lesson-mesh").expect("listed");
     click(&mut app, (x, y));
@@ -314,7 +314,7 @@ fn the_preset_picker_takes_clicks_and_the_wheel() {
     assert_eq!(app.mode, Mode::Normal);
     assert_eq!(app.scene().title, "Tiny beam (l = 1 mm)");
     // A click outside the picker closes it.
-    press(&mut app, parse_keys("p")[0]);
+    press(&mut app, parse_keys("p").unwrap()[0]);
     click(&mut app, (0, 0));
     assert_eq!(app.mode, Mode::Normal);
 }
@@ -346,7 +346,7 @@ fn list_keys_move_to_the_ends_and_by_pages() {
         ("PgDn PgDn PgDn PgDn PgDn PgDn", last),
         ("PgUp PgUp PgUp PgUp PgUp PgUp", 0),
     ] {
-        for key in parse_keys(keys) {
+        for key in parse_keys(keys).unwrap() {
             press(&mut app, key);
         }
         if keys == "PgDn" {
@@ -367,7 +367,7 @@ fn list_keys_move_to_the_ends_and_by_pages() {
         }
     }
     // The selected row is on screen after each.
-    press(&mut app, parse_keys("G")[0]);
+    press(&mut app, parse_keys("G").unwrap()[0]);
     let frame = screen(&app);
     assert!(find(&frame, "│method").is_some());
 }
@@ -387,7 +387,7 @@ fn a_drag_of_an_obstacle_deleted_meanwhile_does_nothing() {
     assert_eq!(target(&app, mx, my), Target::Obstacle(3));
     click(&mut app, (mx, my));
     // Delete it and the one before it: the drag's index is now two past the last.
-    for key in parse_keys("d Up Up Up d") {
+    for key in parse_keys("d Up Up Up d").unwrap() {
         press(&mut app, key);
     }
     assert_eq!(app.scene().obstacles.len(), 2);

@@ -10,6 +10,7 @@ use beamfric::tui::{RenderOptions, draw_to_buffer, prepare};
 
 use crate::harness::process::beamfric;
 use crate::harness::scenes::loaded_preset;
+use crate::harness::screen::typed;
 
 const SIZES: [(u16, u16); 2] = [(120, 40), (80, 24)];
 
@@ -111,7 +112,7 @@ fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() 
     ]);
     assert_eq!(first.stdout, second.stdout, "two renders differ");
     let loaded = loaded_preset("benchmark-3");
-    let keys = beamfric::tui::input::keys::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
     let buffer = beamfric::tui::render(loaded, &keys, options(100, 30, false)).unwrap();
     assert_eq!(
         String::from_utf8(first.stdout).unwrap(),
@@ -187,7 +188,10 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
         "{frame}"
     );
     let erase = "Backspace ".repeat(20);
-    render(&format!("Right s {erase} victim.txt Enter y"), &[]);
+    render(
+        &format!("Right s {erase} {} Enter y", typed("victim.txt")),
+        &[],
+    );
     assert_eq!(std::fs::read_to_string(&victim).unwrap(), "precious");
     let names: Vec<_> = std::fs::read_dir(cwd.path()).unwrap().collect();
     assert_eq!(names.len(), 1, "render wrote into the directory");
@@ -200,7 +204,11 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     assert!(frame.contains("saved to"), "{frame}");
     assert!(allowed.join("benchmark-1.toml").exists());
     let frame = render(
-        &format!("Right s {} ../escape.toml Enter", "Backspace ".repeat(300)),
+        &format!(
+            "Right s {} {} Enter",
+            "Backspace ".repeat(300),
+            typed("../escape.toml")
+        ),
         &["--allow-save", dir],
     );
     assert!(frame.contains("is outside"), "{frame}");
@@ -212,7 +220,11 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     std::fs::write(outside.join("target.toml"), "keep").unwrap();
     std::os::unix::fs::symlink(outside.join("target.toml"), allowed.join("flink")).unwrap();
     for (name, confirm) in [("lnk/x.toml", ""), ("flink", "")] {
-        let keys = format!("Right s {} {name} Enter{confirm}", "Backspace ".repeat(300));
+        let keys = format!(
+            "Right s {} {} Enter{confirm}",
+            "Backspace ".repeat(300),
+            typed(name)
+        );
         let frame = render(&keys, &["--allow-save", dir]);
         assert!(frame.contains("is outside"), "{name}: {frame}");
     }
@@ -224,8 +236,9 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     // The overwrite question is about the file inside DIR.
     let frame = render(
         &format!(
-            "Right s {} benchmark-1.toml Enter",
-            "Backspace ".repeat(300)
+            "Right s {} {} Enter",
+            "Backspace ".repeat(300),
+            typed("benchmark-1.toml")
         ),
         &["--allow-save", dir],
     );
@@ -246,7 +259,7 @@ fn lesson_frames(
     let mut out = Vec::new();
     for (w, h) in LESSON_SIZES {
         let loaded = loaded_preset(scene);
-        let keys = beamfric::tui::input::keys::parse_keys(&keys_at(w));
+        let keys = beamfric::tui::input::keys::parse_keys(&keys_at(w)).unwrap();
         let mut app = prepare(loaded, &keys, options(w, h, false)).unwrap();
         adjust(&mut app);
         for ascii in [false, true] {
@@ -267,7 +280,7 @@ fn lesson_frames(
 /// The frame after `keys` on a preset, at each size and look.
 fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
     let loaded = loaded_preset(name);
-    let keys = beamfric::tui::input::keys::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
     let mut app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
@@ -462,7 +475,7 @@ fn benchmark_1_epsilon_charts() {
 #[test]
 fn regularized_deflection_with_its_reference() {
     let keys = format!(
-        "m m m {} Enter {} 1e-2 Enter",
+        "m m m {} Enter {} 1 e - 2 Enter",
         "Down ".repeat(8),
         "Backspace ".repeat(12)
     );
@@ -524,7 +537,8 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
     use beamfric::plot::Palette;
     use ratatui::style::Color;
     let keys =
-        beamfric::tui::input::keys::parse_keys("m m m Down Down Down Down Down Down Down Down");
+        beamfric::tui::input::keys::parse_keys("m m m Down Down Down Down Down Down Down Down")
+            .unwrap();
     for scene in ["benchmark-1", "lesson-mesh"] {
         for palette in Palette::ALL {
             for (w, h) in LESSON_SIZES {
@@ -559,7 +573,7 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
 /// The warnings of a preset's solution after `keys`, from the solver (not from the screen).
 fn warning_messages(name: &str, keys: &str) -> Vec<String> {
     let loaded = loaded_preset(name);
-    let keys = beamfric::tui::input::keys::parse_keys(keys);
+    let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
     let app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
     match app.exploration.solution() {
         Some(Ok(solution)) => solution
@@ -574,7 +588,7 @@ fn warning_messages(name: &str, keys: &str) -> Vec<String> {
 const ALL_SIZES: [(u16, u16); 3] = [(80, 24), (100, 30), (120, 40)];
 /// From the first row to the elements row (the second to last), then the warnings view.
 const LESSON_MESH_200K: &str = "Down Down Down Down Down Down Down Down Down Down Down Down \
-                                Down Down Down Down Down Down Down Up Enter 200000 Enter";
+                                Down Down Down Down Down Down Down Up Enter 2 0 0 0 0 0 Enter";
 
 /// Issue 13: the warnings view shows every word of every warning at every size, wrapped,
 /// never cut, the real cause first.

@@ -1,9 +1,10 @@
 //! `beamfric report` never leaves a mixed or half-written report (issue 12 item 4): `--force`
 //! leaves exactly the new report's files, the destination is checked before anything is
-//! measured (a file, a missing parent, a read-only or full file system, someone else's files),
-//! and a write failure half-way — a real full disk on a tiny tmpfs where the test may mount
-//! one, or the writer's injected failure — leaves the old report as it was and no temporary
-//! directory. Runs the real binary with small options (well under a second per report).
+//! measured (an empty name, a file, a missing parent, a read-only or full file system, someone
+//! else's files), and a write failure half-way — a real full disk on a tiny tmpfs where the
+//! test may mount one, or the writer's injected failure — leaves the old report as it was and
+//! no temporary directory. Runs the real binary with small options (well under a second per
+//! report).
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -171,6 +172,25 @@ fn an_out_that_is_a_file_is_refused_before_measuring() {
     );
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
     assert_eq!(names(parent.path()), ["notes.txt"]);
+}
+
+#[test]
+fn an_empty_out_is_refused_in_words_before_measuring() {
+    // Issue 22: `--out ''` measured, then failed with "cannot put the report in place at : …".
+    // HEAVY: had it measured first, this would hang instead of failing.
+    let cwd = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .current_dir(cwd.path())
+        .args(["report", "--scene", "benchmark-1", "--out", ""])
+        .args(HEAVY)
+        .output()
+        .unwrap();
+    let message = refused(&out);
+    assert!(
+        message.contains("--out is empty: name the directory for the report"),
+        "{message}"
+    );
+    assert!(names(cwd.path()).is_empty());
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Saving and loading as a hostile user would try it (issue 12 items 2, 3 and 6): planted
 //! symlinks at temporary names, saving over symlinks, permissions, hard links, files that
-//! never end, oversized files and subnormal parameters.
+//! never end, oversized files, FIFOs and other files that are not regular files, and
+//! subnormal parameters.
 
 use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
@@ -10,6 +11,7 @@ use beamfric::scene::{
 };
 
 use crate::harness::process::{NO_COLOR, beamfric_with, names};
+use crate::harness::wait::until;
 
 fn benchmark_1() -> Scene {
     Scene::from_toml(scene::preset("benchmark-1").unwrap().text, "b1").unwrap()
@@ -93,12 +95,26 @@ fn a_symlink_to_a_missing_file_is_refused_and_without_confirmation_any_name_is_k
     let link = dir.path().join("dangling.toml");
     let elsewhere = dir.path().join("elsewhere.toml");
     std::os::unix::fs::symlink(&elsewhere, &link).unwrap();
-    assert!(matches!(
-        save_atomic(&link, "x", false),
-        Err(SaveError::Exists(_))
-    ));
-    let error = save_atomic(&link, "x", true).unwrap_err().to_string();
-    assert!(error.contains("not followed"), "{error}");
+    // Confirmed or not, the same refusal, and a way forward that exists (issue 22: it
+    // suggested a `--force` there is none of).
+    for overwrite in [false, true] {
+        let error = save_atomic(&link, "x", overwrite).unwrap_err();
+        assert!(
+            matches!(&error, SaveError::DanglingLink(l, to) if *l == link && *to == elsewhere),
+            "{error:?}"
+        );
+        let error = error.to_string();
+        assert!(error.contains("not followed"), "{error}");
+        assert!(
+            error.contains("remove the link or choose another name"),
+            "{error}"
+        );
+        assert!(
+            error.contains("elsewhere.toml, which does not exist"),
+            "{error}"
+        );
+        assert!(!error.contains("--force"), "{error}");
+    }
     assert!(!elsewhere.exists());
     assert_eq!(names(dir.path()), ["dangling.toml"]);
 }
@@ -179,18 +195,69 @@ fn beamfric(args: &[&str]) -> std::process::Output {
 }
 
 #[test]
-fn dev_zero_is_refused_with_the_limit() {
-    // Issue 12 item 6: this grew by 300 MB/s without end. Only 1 MB + 1 byte is read now.
+fn dev_zero_is_refused_as_not_a_regular_file() {
+    // Issue 12 item 6: this grew by 300 MB/s without end; issue 22: a device is not read at
+    // all (the size limit is checked on regular files, below).
     let error = scene::load("/dev/zero").unwrap_err().to_string();
     assert!(error.starts_with("/dev/zero: "), "{error}");
-    assert!(error.contains("1048576 bytes"), "{error}");
+    assert!(
+        error.contains("a character device, not a regular file"),
+        "{error}"
+    );
     let out = beamfric(&["solve", "--scene", "/dev/zero"]);
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("/dev/zero") && stderr.contains("1 MB"),
+        stderr.contains("/dev/zero") && stderr.contains("not a regular file"),
         "{stderr}"
     );
+}
+
+#[test]
+fn a_fifo_without_a_writer_is_refused_at_once_and_so_is_any_non_regular_file() {
+    // Issue 22: `--scene` naming a FIFO nobody writes to waited forever.
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("scene.toml");
+    nix::unistd::mkfifo(&fifo, nix::sys::stat::Mode::from_bits_truncate(0o600)).unwrap();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
+        .args(["solve", "--scene", fifo.to_str().unwrap()])
+        .env("NO_COLOR", "1")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // A generous deadline against a hang, not a measurement.
+    let status = until(
+        "solve on a FIFO without a writer returns",
+        || child.try_wait().unwrap(),
+        String::new,
+    );
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains(fifo.to_str().unwrap()), "{stderr}");
+    assert!(
+        stderr.contains(
+            "a FIFO (named pipe), not a regular file; a scene is read only from a \
+                         regular file"
+        ),
+        "{stderr}"
+    );
+    // The same rule for a directory and a device, and a symbolic link to a FIFO.
+    let link = dir.path().join("link.toml");
+    std::os::unix::fs::symlink(&fifo, &link).unwrap();
+    for (path, kind) in [
+        (dir.path().to_path_buf(), "a directory"),
+        (PathBuf::from("/dev/null"), "a character device"),
+        (link, "a FIFO (named pipe)"),
+    ] {
+        let name = path.to_str().unwrap();
+        let error = scene::load(name).unwrap_err().to_string();
+        assert!(
+            error.starts_with(&format!("{name}: {kind}, not a regular file")),
+            "{error}"
+        );
+    }
 }
 
 #[test]

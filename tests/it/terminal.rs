@@ -275,6 +275,27 @@ fn a_bracketed_paste_is_never_run_as_commands() {
     assert_eq!(status.code(), Some(0));
 }
 
+#[test]
+fn a_paste_over_the_limit_is_dropped_whole_and_never_typed() {
+    // Issue 22: past 64 KiB the rest of a paste was decoded as keys: its `q` quit the
+    // explorer, its `a`s added obstacles.
+    let mut explorer = start(&[]);
+    explorer.wait_for_screen("Parameters");
+    let mut paste = b"\x1b[200~".to_vec();
+    paste.extend(b"qaaa\r".iter().copied().cycle().take(200 * 1024));
+    paste.extend(b"\x1b[201~");
+    explorer.type_bytes(&paste);
+    explorer.wait_for_screen("paste of 200 KiB dropped");
+    assert!(explorer.is_running(), "the paste quit");
+    let screen = explorer.screen();
+    assert!(!screen.contains("[modified]"), "{screen}");
+    assert!(screen.contains("1 obstacle "), "{screen}");
+    // Keys after it are keys again: q quits.
+    explorer.type_bytes(b"q");
+    let (status, _) = explorer.finish();
+    assert_eq!(status.code(), Some(0));
+}
+
 /// The screen as cells: `cells[row][column]` is what that cell shows, and whether it is in
 /// reverse video (the selected row without colours).
 fn cells(explorer: &PtyProcess) -> Vec<Vec<(String, bool)>> {

@@ -8,6 +8,13 @@
 //! reads; the decoder keeps it pending and the caller flushes it after [`ESC_TIMEOUT`] without
 //! more bytes. Garbage is dropped, and a sequence that never ends is cut at [`SEQUENCE_LIMIT`]
 //! bytes: input from a network is hostile.
+//!
+//! A bracketed paste is read by the decoder itself, byte by byte up to its end marker, however
+//! many reads and pauses it spans: its text is never decoded as keys. A paste of at most
+//! [`PASTE_LIMIT`] bytes is one [`Input::Paste`]; a longer one is dropped whole — what came
+//! before the limit is freed, what comes after is counted and skipped until the end marker —
+//! and said so by [`Input::PasteDropped`]. The memory a paste holds is bounded by the limit
+//! whatever its size, also for a paste that never ends.
 
 use std::time::Duration;
 
@@ -19,10 +26,13 @@ use super::keys::Key;
 pub const ESC_TIMEOUT: Duration = Duration::from_millis(30);
 /// Longest escape sequence kept while incomplete.
 pub const SEQUENCE_LIMIT: usize = 64;
-/// Longest bracketed paste kept (a paste is typed into a prompt, which takes far less).
+/// Longest bracketed paste kept (a paste is typed into a prompt, which takes far less); a
+/// longer one is dropped whole.
 pub const PASTE_LIMIT: usize = 64 * 1024;
 /// How a bracketed paste starts.
 const PASTE_START: &[u8] = b"\x1b[200~";
+/// How a bracketed paste ends.
+const PASTE_END: &[u8] = b"\x1b[201~";
 
 /// What the terminal said.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -32,6 +42,17 @@ pub enum Input {
     Mouse(u16, u16, MouseInput),
     /// A bracketed paste: text the terminal marked as pasted, not typed.
     Paste(String),
+    /// A bracketed paste over [`PASTE_LIMIT`], dropped whole: nothing of it is typed.
+    PasteDropped(DroppedPaste),
+}
+
+/// A paste dropped for its size: said once when it passes the limit, and again when it ends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DroppedPaste {
+    /// The paste's bytes so far (all of them once it ended), end marker not counted.
+    pub bytes: usize,
+    /// It ended (else it has just passed the limit, and the rest is being skipped).
+    pub ended: bool,
 }
 
 /// The mouse events the explorer uses.
@@ -47,7 +68,65 @@ pub enum MouseInput {
 /// Bytes in, inputs out.
 #[derive(Debug, Default)]
 pub struct Decoder {
+    /// An escape sequence (or a character) not complete yet: at most [`SEQUENCE_LIMIT`] bytes.
     pending: Vec<u8>,
+    /// The bracketed paste being read, from its start marker to its end marker.
+    paste: Option<PasteInProgress>,
+}
+
+/// A bracketed paste between its start and end markers.
+#[derive(Debug, Default)]
+struct PasteInProgress {
+    /// Its bytes while it is within the limit (the end marker's first bytes included until
+    /// they are known to be it); freed once the paste is over the limit.
+    kept: Vec<u8>,
+    /// Its bytes so far, those of `kept` and the skipped ones alike.
+    length: usize,
+    /// How many bytes of [`PASTE_END`] the last bytes are.
+    end_matched: usize,
+    /// Over the limit: dropped whole, its further bytes only counted.
+    over: bool,
+}
+
+impl PasteInProgress {
+    /// Takes one byte of the paste: the input it makes (the paste, a note that it is dropped)
+    /// and whether it ended with this byte.
+    fn take(&mut self, byte: u8) -> (Option<Input>, bool) {
+        self.length += 1;
+        if !self.over {
+            self.kept.push(byte);
+        }
+        // ESC appears only first in the marker, so a mismatch restarts the match at ESC or 0.
+        self.end_matched = if byte == PASTE_END[self.end_matched] {
+            self.end_matched + 1
+        } else {
+            usize::from(byte == PASTE_END[0])
+        };
+        if self.end_matched == PASTE_END.len() {
+            let bytes = self.length - PASTE_END.len();
+            let input = if self.over {
+                Input::PasteDropped(DroppedPaste { bytes, ended: true })
+            } else {
+                self.kept.truncate(bytes);
+                Input::Paste(String::from_utf8_lossy(&self.kept).into_owned())
+            };
+            return (Some(input), true);
+        }
+        // Even if the marker ends with the next bytes, the text is longer than the limit.
+        if !self.over && self.length - self.end_matched > PASTE_LIMIT {
+            self.over = true;
+            self.kept = Vec::new();
+            let bytes = self.length - self.end_matched;
+            return (
+                Some(Input::PasteDropped(DroppedPaste {
+                    bytes,
+                    ended: false,
+                })),
+                false,
+            );
+        }
+        (None, false)
+    }
 }
 
 impl Decoder {
@@ -61,10 +140,23 @@ impl Decoder {
     fn feed_into(&mut self, bytes: &[u8], inputs: &mut Vec<Input>) {
         let mut queue: std::collections::VecDeque<u8> = bytes.iter().copied().collect();
         while let Some(byte) = queue.pop_front() {
+            if let Some(paste) = &mut self.paste {
+                let (input, ended) = paste.take(byte);
+                inputs.extend(input);
+                if ended {
+                    self.paste = None;
+                }
+                continue;
+            }
             self.pending.push(byte);
             if self.pending == [0x1b] {
                 // The start of a sequence, or the Esc key: the next byte tells (or, at the end
                 // of what arrived, the timeout: see `flush`).
+                continue;
+            }
+            if self.pending == PASTE_START {
+                self.pending.clear();
+                self.paste = Some(PasteInProgress::default());
                 continue;
             }
             // Bytes after a dropped one are decoded again (at most SEQUENCE_LIMIT of them).
@@ -74,15 +166,25 @@ impl Decoder {
         }
     }
 
-    /// Is a lone ESC (or an incomplete sequence) waiting?
+    /// Is a lone ESC (or an incomplete sequence) waiting? (A paste in progress is not: it
+    /// waits for its end marker, however long that takes.)
     pub fn has_pending(&self) -> bool {
         !self.pending.is_empty()
     }
 
+    /// The bytes the decoder holds (its buffers' capacity): at most about [`PASTE_LIMIT`]
+    /// twice, whatever arrives.
+    pub fn held_bytes(&self) -> usize {
+        self.pending.capacity() + self.paste.as_ref().map_or(0, |p| p.kept.capacity())
+    }
+
     /// After [`ESC_TIMEOUT`] without more bytes: what is pending is taken as typed (a lone
-    /// ESC is the Esc key).
+    /// ESC is the Esc key). A paste in progress goes on.
     pub fn flush(&mut self) -> Vec<Input> {
         let mut inputs = Vec::new();
+        if self.pending.is_empty() {
+            return inputs;
+        }
         let rest = self.decode_pending(&mut inputs, true);
         self.pending.clear();
         if !rest.is_empty() {
@@ -90,15 +192,6 @@ impl Decoder {
             inputs.extend(self.flush());
         }
         inputs
-    }
-
-    /// How long the pending bytes may grow before they are dropped as never-ending.
-    fn limit(&self) -> usize {
-        if self.pending.starts_with(PASTE_START) {
-            PASTE_LIMIT
-        } else {
-            SEQUENCE_LIMIT
-        }
     }
 
     /// Decodes what is pending; returns the bytes to decode again after a dropped one.
@@ -109,7 +202,7 @@ impl Decoder {
                 self.pending.clear();
                 Vec::new()
             }
-            Ok(None) if !flushing && self.pending.len() < self.limit() => Vec::new(),
+            Ok(None) if !flushing && self.pending.len() < SEQUENCE_LIMIT => Vec::new(),
             // A sequence that never ends: dropped.
             Ok(None) => {
                 self.pending.clear();
@@ -293,6 +386,96 @@ mod tests {
         assert_eq!(got.len(), 2);
         assert_eq!(got[0], Input::Paste("q\rq".repeat(200)));
         assert_eq!(got[1], Input::Key(Key::Char('j')));
+    }
+
+    /// A paste of `length` bytes of `q`, `a` and Enter, with its markers.
+    fn paste_of(length: usize) -> Vec<u8> {
+        let mut bytes = PASTE_START.to_vec();
+        bytes.extend(b"qa\r".iter().copied().cycle().take(length));
+        bytes.extend(PASTE_END);
+        bytes
+    }
+
+    #[test]
+    fn a_paste_over_the_limit_is_dropped_whole_and_nothing_of_it_is_typed() {
+        // Issue 22: the text after the cut at 64 KiB was decoded as keys (q quit).
+        let mut d = Decoder::default();
+        let mut bytes = paste_of(200 * 1024);
+        bytes.push(b'j');
+        let mut got = Vec::new();
+        // In reads of 4 KiB, as a terminal delivers it, with a flush (a pause) between reads.
+        for chunk in bytes.chunks(4096) {
+            got.extend(d.feed(chunk));
+            got.extend(d.flush());
+            assert!(d.held_bytes() <= 2 * PASTE_LIMIT, "{}", d.held_bytes());
+        }
+        let crossed = PASTE_LIMIT + 1;
+        assert_eq!(
+            got,
+            vec![
+                Input::PasteDropped(DroppedPaste {
+                    bytes: crossed,
+                    ended: false
+                }),
+                Input::PasteDropped(DroppedPaste {
+                    bytes: 200 * 1024,
+                    ended: true
+                }),
+                Input::Key(Key::Char('j')),
+            ]
+        );
+        assert!(!d.has_pending());
+    }
+
+    #[test]
+    fn a_paste_at_the_limit_is_kept_and_one_byte_more_is_dropped() {
+        let mut d = Decoder::default();
+        let got = d.feed(&paste_of(PASTE_LIMIT));
+        assert_eq!(got.len(), 1);
+        assert!(matches!(&got[0], Input::Paste(text) if text.len() == PASTE_LIMIT));
+        let got = d.feed(&paste_of(PASTE_LIMIT + 1));
+        assert_eq!(
+            got.last(),
+            Some(&Input::PasteDropped(DroppedPaste {
+                bytes: PASTE_LIMIT + 1,
+                ended: true
+            }))
+        );
+        // The end marker split across reads, after an ESC inside the paste.
+        let mut d = Decoder::default();
+        assert!(d.feed(b"\x1b[200~ab\x1b[20").is_empty());
+        assert!(d.feed(b"0~c\x1b[2").is_empty());
+        assert_eq!(d.feed(b"01~"), vec![Input::Paste("ab\x1b[200~c".into())]);
+    }
+
+    #[test]
+    fn a_paste_that_never_ends_holds_bounded_memory_and_types_nothing() {
+        let mut d = Decoder::default();
+        assert!(d.feed(PASTE_START).is_empty());
+        let chunk = b"qqqqaaaa\r\x1b".repeat(4096);
+        let mut got = Vec::new();
+        for _ in 0..200 {
+            got.extend(d.feed(&chunk));
+            got.extend(d.flush());
+            assert!(d.held_bytes() <= 2 * PASTE_LIMIT, "{}", d.held_bytes());
+        }
+        assert_eq!(got.len(), 1, "{got:?}");
+        assert!(matches!(
+            got[0],
+            Input::PasteDropped(DroppedPaste { ended: false, .. })
+        ));
+        // Once it ends, keys are keys again.
+        assert_eq!(
+            d.feed(b"\x1b[201~q"),
+            vec![
+                Input::PasteDropped(DroppedPaste {
+                    bytes: 200 * chunk.len(),
+                    ended: true
+                }),
+                Input::Key(Key::Char('q'))
+            ]
+        );
+        assert!(d.held_bytes() <= 2 * SEQUENCE_LIMIT, "{}", d.held_bytes());
     }
 
     #[test]

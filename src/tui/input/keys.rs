@@ -75,40 +75,69 @@ impl Key {
     }
 }
 
+/// The keys `--keys` names by a word (every other key is a single character, or `C-x`).
+const NAMED: [Key; 16] = [
+    Key::Up,
+    Key::Down,
+    Key::Left,
+    Key::Right,
+    Key::ShiftLeft,
+    Key::ShiftRight,
+    Key::Enter,
+    Key::Esc,
+    Key::Tab,
+    Key::BackTab,
+    Key::Backspace,
+    Key::Home,
+    Key::End,
+    Key::PageUp,
+    Key::PageDown,
+    Key::Char(' '),
+];
+
+/// A word of `--keys` that names no key: it is not one character, not `C-` and one character,
+/// and not one of the names of [`NAMED`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UnknownKeyName(pub String);
+
+impl std::fmt::Display for UnknownKeyName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let names: Vec<&str> = NAMED.iter().filter_map(|k| k.name()).collect();
+        write!(
+            f,
+            "'{}' is not a key name; the names are {}, C-x (Ctrl and a letter) and any single \
+             character (type text one character at a time: 3 e 4 for 3e4)",
+            self.0,
+            names.join(" ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownKeyName {}
+
 /// Parses the key names of `--keys`: space-separated `Up`, `Down`, `Left`, `Right`, `S-Left`,
 /// `S-Right`, `Enter`, `Esc`, `Tab`, `BackTab`, `Backspace`, `Home`, `End`, `PgUp`, `PgDn`,
-/// `Space`, `C-x` (Ctrl and a letter), single characters, and any other word as the characters
-/// typed (e.g. a value after `Enter`).
-pub fn parse_keys(text: &str) -> Vec<Key> {
-    const NAMED: [Key; 16] = [
-        Key::Up,
-        Key::Down,
-        Key::Left,
-        Key::Right,
-        Key::ShiftLeft,
-        Key::ShiftRight,
-        Key::Enter,
-        Key::Esc,
-        Key::Tab,
-        Key::BackTab,
-        Key::Backspace,
-        Key::Home,
-        Key::End,
-        Key::PageUp,
-        Key::PageDown,
-        Key::Char(' '),
-    ];
-    let mut keys = Vec::new();
-    for word in text.split_whitespace() {
-        if let Some(key) = NAMED.iter().find(|k| k.name() == Some(word)) {
-            keys.push(*key);
-        } else if let Some(letter) = word.strip_prefix("C-").filter(|l| l.chars().count() == 1) {
-            keys.push(Key::Ctrl(letter.chars().next().unwrap_or('c')));
-        } else {
-            keys.extend(word.chars().map(Key::Char));
-        }
+/// `Space`, `C-x` (Ctrl and a letter) and single characters (text is typed one character at a
+/// time). Any other word is an error naming it: a misspelt name (`Escape`) is never typed as
+/// its letters.
+pub fn parse_keys(text: &str) -> Result<Vec<Key>, UnknownKeyName> {
+    text.split_whitespace().map(parse_key).collect()
+}
+
+/// One word of `--keys`.
+fn parse_key(word: &str) -> Result<Key, UnknownKeyName> {
+    let mut chars = word.chars();
+    if let (Some(c), None) = (chars.next(), chars.next()) {
+        return Ok(Key::Char(c));
     }
-    keys
+    if let Some(key) = NAMED.iter().find(|k| k.name() == Some(word)) {
+        return Ok(*key);
+    }
+    let mut letter = word.strip_prefix("C-").unwrap_or_default().chars();
+    match (letter.next(), letter.next()) {
+        (Some(c), None) => Ok(Key::Ctrl(c)),
+        _ => Err(UnknownKeyName(word.to_string())),
+    }
 }
 
 #[cfg(test)]
@@ -118,7 +147,7 @@ mod tests {
     #[test]
     fn key_names_parse() {
         assert_eq!(
-            parse_keys("Down S-Right Enter 5e4 Enter q C-d Home End PgUp PgDn"),
+            parse_keys("Down S-Right Enter 5 e 4 Enter q C-d Home End PgUp PgDn").unwrap(),
             vec![
                 Key::Down,
                 Key::ShiftRight,
@@ -134,6 +163,25 @@ mod tests {
                 Key::PageUp,
                 Key::PageDown,
             ]
+        );
+    }
+
+    #[test]
+    fn an_unknown_key_name_is_an_error_naming_it_and_the_names() {
+        // Issue 22: `w Escape` typed "Escape" into the save prompt.
+        let error = parse_keys("w Escape").unwrap_err();
+        assert_eq!(error, UnknownKeyName("Escape".into()));
+        let text = error.to_string();
+        for name in ["'Escape'", "Esc", "Enter", "S-Left", "PgDn", "Space", "C-x"] {
+            assert!(text.contains(name), "{name}: {text}");
+        }
+        for word in ["3e4", "C-", "C-ab", "esc", "S-Up"] {
+            assert_eq!(parse_keys(word), Err(UnknownKeyName(word.into())));
+        }
+        // Single characters are typed, whatever they are.
+        assert_eq!(
+            parse_keys("- C é").unwrap(),
+            vec![Key::Char('-'), Key::Char('C'), Key::Char('é')]
         );
     }
 }

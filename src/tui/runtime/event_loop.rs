@@ -375,6 +375,7 @@ fn apply_input(app: &mut App, input: Input, clicks: &mut ClickTracker) {
     let msg = match input {
         Input::Key(key) => Msg::Key(key),
         Input::Paste(text) => Msg::Paste(text),
+        Input::PasteDropped(dropped) => Msg::PasteDropped(dropped),
         Input::Mouse(x, y, what) => Msg::Pointer(clicks.pointer(x, y, what, Instant::now())),
     };
     update(app, msg);

@@ -74,6 +74,26 @@ impl Row {
         }
     }
 
+    /// The scene file's name of the value, as the scene's rules name it (`mesh.elements`,
+    /// `obstacle[2].x`).
+    pub fn field(self) -> String {
+        match self {
+            Row::LoadStart => "load.f0".into(),
+            Row::LoadEnd => "load.f1".into(),
+            Row::Young => "beam.young".into(),
+            Row::Section(Dimension::Width) => "beam.section.width".into(),
+            Row::Section(Dimension::Height) => "beam.section.height".into(),
+            Row::Section(Dimension::Radius) => "beam.section.radius".into(),
+            Row::Section(Dimension::Inertia) => "beam.section.inertia".into(),
+            Row::ObstacleX(i) => format!("obstacle[{}].x", i + 1),
+            Row::Sliding(i) => format!("obstacle[{}].sliding", i + 1),
+            Row::Swivel(i) => format!("obstacle[{}].swivel", i + 1),
+            Row::Epsilon => "solver.epsilon".into(),
+            Row::Elements => "mesh.elements".into(),
+            Row::Method => "solver.method".into(),
+        }
+    }
+
     /// The unit of the value.
     pub fn unit(self) -> &'static str {
         match self {
@@ -257,9 +277,20 @@ pub fn set_from_text(scene: &Scene, row: Row, text: &str) -> Result<Scene, Strin
     let value: f64 = text
         .parse()
         .map_err(|_| format!("'{text}' is not a number (write e.g. 5e4 or 0.8)"))?;
-    if row == Row::Elements && (value.fract() != 0.0 || value < 0.0) {
+    // Quoted as typed: the number it reads as may not say it (1e400 is infinity, and a count
+    // of 1e300 elements is none the machine can hold).
+    if !value.is_finite() {
         return Err(format!(
-            "'{text}': the number of elements is a whole number ≥ 1"
+            "{} = {text}: must be a finite number (at most 1.8e308 in size)",
+            row.field()
+        ));
+    }
+    if row == Row::Elements
+        && (value.fract() != 0.0 || !(1.0..=MAX_ELEMENTS as f64).contains(&value))
+    {
+        return Err(format!(
+            "{} = {text}: must be a whole number from 1 to {MAX_ELEMENTS}",
+            row.field()
         ));
     }
     set_number(&mut next, row, value);

@@ -24,6 +24,7 @@ mod typing;
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::tui::input::decode::{DroppedPaste, PASTE_LIMIT};
 use crate::tui::input::keymap::{Action, Key, action_for, paste_actions};
 use crate::tui::input::pointer::Pointer;
 use crate::tui::jobs::solve::Solved;
@@ -44,6 +45,8 @@ pub enum Msg {
     Action(Action),
     /// Text the terminal marked as pasted: typed into a prompt, never run as commands.
     Paste(String),
+    /// A paste over the limit, dropped whole: only a note says so.
+    PasteDropped(DroppedPaste),
     /// A mouse event (ignored without mouse capture).
     Pointer(Pointer),
     /// The terminal's size in cells (columns, rows).
@@ -92,6 +95,7 @@ pub fn update(app: &mut App, msg: Msg) {
                 act(app, action);
             }
         }
+        Msg::PasteDropped(dropped) => app.message = Some(paste_dropped_note(dropped)),
         Msg::Pointer(pointer) => {
             // Without mouse capture (`--no-mouse`) the mouse means nothing, even if a client
             // sends its sequences.
@@ -119,6 +123,17 @@ pub fn update(app: &mut App, msg: Msg) {
         Msg::End(ending) => {
             app.ending.get_or_insert(ending);
         }
+    }
+}
+
+/// What the user is told of a paste dropped for its size (sizes in KiB, rounded up).
+fn paste_dropped_note(dropped: DroppedPaste) -> String {
+    let limit = PASTE_LIMIT / 1024;
+    let size = dropped.bytes.div_ceil(1024);
+    if dropped.ended {
+        format!("paste of {size} KiB dropped: a paste may have at most {limit} KiB")
+    } else {
+        format!("paste over {limit} KiB: dropping it whole (nothing is typed until it ends)")
     }
 }
 

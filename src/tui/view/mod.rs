@@ -17,6 +17,7 @@ use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
+use crate::format::printable;
 use crate::plot::{Theme, transliterate};
 use crate::tui::layout::{MIN_SIZE, ScreenLayout, screen_layout};
 use crate::tui::state::App;
@@ -73,8 +74,8 @@ fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let text = format!(
         " {}{} ({}) · l = {} m · J = {} m^4 · {} obstacle{}{segments}",
         if app.modified() { "[modified] " } else { "" },
-        scene.title,
-        app.exploration.source,
+        printable(&scene.title),
+        printable(&app.exploration.source.to_string()),
         crate::format::eng(p.length),
         crate::format::eng(inertia),
         obstacles,

@@ -12,6 +12,7 @@ use super::super::input::keymap::{follow_keys, help_lines_with, up_down};
 use super::super::layout::picker::{centered, picker_layout};
 use super::super::state::picker::{PresetPicker, preset_infos};
 use super::super::state::{App, Mode};
+use crate::format::printable;
 use crate::plot::Theme;
 
 pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
@@ -106,7 +107,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     }
     if !app.scene().description.is_empty() {
         paragraph(
-            &format!("This scene: {}", app.scene().description),
+            &format!("This scene: {}", printable(&app.scene().description)),
             theme.plain(),
         );
     }
@@ -140,7 +141,7 @@ fn truncated(text: &str, width: usize) -> String {
 
 /// The scene's description on one line under the title (in full in the help).
 pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
-    let text = format!(" {}", app.scene().description.trim());
+    let text = format!(" {}", printable(app.scene().description.trim()));
     frame.render_widget(
         Paragraph::new(truncated(&text, area.width as usize)).style(theme.dim()),
         area,
@@ -177,7 +178,11 @@ fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) 
             let info = &infos[preset];
             // The highlight is marked in the text too, for terminals without colours.
             let mark = if i == highlighted { "> " } else { "  " };
-            let text = format!("{mark}{:<name_width$}{}", info.name, info.description);
+            let text = format!(
+                "{mark}{:<name_width$}{}",
+                info.name,
+                printable(&info.description)
+            );
             let text = truncated(&text, width);
             if i == highlighted {
                 Line::styled(format!("{text:<width$}"), theme.selected())
@@ -202,8 +207,8 @@ fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) 
         if let Some(&preset) = matches.get(highlighted) {
             let info = &infos[preset];
             let detail = Line::from(vec![
-                ratatui::text::Span::styled(format!("{}: ", info.title), theme.title()),
-                ratatui::text::Span::raw(info.description.clone()),
+                ratatui::text::Span::styled(format!("{}: ", printable(&info.title)), theme.title()),
+                ratatui::text::Span::raw(printable(&info.description).into_owned()),
             ]);
             frame.render_widget(
                 Paragraph::new(detail).wrap(Wrap { trim: true }),

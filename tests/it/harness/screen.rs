@@ -1,5 +1,6 @@
 //! Reading a screen as text and talking to it with the mouse, whichever way it was drawn (a
-//! test backend's buffer, a `vt100` emulator fed a pty or an SSH channel).
+//! test backend's buffer, a `vt100` emulator fed a pty or an SSH channel), and spelling text
+//! as the key names of `render --keys`.
 
 /// The cell (column, row), 0-based, where `needle` starts, the first from the top.
 pub fn find(rows: &[impl AsRef<str>], needle: &str) -> Option<(u16, u16)> {
@@ -21,4 +22,19 @@ pub fn rows(screen: &vt100::Screen) -> Vec<String> {
 pub fn sgr(code: u8, (x, y): (u16, u16), press: bool) -> Vec<u8> {
     let end = if press { 'M' } else { 'm' };
     format!("\x1b[<{code};{};{}{end}", x + 1, y + 1).into_bytes()
+}
+
+/// The `render --keys` words that type `text`: one word per character, `Space` for a space
+/// (a longer word would be taken for a key name).
+pub fn typed(text: &str) -> String {
+    text.chars()
+        .map(|c| {
+            if c == ' ' {
+                "Space".into()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
 }
