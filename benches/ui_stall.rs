@@ -11,7 +11,7 @@ use std::sync::mpsc::channel;
 use std::time::{Duration, Instant};
 
 use beamfric::plot::Look;
-use beamfric::scene::{LoadedScene, Scene, SceneSource, preset};
+use beamfric::scene::{LoadedScene, ObstacleSpec, Scene, SceneSource, preset};
 use beamfric::solve::Method;
 use beamfric::tui::input::keymap::Action;
 use beamfric::tui::jobs::solve::SolveRequest;
@@ -54,7 +54,11 @@ fn key(i: usize) -> Msg {
 }
 
 fn main() {
-    // `cargo bench` passes `--bench`; any other argument filters nothing here.
+    // `cargo bench` passes `--bench`; `-- many` measures only the keys at many obstacles.
+    if std::env::args().any(|a| a == "many") {
+        keys_at_many_obstacles(4000);
+        return;
+    }
     let sizes = [20, 10_000, 1_000_000, 10_000_000];
     println!("n\tmethod\tlongest stall\tmedian\t(UI thread: key applied, frame drawn, 120x40)");
     let mut worst = Duration::ZERO;
@@ -91,6 +95,50 @@ fn main() {
 
     key_to_solution("benchmark-1");
     key_to_solution("benchmark-2");
+    keys_at_many_obstacles(4000);
+}
+
+/// What one key costs the UI thread at `k` obstacles (n = 10⁴, condensed): the update alone,
+/// and the update with the frame (a served session's flood of keys pays this per key).
+fn keys_at_many_obstacles(k: usize) {
+    let mut scene = Scene::from_toml(preset("benchmark-3").unwrap().text, "many").unwrap();
+    scene.obstacles = (0..k)
+        .map(|i| ObstacleSpec {
+            x: (i + 1) as f64 / (k + 1) as f64,
+            sliding: 20.0,
+            swivel: 5.0,
+        })
+        .collect();
+    scene.mesh.elements = 10_000;
+    scene.solver.method = Method::Condensed;
+    let loaded = LoadedScene::new(scene, SceneSource::Preset("benchmark-3")).unwrap();
+    let look = Look {
+        ascii: false,
+        color: true,
+    };
+    let mut app = App::new(loaded, Options::new(look)).unwrap();
+    update(&mut app, Msg::Resize(120, 40));
+    let mut terminal = Terminal::new(TestBackend::new(120, 40)).unwrap();
+    let mut updates = Vec::new();
+    let mut frames = Vec::new();
+    for i in 0..200 {
+        let start = Instant::now();
+        update(&mut app, key(i));
+        updates.push(start.elapsed());
+        terminal.draw(|frame| view::draw(frame, &app)).unwrap();
+        frames.push(start.elapsed());
+    }
+    updates.sort();
+    frames.sort();
+    println!(
+        "a key at k = {k} obstacles, n = 10^4: update median {:.3} ms (longest {:.3} ms), with \
+         the frame median {:.3} ms (longest {:.3} ms); undo keeps {} steps",
+        updates[100].as_secs_f64() * 1e3,
+        updates[199].as_secs_f64() * 1e3,
+        frames[100].as_secs_f64() * 1e3,
+        frames[199].as_secs_f64() * 1e3,
+        app.history.undo_len()
+    );
 }
 
 /// A key at n = 10⁶ (flexibility) on the preset `name` until the frame with its solution is

@@ -34,8 +34,13 @@ impl Validator<'_> {
         if value.is_finite() {
             Ok(value)
         } else {
-            Err(self.error(field, format!("= {}: must be a finite number", show(value))))
+            Err(self.not_finite(field, value))
         }
+    }
+
+    /// The error of a `field` that is not a finite number.
+    fn not_finite(&self, field: impl Into<String>, value: f64) -> SceneError {
+        self.error(field, format!("= {}: must be a finite number", show(value)))
     }
 
     fn positive(&self, field: &str, value: f64, unit: &str) -> Result<f64, SceneError> {
@@ -202,13 +207,18 @@ impl Validator<'_> {
         Ok(obstacles)
     }
 
-    /// One `[[obstacle]]`: strictly inside the beam, thresholds zero or positive.
+    /// One `[[obstacle]]`: strictly inside the beam, thresholds zero or positive. Field names
+    /// are written only for an error: a scene of thousands of obstacles is checked on every
+    /// key of the explorer.
     fn obstacle(&self, i: usize, o: &ObstacleSpec, length: f64) -> Result<Obstacle, SceneError> {
-        let field = format!("obstacle[{}]", i + 1);
-        let x = self.finite(&format!("{field}.x"), o.x)?;
+        let field = |name: &str| format!("obstacle[{}].{name}", i + 1);
+        let x = o.x;
+        if !x.is_finite() {
+            return Err(self.not_finite(field("x"), x));
+        }
         if !(x > 0.0 && x < length) {
             return Err(self.error(
-                format!("{field}.x"),
+                field("x"),
                 format!(
                     "= {} m: must lie strictly inside (0, l) = (0, {}) m",
                     show(x),
@@ -217,10 +227,12 @@ impl Validator<'_> {
             ));
         }
         for (name, value, unit) in [("sliding", o.sliding, "N"), ("swivel", o.swivel, "N m")] {
-            let value = self.finite(&format!("{field}.{name}"), value)?;
+            if !value.is_finite() {
+                return Err(self.not_finite(field(name), value));
+            }
             if value < 0.0 {
                 return Err(self.error(
-                    format!("{field}.{name}"),
+                    field(name),
                     format!(
                         "= {} {unit}: a friction threshold must be zero or positive",
                         show(value)

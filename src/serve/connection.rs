@@ -13,9 +13,10 @@ use russh::server::{Auth, ChannelOpenHandle, Handler, Msg, Session};
 use russh::{Channel, ChannelId, ChannelOpenFailure, Pty};
 
 use super::Shared;
+use super::admission::Gate;
 use super::explorer::{self, ACCEPTED_ENV, ClientTerminal, ENV_COUNT_LIMIT, ENV_VALUE_LIMIT};
 use super::keys::{fingerprint, same_secret};
-use super::limits::{INPUT_BYTES_PER_SECOND, InputBudget};
+use super::limits::{INPUT_BYTES_PER_SECOND, InputBudget, WINDOW_CHANGE_BYTES};
 use crate::tui::runtime::remote::Feed;
 
 /// Said to a client that asks for a shell without a terminal, or for a command.
@@ -39,11 +40,19 @@ pub struct Connection {
     /// The running explorer, once the shell request started it.
     feed: Option<Feed>,
     budget: InputBudget,
+    /// A window change the budget has not let through yet.
+    resize_waiting: bool,
+    /// Its place before login.
+    gate: Arc<Gate>,
     _counted: super::ConnectionCount,
 }
 
 impl Connection {
-    pub(super) fn new(shared: Arc<Shared>, peer: Option<SocketAddr>) -> Connection {
+    pub(super) fn new(
+        shared: Arc<Shared>,
+        peer: Option<SocketAddr>,
+        gate: Arc<Gate>,
+    ) -> Connection {
         let counted = super::ConnectionCount::new(&shared);
         Connection {
             shared,
@@ -57,6 +66,8 @@ impl Connection {
             has_pty: false,
             feed: None,
             budget: InputBudget::new(INPUT_BYTES_PER_SECOND),
+            resize_waiting: false,
+            gate,
             _counted: counted,
         }
     }
@@ -70,7 +81,13 @@ impl Connection {
                 .collect(),
         );
         self.key = key.map(fingerprint);
+        self.shared.admission.logged_in(&self.gate);
         Auth::Accept
+    }
+
+    /// A login request arrived: the handshake is done.
+    fn logging_in(&self) {
+        self.shared.admission.logging_in(&self.gate);
     }
 
     fn key_allowed(&self, key: &PublicKey) -> bool {
@@ -91,6 +108,14 @@ impl Connection {
             .any(|k| k.key_data() == key.key_data())
     }
 
+    /// Hands the newest window size to the explorer, if one is waiting.
+    fn pass_resize(&mut self) {
+        if let (true, Some(feed)) = (self.resize_waiting, &self.feed) {
+            feed.resize(self.terminal.width, self.terminal.height);
+            self.resize_waiting = false;
+        }
+    }
+
     fn is_ours(&self, channel: ChannelId) -> bool {
         self.channel == Some(channel)
     }
@@ -106,6 +131,23 @@ impl Handler for Connection {
     type Error = russh::Error;
 
     async fn auth_none(&mut self, user: &str) -> Result<Auth, Self::Error> {
+        self.logging_in();
+        let access = &self.shared.access;
+        Ok(if access.open && access.presenter_keys.is_empty() {
+            self.accepted(user, None)
+        } else {
+            Auth::reject()
+        })
+    }
+
+    /// An open server with presenters: a student without a key is let in without a question.
+    async fn auth_keyboard_interactive<'a>(
+        &'a mut self,
+        user: &str,
+        _submethods: &str,
+        _response: Option<russh::server::Response<'a>>,
+    ) -> Result<Auth, Self::Error> {
+        self.logging_in();
         Ok(if self.shared.access.open {
             self.accepted(user, None)
         } else {
@@ -114,6 +156,7 @@ impl Handler for Connection {
     }
 
     async fn auth_password(&mut self, user: &str, password: &str) -> Result<Auth, Self::Error> {
+        self.logging_in();
         let access = &self.shared.access;
         let right = access.open
             || access
@@ -132,6 +175,7 @@ impl Handler for Connection {
         _user: &str,
         key: &PublicKey,
     ) -> Result<Auth, Self::Error> {
+        self.logging_in();
         Ok(if self.key_allowed(key) {
             Auth::Accept
         } else {
@@ -140,6 +184,7 @@ impl Handler for Connection {
     }
 
     async fn auth_publickey(&mut self, user: &str, key: &PublicKey) -> Result<Auth, Self::Error> {
+        self.logging_in();
         Ok(if self.key_allowed(key) {
             self.presenter = self.is_presenter_key(key);
             self.accepted(user, Some(key))
@@ -326,8 +371,12 @@ impl Handler for Connection {
         if self.is_ours(channel) {
             self.terminal.width = width;
             self.terminal.height = height;
-            if let Some(feed) = &self.feed {
-                feed.resize(width, height);
+            // A window change costs the input budget like a short key sequence; one beyond it
+            // is kept and applied with the next input the budget lets through. However many
+            // pass, the explorer applies only the newest, once per frame.
+            self.resize_waiting = true;
+            if self.budget.take(WINDOW_CHANGE_BYTES) > 0 {
+                self.pass_resize();
             }
         }
         Ok(())
@@ -343,6 +392,7 @@ impl Handler for Connection {
             let allowed = self.budget.take(data.len());
             if allowed > 0 {
                 feed.bytes(&data[..allowed]);
+                self.pass_resize();
             }
             let dropped = (data.len() - allowed) as u64;
             self.shared
@@ -380,6 +430,7 @@ impl Drop for Connection {
         if let Some(feed) = self.feed.take() {
             feed.hangup();
         }
+        self.shared.admission.left(&self.gate);
         let peer = self
             .peer
             .map_or_else(|| "unknown address".to_string(), |p| p.to_string());

@@ -8,7 +8,7 @@
 
 use std::io::{self, Write};
 use std::sync::Arc;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use russh::ChannelId;
@@ -17,7 +17,7 @@ use tokio::sync::mpsc;
 
 use crate::plot::{Look, UnsetLocale, locale_is_utf8};
 use crate::scene::LoadedScene;
-use crate::tui::runtime::remote::{self, AfterFrame, Feed};
+use crate::tui::runtime::remote::{self, AfterFrame, Feed, RemoteOptions};
 use crate::tui::state::follow::Follow;
 use crate::tui::state::{App, Options, SavePolicy};
 use crate::tui::update::{Msg, update};
@@ -26,9 +26,10 @@ use super::ServeError;
 use super::limits::SessionSlot;
 use super::{Shared, lock};
 
-/// Chunks of output waiting for the client; a client that stops reading holds its explorer
-/// at the next flush (and only its own).
-const OUTPUT_QUEUE: usize = 64;
+/// Frames waiting for the client. Beyond them, a client that does not read loses frames (the
+/// newest is drawn whole once it reads again): the explorer never waits for it, and the
+/// server keeps at most these few frames for it.
+const OUTPUT_QUEUE: usize = 4;
 /// Environment variables a client may set, and the longest value kept.
 pub const ACCEPTED_ENV: [&str; 4] = ["LANG", "LC_ALL", "LC_CTYPE", "NO_COLOR"];
 pub const ENV_VALUE_LIMIT: usize = 256;
@@ -79,11 +80,14 @@ impl ClientTerminal {
     }
 }
 
-/// Collects a frame's bytes and hands them on at each flush. Never fails: a client that went
-/// away is heard of as a hangup, and the explorer must be able to leave its screen anyway.
+/// Collects a frame's bytes and hands them on at each flush, or drops them when the client
+/// has [`OUTPUT_QUEUE`] frames unread (and says so in `frames_lost`). Never fails or waits: a
+/// client that went away is heard of as a hangup, and the explorer must be able to leave its
+/// screen anyway.
 struct ChannelWriter {
     buffer: Vec<u8>,
     chunks: mpsc::Sender<Vec<u8>>,
+    frames_lost: Arc<AtomicBool>,
 }
 
 impl Write for ChannelWriter {
@@ -93,10 +97,39 @@ impl Write for ChannelWriter {
     }
 
     fn flush(&mut self) -> io::Result<()> {
-        if !self.buffer.is_empty() {
-            let _ = self.chunks.blocking_send(std::mem::take(&mut self.buffer));
+        if self.buffer.is_empty() {
+            return Ok(());
+        }
+        let chunk = std::mem::take(&mut self.buffer);
+        if let Err(mpsc::error::TrySendError::Full(_)) = self.chunks.try_send(chunk) {
+            self.frames_lost.store(true, Ordering::Release);
         }
         Ok(())
+    }
+}
+
+/// How long the explorer's last words (leaving the alternate screen, why it closed) wait for
+/// room in the client's queue before they are dropped too.
+const LAST_WORDS_PATIENCE: Duration = Duration::from_secs(1);
+
+impl Drop for ChannelWriter {
+    fn drop(&mut self) {
+        let mut chunk = std::mem::take(&mut self.buffer);
+        if chunk.is_empty() {
+            return;
+        }
+        let deadline = std::time::Instant::now() + LAST_WORDS_PATIENCE;
+        loop {
+            match self.chunks.try_send(chunk) {
+                Err(mpsc::error::TrySendError::Full(back))
+                    if std::time::Instant::now() < deadline =>
+                {
+                    chunk = back;
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                _ => return,
+            }
+        }
     }
 }
 
@@ -156,12 +189,18 @@ pub(crate) fn start(
     let explorer_id = shared.next_explorer.fetch_add(1, Ordering::Relaxed);
     lock(&shared.explorers).push((explorer_id, feed.clone()));
     let (chunks, mut outbox) = mpsc::channel::<Vec<u8>>(OUTPUT_QUEUE);
+    let frames_lost = Arc::new(AtomicBool::new(false));
+    let (lost, catching_up) = (Arc::clone(&frames_lost), feed.clone());
     tokio::spawn(async move {
         // Held until the explorer, its workers and this output are gone.
         let _slot = slot;
         while let Some(chunk) = outbox.recv().await {
             if handle.data(channel, chunk).await.is_err() {
                 return;
+            }
+            // The client reads again after frames were dropped: send it a whole one.
+            if outbox.is_empty() && lost.load(Ordering::Acquire) {
+                catching_up.redraw();
             }
         }
         // The explorer ended: so does the channel, and with it the client's `ssh`.
@@ -172,15 +211,20 @@ pub(crate) fn start(
     let writer = ChannelWriter {
         buffer: Vec::new(),
         chunks,
+        frames_lost: Arc::clone(&frames_lost),
     };
     let size = (client.width, client.height);
-    let idle_timeout = settings.idle_timeout;
-    let cores = Some(shared.cores.session());
+    let remote_options = RemoteOptions {
+        idle_timeout: settings.idle_timeout,
+        after_frame,
+        cores: Some(shared.cores.session()),
+        frames_lost: Some(frames_lost),
+    };
     let leaving = Arc::clone(shared);
     std::thread::Builder::new()
         .name("session".into())
         .spawn(move || {
-            let _ = remote::run_remote(app, writer, size, events, idle_timeout, after_frame, cores);
+            let _ = remote::run_remote(app, writer, size, events, remote_options);
             if let (Some(hub), Some(id)) = (&leaving.hub, hub_id) {
                 hub.leave(id);
             }

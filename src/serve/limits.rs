@@ -55,6 +55,9 @@ impl Drop for SessionSlot {
 /// Bytes per second a client may type (and the burst it may send at once).
 pub const INPUT_BYTES_PER_SECOND: usize = 32 * 1024;
 
+/// What a window change costs of the input budget, in bytes.
+pub const WINDOW_CHANGE_BYTES: usize = 64;
+
 /// A token bucket of input bytes.
 #[derive(Debug)]
 pub struct InputBudget {

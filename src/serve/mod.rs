@@ -7,12 +7,16 @@
 //! present`). The solves and sweeps of all sessions share the machine's cores fairly
 //! (`crate::tui::runtime::cores`).
 //!
+//! - `access`: who may log in, the options' ranges, the SSH configuration;
+//! - [`admission`]: connections before login, bounded without locking students out;
 //! - [`keys`]: host key, authorized keys, password;
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
 //! - [`explorer`]: one served explorer and the output path to its client;
 //! - [`follow`]: the presenter's state handed to the students who follow;
 //! - [`limits`]: the cap on sessions and the input budget.
 
+mod access;
+pub mod admission;
 pub mod connection;
 mod error;
 pub mod explorer;
@@ -27,12 +31,12 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use russh::MethodKind;
-use russh::keys::PublicKey;
 use tokio::sync::oneshot;
 
 use crate::tui::runtime::cores::Cores;
 use crate::tui::runtime::remote::Feed;
+use access::{Access, access, check_ranges, russh_config};
+pub use access::{MAX_IDLE_TIMEOUT, MAX_SESSIONS_LIMIT};
 pub use error::ServeError;
 use explorer::ExplorerSettings;
 use limits::SessionSlots;
@@ -45,8 +49,8 @@ pub const DEFAULT_MAX_SESSIONS: usize = 64;
 pub const DEFAULT_MAX_ELEMENTS: usize = 100_000;
 /// Default idle timeout.
 pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_secs(30 * 60);
-/// Connections (logged in or not) allowed per allowed explorer, beyond which new ones are
-/// dropped at once.
+/// Logged-in connections allowed per allowed explorer, beyond which new connections are
+/// dropped at once (those waiting to log in are bounded by [`admission`]).
 const CONNECTIONS_PER_SESSION: usize = 4;
 /// How long a stopping server gives its explorers to leave their clients' screens.
 const STOP_GRACE: Duration = Duration::from_secs(1);
@@ -96,22 +100,16 @@ impl Default for ServeOptions {
     }
 }
 
-/// Who may log in.
-#[derive(Debug)]
-pub(crate) struct Access {
-    pub open: bool,
-    pub keys: Vec<PublicKey>,
-    pub presenter_keys: Vec<PublicKey>,
-    pub password: Option<String>,
-}
-
 /// What every connection shares.
 #[derive(Debug)]
 pub(crate) struct Shared {
     pub access: Access,
     pub explorer: ExplorerSettings,
     pub slots: Arc<SessionSlots>,
+    /// Connections open, logged in or not.
     pub connections: AtomicUsize,
+    /// Connections waiting to log in.
+    pub admission: admission::Admission,
     /// Input bytes dropped over the budget, all sessions together.
     pub dropped_input: AtomicU64,
     /// Follow mode, when there are presenter keys or the lecturer presents (`present`).
@@ -195,6 +193,7 @@ impl Server {
     /// As [`Server::start`]; with `presenting`, there is always a follow hub (the lecturer's
     /// own explorer presents) and log lines are kept in memory (see [`present`]).
     fn start_as(options: &ServeOptions, presenting: bool) -> Result<Server, ServeError> {
+        check_ranges(options)?;
         let access = access(options)?;
         let mut notes = Vec::new();
         if access.open {
@@ -210,25 +209,10 @@ impl Server {
                 scene.scene.mesh.elements, options.max_elements
             )));
         }
-        if options.max_sessions == 0 {
-            return Err(ServeError::Option(
-                "--max-sessions must be at least 1".into(),
-            ));
-        }
         let save_dir = match &options.save_dir {
             Some(dir) => Some(save_directory(dir)?),
             None => None,
         };
-        let key_path = options
-            .host_key
-            .clone()
-            .unwrap_or_else(keys::default_host_key_path);
-        let (host_key, created) = keys::load_or_create_host_key(&key_path)?;
-        let fingerprint = keys::fingerprint(host_key.public_key());
-        if created {
-            notes.push(format!("created the host key {}", key_path.display()));
-        }
-        let config = russh_config(options, &access, host_key);
         let cannot_listen = |source| ServeError::Listen {
             address: options.listen.clone(),
             source,
@@ -247,6 +231,7 @@ impl Server {
             },
             slots: SessionSlots::new(options.max_sessions),
             connections: AtomicUsize::new(0),
+            admission: admission::Admission::default(),
             dropped_input: AtomicU64::new(0),
             hub: (presenting || options.presenter_keys.is_some()).then(follow::Hub::default),
             cores: Cores::of_this_machine(),
@@ -264,6 +249,17 @@ impl Server {
             .enable_all()
             .build()
             .map_err(|e| ServeError::Start(format!("cannot start the server's runtime: {e}")))?;
+        // Written only now that everything else is ready: a failed start leaves no key behind.
+        let key_path = options
+            .host_key
+            .clone()
+            .unwrap_or_else(keys::default_host_key_path);
+        let (host_key, created) = keys::load_or_create_host_key(&key_path)?;
+        let fingerprint = keys::fingerprint(host_key.public_key());
+        if created {
+            notes.push(format!("created the host key {}", key_path.display()));
+        }
+        let config = russh_config(options, &shared.access, host_key);
         let (stop, stopped) = oneshot::channel();
         let accepting = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
@@ -326,6 +322,11 @@ impl Server {
     /// Connections open now, logged in or not.
     pub fn connections(&self) -> usize {
         self.shared.connections.load(Ordering::Acquire)
+    }
+
+    /// Connections waiting to log in now.
+    pub fn waiting_to_log_in(&self) -> usize {
+        self.shared.admission.waiting()
     }
 
     /// Serves until the process ends.
@@ -458,73 +459,6 @@ fn save_directory(dir: &std::path::Path) -> Result<PathBuf, ServeError> {
     Ok(resolved)
 }
 
-/// Who may log in, from the options; refuses an open server unless `--open` says so.
-fn access(options: &ServeOptions) -> Result<Access, ServeError> {
-    let keys = match &options.authorized_keys {
-        Some(path) => keys::read_authorized_keys(path)?,
-        None => Vec::new(),
-    };
-    let presenter_keys = match &options.presenter_keys {
-        Some(path) => keys::read_authorized_keys(path)?,
-        None => Vec::new(),
-    };
-    let password = match &options.password_file {
-        Some(path) => Some(keys::read_password(path)?),
-        None => None,
-    };
-    let anyone = keys.is_empty() && presenter_keys.is_empty() && password.is_none();
-    if anyone && !options.open {
-        return Err(ServeError::Option(
-            "no --authorized-keys or --password-file: anyone could log in; give one, or --open \
-             to allow that"
-                .into(),
-        ));
-    }
-    Ok(Access {
-        open: anyone,
-        keys,
-        presenter_keys,
-        password,
-    })
-}
-
-fn russh_config(
-    options: &ServeOptions,
-    access: &Access,
-    host_key: russh::keys::PrivateKey,
-) -> Arc<russh::server::Config> {
-    let mut methods = Vec::new();
-    if access.open {
-        methods.push(MethodKind::None);
-    }
-    if access.open || !access.keys.is_empty() || !access.presenter_keys.is_empty() {
-        methods.push(MethodKind::PublicKey);
-    }
-    if access.open || access.password.is_some() {
-        methods.push(MethodKind::Password);
-    }
-    Arc::new(russh::server::Config {
-        methods: methods.as_slice().into(),
-        keys: vec![host_key],
-        auth_rejection_time: Duration::from_millis(500),
-        auth_rejection_time_initial: Some(Duration::ZERO),
-        // The explorer's own idle timeout ends a session politely; this only collects
-        // connections that never get that far.
-        inactivity_timeout: Some(
-            options
-                .idle_timeout
-                .unwrap_or(DEFAULT_IDLE_TIMEOUT)
-                .saturating_add(Duration::from_secs(60)),
-        ),
-        // A client that vanished without a word (a closed laptop) is noticed within a minute.
-        keepalive_interval: Some(Duration::from_secs(15)),
-        keepalive_max: 3,
-        max_auth_attempts: 6,
-        nodelay: true,
-        ..Default::default()
-    })
-}
-
 async fn accept_loop(
     listener: std::net::TcpListener,
     config: Arc<russh::server::Config>,
@@ -553,19 +487,53 @@ async fn accept_loop(
                 continue;
             }
         };
-        if shared.connections.load(Ordering::Acquire) >= max_connections {
+        let logged_in = shared
+            .connections
+            .load(Ordering::Acquire)
+            .saturating_sub(shared.admission.waiting());
+        if logged_in >= max_connections {
             shared.log(&format!(
                 "connection from {peer} dropped: too many connections"
             ));
             continue;
         }
         let _ = socket.set_nodelay(true);
-        let handler = connection::Connection::new(Arc::clone(&shared), Some(peer));
+        let gate = shared.admission.admit();
+        let handler =
+            connection::Connection::new(Arc::clone(&shared), Some(peer), Arc::clone(&gate));
         let config = Arc::clone(&config);
-        tokio::spawn(async move {
-            if let Ok(session) = russh::server::run_stream(config, socket, handler).await {
-                let _ = session.await;
-            }
-        });
+        tokio::spawn(serve_connection(config, socket, handler, gate));
+    }
+}
+
+/// One connection, until it ends; before login, ended by its gate (dropped for a newcomer or
+/// past its grace).
+async fn serve_connection(
+    config: Arc<russh::server::Config>,
+    socket: tokio::net::TcpStream,
+    handler: connection::Connection,
+    gate: Arc<admission::Gate>,
+) {
+    let ended = gate.ended_before_login();
+    tokio::pin!(ended);
+    let running = tokio::select! {
+        started = russh::server::run_stream(config, socket, handler) => match started {
+            Ok(running) => running,
+            Err(_) => return,
+        },
+        // The socket and the handler are dropped here: the connection closes.
+        () = &mut ended => return,
+    };
+    let handle = running.handle();
+    tokio::select! {
+        _ = running => {}
+        () = &mut ended => {
+            let leaving = handle.disconnect(
+                russh::Disconnect::ByApplication,
+                "not logged in in time".into(),
+                String::new(),
+            );
+            let _ = tokio::time::timeout(Duration::from_secs(1), leaving).await;
+        }
     }
 }

@@ -30,5 +30,6 @@ mod save_safety;
 mod scene;
 #[cfg(unix)]
 mod serve;
+mod serve_attacks;
 #[cfg(unix)]
 mod terminal;

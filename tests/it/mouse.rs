@@ -164,7 +164,7 @@ fn dragging_an_obstacle_marker_moves_the_obstacle_to_where_it_is_let_go() {
             .find(|(_, y)| *y > 1 && (*y as usize) < frame.len() - 5)
             .expect("the marker is drawn");
         assert_eq!(target(&app, mx, my), Target::Obstacle(0));
-        let undo_before = app.undo.len();
+        let undo_before = app.history.undo_len();
         update(
             &mut app,
             Msg::Pointer(Pointer::Click {
@@ -185,7 +185,11 @@ fn dragging_an_obstacle_marker_moves_the_obstacle_to_where_it_is_let_go() {
         );
         let x = app.scene().obstacles[0].x;
         assert!(x < 0.8 - 0.05, "{width}x{height}: x = {x}");
-        assert_eq!(app.undo.len(), undo_before + 1, "one undo step per drag");
+        assert_eq!(
+            app.history.undo_len(),
+            undo_before + 1,
+            "one undo step per drag"
+        );
         // The marker is drawn where the pointer let go (the chart's own drawing).
         let frame = screen(&app);
         let now: Vec<u16> = frame

@@ -18,18 +18,22 @@
 //! frame and the next request to a worker, so a burst of keys makes one solve of the final
 //! state. Quitting never waits for a worker.
 
+use std::collections::VecDeque;
 use std::io::{self, Write};
-use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{RecvTimeoutError, Sender};
 use std::time::{Duration, Instant};
 
 use crate::tui::input::decode::{Decoder, ESC_TIMEOUT, Input};
 use crate::tui::input::pointer::ClickTracker;
-use crate::tui::jobs::solve::{SolveRequest, Solved};
-use crate::tui::jobs::sweeps::{SWEEPS, SweepRequest, SweepResult};
-use crate::tui::state::{App, Ending, Exploration};
+use crate::tui::jobs::solve::SolveRequest;
+use crate::tui::jobs::sweeps::{SWEEPS, SweepRequest};
+use crate::tui::state::{App, Ending};
 use crate::tui::update::{Msg, Suspension, update};
 use crate::tui::view;
 
+use super::budget::TimeBudget;
+pub use super::feed::Event;
+use super::feed::{Events, Signals};
 use super::screen::{MOUSE_OFF, MOUSE_ON, Screen};
 use super::worker::{Worker, WorkerOptions};
 
@@ -41,28 +45,14 @@ pub const INJECT_PANIC: &str = "BEAMFRIC_INJECT_PANIC";
 const TICK: Duration = Duration::from_millis(250);
 /// Longest a served session waits for its cancelled workers to end before it lets them go.
 const WORKER_GRACE: Duration = Duration::from_millis(500);
-/// Most events applied before a frame is drawn (a paste of any size still shows progress).
+/// Most events taken from the queue before a frame is drawn.
 const EVENTS_PER_FRAME: usize = 4096;
-
-/// What wakes the loop.
-pub enum Event {
-    /// Bytes from the terminal.
-    Bytes(Vec<u8>),
-    /// The terminal has a new size (columns, rows): a remote terminal's window change.
-    Resize(u16, u16),
-    /// The terminal's input is gone.
-    Hangup,
-    /// A signal (the local terminal only).
-    Signal(i32),
-    /// The solve worker's output: a solve, or the message of its failure.
-    Solved(Box<Result<Solved, String>>),
-    /// The sweep worker's output.
-    Swept(SweepResult),
-    /// The presenter's new state (follow mode).
-    Follow(std::sync::Arc<Exploration>),
-    /// Nothing but a new frame (e.g. the number of followers changed).
-    Redraw,
-}
+/// Most keys, pastes and mouse events applied before a frame is drawn, and the longest time
+/// spent applying them: a burst shows progress, and a hang-up or a result is heard between.
+const INPUTS_PER_FRAME: usize = 256;
+const INPUT_SLICE: Duration = Duration::from_millis(50);
+/// How often a session resting on its time budget looks for a hang-up.
+const REST_STEP: Duration = Duration::from_millis(10);
 
 /// Called with the state after every frame (a presenter publishes it).
 pub type AfterFrame = Box<dyn FnMut(&App) + Send>;
@@ -80,6 +70,10 @@ pub struct LoopOptions {
     /// On return, wait until the workers have ended (a served session: its memory is given
     /// back before its slot), at most [`WORKER_GRACE`]; the local explorer never waits.
     pub wait_for_workers: bool,
+    /// The share of one core the loop's own thread may use on average, with bursts of up to
+    /// a second (served sessions: a flood of keys or window changes is slowed to it, never
+    /// queued beyond it); `None`: no limit (the local explorer).
+    pub ui_share: Option<f64>,
 }
 
 /// The session's two workers.
@@ -153,20 +147,23 @@ impl Workers {
 pub fn event_loop<S: Screen>(
     screen: &mut S,
     app: &mut App,
-    sender: &Sender<Event>,
-    events: &Receiver<Event>,
+    events: &Events,
     mut options: LoopOptions,
 ) -> io::Result<Ending> {
     let injected = std::mem::take(&mut options.inject_panic);
     let (width, height) = screen.size()?;
     update(app, Msg::Resize(width, height));
-    let mut workers = Workers::start(sender, &options, injected == "worker");
+    let mut workers = Workers::start(&events.sender, &options, injected == "worker");
     let mut state = LoopState {
         decoder: Decoder::default(),
         clicks: ClickTracker::default(),
+        inputs: VecDeque::new(),
         last_input: Instant::now(),
         last_bytes: Instant::now(),
         mouse_on: false,
+        budget: options
+            .ui_share
+            .map(|share| TimeBudget::new(share, Duration::from_secs(1))),
     };
     let ending = run_loop(
         screen,
@@ -192,6 +189,10 @@ pub fn event_loop<S: Screen>(
 struct LoopState {
     decoder: Decoder,
     clicks: ClickTracker,
+    /// Decoded input not applied yet (a burst is applied a slice per frame).
+    inputs: VecDeque<Input>,
+    /// The loop's own time, when limited ([`LoopOptions::ui_share`]).
+    budget: Option<TimeBudget>,
     /// When the user last did something (or the presenter did, for a follower).
     last_input: Instant,
     /// When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
@@ -201,17 +202,19 @@ struct LoopState {
     mouse_on: bool,
 }
 
-/// The loop itself: hand out work, draw, wait, apply what arrived; until the state ends.
+/// The loop itself: hand out work, draw, wait, apply what arrived; until the state ends. A
+/// hang-up is heard before every event and every key: nothing queued behind it is applied.
 fn run_loop<S: Screen>(
     screen: &mut S,
     app: &mut App,
-    events: &Receiver<Event>,
+    events: &Events,
     options: &mut LoopOptions,
     injected: &str,
     workers: &mut Workers,
     state: &mut LoopState,
 ) -> io::Result<Ending> {
     loop {
+        let frame_started = Instant::now();
         workers.hand_out(app);
         // Something happened (or this is the first frame): draw. A terminal that cannot be
         // written to any more has gone away.
@@ -228,36 +231,109 @@ fn run_loop<S: Screen>(
         if let Some(ending) = app.ending {
             return Ok(ending);
         }
-        let first = wait(app, events, options, state);
+        if let Some(budget) = &mut state.budget {
+            budget.spend(frame_started.elapsed());
+            rest(budget, &events.signals);
+        }
+        let first = if events.signals.hung_up() {
+            Some(Event::Hangup)
+        } else if state.inputs.is_empty() {
+            wait(app, events, options, state)
+        } else {
+            events.receiver.try_recv().ok()
+        };
         if let Some(ending) = app.ending {
             return Ok(ending);
         }
+        let working = Instant::now();
         if state.decoder.has_pending() && state.last_bytes.elapsed() >= ESC_TIMEOUT {
-            for input in state.decoder.flush() {
-                apply_input(app, input, &mut state.clicks);
-            }
+            state.inputs.extend(state.decoder.flush());
         }
-        // This event and every one already queued, then one frame.
+        // This event and every one already queued, then the input they brought, one slice.
         for event in first
             .into_iter()
-            .chain(events.try_iter().take(EVENTS_PER_FRAME))
+            .chain(events.receiver.try_iter().take(EVENTS_PER_FRAME))
         {
+            let event = if events.signals.hung_up() {
+                Event::Hangup
+            } else {
+                event
+            };
             apply_event(screen, app, event, state)?;
             if let Some(ending) = app.ending {
                 return Ok(ending);
             }
-            if app.suspend_requested {
-                suspend(screen, app)?;
-                // The terminal was given back: ask for the mouse again.
-                state.mouse_on = false;
-            }
         }
+        apply_inputs(screen, app, state, &events.signals)?;
+        if let Some(ending) = app.ending {
+            return Ok(ending);
+        }
+        // However many window changes came, one resize, to the newest size.
+        if let Some((width, height)) = events.signals.take_size() {
+            state.last_input = Instant::now();
+            // A terminal that cannot be resized any more has gone away.
+            if screen.resize(width, height).is_err() {
+                update(app, Msg::End(Ending::Hangup));
+                return Ok(Ending::Hangup);
+            }
+            update(app, Msg::Resize(width, height));
+        }
+        if let Some(budget) = &mut state.budget {
+            budget.spend(working.elapsed());
+        }
+    }
+}
+
+/// Applies queued input, at most [`INPUTS_PER_FRAME`] items or [`INPUT_SLICE`] of time; stops
+/// at a hang-up or an ending.
+fn apply_inputs<S: Screen>(
+    screen: &mut S,
+    app: &mut App,
+    state: &mut LoopState,
+    signals: &Signals,
+) -> io::Result<()> {
+    let started = Instant::now();
+    let mut applied = 0;
+    while applied < INPUTS_PER_FRAME && started.elapsed() < INPUT_SLICE {
+        if signals.hung_up() {
+            update(app, Msg::End(Ending::Hangup));
+            return Ok(());
+        }
+        let Some(input) = state.inputs.pop_front() else {
+            break;
+        };
+        apply_input(app, input, &mut state.clicks);
+        applied += 1;
+        if app.ending.is_some() {
+            return Ok(());
+        }
+        if app.suspend_requested {
+            suspend(screen, app)?;
+            // The terminal was given back: ask for the mouse again.
+            state.mouse_on = false;
+        }
+    }
+    Ok(())
+}
+
+/// Waits until the loop's time budget has credit again, looking for a hang-up meanwhile.
+fn rest(budget: &mut TimeBudget, signals: &Signals) {
+    loop {
+        let left = budget.rest();
+        if left.is_zero() || signals.hung_up() {
+            return;
+        }
+        std::thread::sleep(left.min(REST_STEP));
     }
 }
 
 /// Draws a frame, asking the terminal for mouse reports first (or telling it to stop) when
 /// the app's wish changed.
 fn draw<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result<()> {
+    if screen.before_frame()? {
+        // The client may have missed the mouse switch too: say it again.
+        *mouse_on = false;
+    }
     let wanted = app.wants_mouse();
     if wanted != *mouse_on {
         let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
@@ -274,12 +350,7 @@ fn draw<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result
 /// Blocks until something happens: an event, or a wake-up for a pending lone ESC or a timer
 /// tick while work is in flight (`None`, after a tick message); ends the state when the
 /// session was idle for too long or the channel is gone.
-fn wait(
-    app: &mut App,
-    events: &Receiver<Event>,
-    options: &LoopOptions,
-    state: &LoopState,
-) -> Option<Event> {
+fn wait(app: &mut App, events: &Events, options: &LoopOptions, state: &LoopState) -> Option<Event> {
     let idle_left = options
         .idle_timeout
         .map(|limit| limit.saturating_sub(state.last_input.elapsed()));
@@ -299,8 +370,11 @@ fn wait(
         (a, b) => a.or(b),
     };
     let received = match timeout {
-        None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
-        Some(t) => events.recv_timeout(t),
+        None => events
+            .receiver
+            .recv()
+            .map_err(|_| RecvTimeoutError::Disconnected),
+        Some(t) => events.receiver.recv_timeout(t),
     };
     match received {
         Ok(event) => Some(event),
@@ -326,20 +400,10 @@ fn apply_event<S: Screen>(
         Event::Bytes(bytes) => {
             state.last_input = Instant::now();
             state.last_bytes = state.last_input;
-            for input in state.decoder.feed(&bytes) {
-                apply_input(app, input, &mut state.clicks);
-            }
+            state.inputs.extend(state.decoder.feed(&bytes));
         }
-        Event::Resize(width, height) => {
-            state.last_input = Instant::now();
-            // A terminal that cannot be resized any more has gone away (a closed pty can
-            // report a size change just before its reads fail).
-            if screen.resize(width, height).is_err() {
-                update(app, Msg::End(Ending::Hangup));
-            } else {
-                update(app, Msg::Resize(width, height));
-            }
-        }
+        // Applied once after the queue is read, at the newest size.
+        Event::Resize => state.last_input = Instant::now(),
         Event::Hangup => update(app, Msg::End(Ending::Hangup)),
         Event::Signal(signal) => match signal {
             signal_hook::consts::SIGWINCH => {

@@ -3,12 +3,12 @@
 //! loop on the UI thread until the explorer ends.
 
 use std::io::{self, Read};
-use std::sync::mpsc::{Sender, channel};
+use std::sync::mpsc::Sender;
 
 use crate::tui::state::{App, Ending};
 
 use super::event_loop::{AfterFrame, Event, INJECT_PANIC, LoopOptions, event_loop};
-use super::remote::Feed;
+use super::feed::{Feed, events};
 use super::terminal::{SIGNALS, Session};
 
 /// Why the local explorer could not run (or stopped on a terminal error).
@@ -46,9 +46,10 @@ pub fn run_local(
     mut app: App,
     attach: impl FnOnce(Feed) -> Option<AfterFrame>,
 ) -> Result<Ending, TerminalError> {
-    let (sender, events) = channel::<Event>();
+    let (feed, events) = events();
+    let sender = events.sender.clone();
     start_signal_thread(sender.clone()).map_err(TerminalError::Signals)?;
-    let after_frame = attach(Feed::new(sender.clone()));
+    let after_frame = attach(feed);
     let mut session = Session::start().map_err(TerminalError::Open)?;
     start_input_thread(sender.clone()).map_err(TerminalError::Read)?;
     let options = LoopOptions {
@@ -57,8 +58,9 @@ pub fn run_local(
         after_frame,
         cores: None,
         wait_for_workers: false,
+        ui_share: None,
     };
-    let result = event_loop(&mut session, &mut app, &sender, &events, options);
+    let result = event_loop(&mut session, &mut app, &events, options);
     drop(session);
     result.map_err(TerminalError::Io)
 }

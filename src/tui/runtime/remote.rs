@@ -4,7 +4,8 @@
 //! client's bytes, window changes and hangup fed in through a [`Feed`].
 
 use std::io::{self, Write};
-use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use crossterm::cursor::{Hide, Show};
@@ -14,91 +15,23 @@ use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
 use ratatui::{Terminal, TerminalOptions, Viewport};
 
-use crate::tui::state::{App, Ending, Exploration};
+use crate::tui::state::{App, Ending};
 
 pub use super::event_loop::AfterFrame;
-use super::event_loop::{Event, LoopOptions, event_loop};
+use super::event_loop::{LoopOptions, event_loop};
 use super::screen::Screen;
 
-/// Largest terminal accepted, in cells (a hostile client could ask for 65535 × 65535).
-pub const MAX_SIZE: (u16, u16) = (1000, 500);
+pub use super::feed::{Events, Feed, MAX_SIZE, UNKNOWN_SIZE, clamp_size, events};
 
-/// The size assumed when a client reports none (zero: RFC 4254 says to ignore it).
-pub const UNKNOWN_SIZE: (u16, u16) = (80, 24);
-
-/// A size the client reported, within `1..=`[`MAX_SIZE`]; a zero is [`UNKNOWN_SIZE`].
-pub fn clamp_size(width: u32, height: u32) -> (u16, u16) {
-    let clamp = |v: u32, max: u16, unknown: u16| match v {
-        0 => unknown,
-        v => v.min(u32::from(max)) as u16,
-    };
-    (
-        clamp(width, MAX_SIZE.0, UNKNOWN_SIZE.0),
-        clamp(height, MAX_SIZE.1, UNKNOWN_SIZE.1),
-    )
-}
-
-/// Where a remote terminal's events come from: its [`Feed`] and the loop's receiver.
-pub struct Events {
-    sender: Sender<Event>,
-    receiver: Receiver<Event>,
-}
-
-/// What the connection tells a remote explorer. Cheap to clone; sending to an explorer that
-/// has ended does nothing.
-#[derive(Clone)]
-pub struct Feed(Sender<Event>);
-
-impl std::fmt::Debug for Feed {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("Feed")
-    }
-}
-
-impl Feed {
-    /// A feed into the loop that `sender` feeds (the local explorer's, see
-    /// [`super::local::run_local`]).
-    pub(super) fn new(sender: Sender<Event>) -> Feed {
-        Feed(sender)
-    }
-
-    /// Bytes the client typed.
-    pub fn bytes(&self, bytes: &[u8]) {
-        let _ = self.0.send(Event::Bytes(bytes.to_vec()));
-    }
-
-    /// The client's window changed.
-    pub fn resize(&self, width: u32, height: u32) {
-        let (width, height) = clamp_size(width, height);
-        let _ = self.0.send(Event::Resize(width, height));
-    }
-
-    /// The presenter's new state (follow mode).
-    pub fn follow(&self, exploration: std::sync::Arc<Exploration>) {
-        let _ = self.0.send(Event::Follow(exploration));
-    }
-
-    /// Draw again (something the frame shows changed outside the explorer).
-    pub fn redraw(&self) {
-        let _ = self.0.send(Event::Redraw);
-    }
-
-    /// The client went away.
-    pub fn hangup(&self) {
-        let _ = self.0.send(Event::Hangup);
-    }
-}
-
-/// A new channel of events, and the feed that writes into it.
-pub fn events() -> (Feed, Events) {
-    let (sender, receiver) = channel();
-    (Feed(sender.clone()), Events { sender, receiver })
-}
+/// The share of one core a remote explorer's own thread may use on average (drawing and
+/// applying input; its solves run on the shared cores): a flood is slowed to it.
+pub const UI_SHARE: f64 = 0.5;
 
 /// A remote terminal: a fixed viewport of the client's size.
 struct RemoteScreen<W: Write> {
     terminal: Terminal<CrosstermBackend<W>>,
     size: (u16, u16),
+    frames_lost: Option<Arc<AtomicBool>>,
 }
 
 impl<W: Write> Screen for RemoteScreen<W> {
@@ -125,23 +58,51 @@ impl<W: Write> Screen for RemoteScreen<W> {
         let (width, height) = self.size;
         self.terminal.resize(Rect::new(0, 0, width, height))
     }
+
+    fn before_frame(&mut self) -> io::Result<bool> {
+        // A frame the client never got: what it shows is not what ratatui remembers.
+        if let Some(lost) = &self.frames_lost
+            && lost.swap(false, Ordering::AcqRel)
+        {
+            // Not `Terminal::clear`: it asks the terminal where its cursor is.
+            self.redraw_all()?;
+            return Ok(true);
+        }
+        Ok(false)
+    }
+}
+
+/// How a remote explorer runs beyond its terminal.
+#[derive(Default)]
+pub struct RemoteOptions {
+    /// End the session after this long without input.
+    pub idle_timeout: Option<Duration>,
+    /// Sees the state after every frame (a presenter publishes it).
+    pub after_frame: Option<AfterFrame>,
+    /// The session's turn on the server's shared cores.
+    pub cores: Option<super::cores::Share>,
+    /// Set by the output when it dropped a frame for a client that does not read: the next
+    /// frame is then drawn whole.
+    pub frames_lost: Option<Arc<AtomicBool>>,
 }
 
 /// Runs the explorer on a remote terminal of `size` (columns, rows) that `output` writes to,
-/// until the user quits, the feed hangs up, or nothing arrives for `idle_timeout`. The
+/// until the user quits, the feed hangs up, or nothing arrives for the idle timeout. The
 /// alternate screen is entered first and left at the end (a write error there is ignored:
-/// the client may be gone). `after_frame` sees the state after every frame; `cores` is the
-/// session's turn on the server's shared cores. Its workers have ended when it returns.
-/// Returns how it ended.
+/// the client may be gone). Its workers have ended when it returns. Returns how it ended.
 pub fn run_remote(
     mut app: App,
     mut output: impl Write,
     size: (u32, u32),
     events: Events,
-    idle_timeout: Option<Duration>,
-    after_frame: Option<AfterFrame>,
-    cores: Option<super::cores::Share>,
+    remote: RemoteOptions,
 ) -> io::Result<Ending> {
+    let RemoteOptions {
+        idle_timeout,
+        after_frame,
+        cores,
+        frames_lost,
+    } = remote;
     let (width, height) = clamp_size(size.0, size.1);
     queue!(output, EnterAlternateScreen, Hide)?;
     let options = TerminalOptions {
@@ -151,6 +112,7 @@ pub fn run_remote(
     let mut screen = RemoteScreen {
         terminal,
         size: (width, height),
+        frames_lost,
     };
     // Start on a clean screen: the client's shell prompt may be on it.
     screen.redraw_all()?;
@@ -160,14 +122,9 @@ pub fn run_remote(
         after_frame,
         cores,
         wait_for_workers: true,
+        ui_share: Some(UI_SHARE),
     };
-    let ending = event_loop(
-        &mut screen,
-        &mut app,
-        &events.sender,
-        &events.receiver,
-        loop_options,
-    );
+    let ending = event_loop(&mut screen, &mut app, &events, loop_options);
     // Shows the cursor, so that ratatui's `Drop` has nothing left to do (it would print on
     // the server's stderr on failure).
     let _ = screen.terminal.show_cursor();
@@ -180,6 +137,7 @@ pub fn run_remote(
             limit.as_secs()
         );
     }
-    let _ = output.flush();
+    // Not flushed here: the output sends what is left when it is dropped, with the patience
+    // a last frame deserves (a served session's output drops frames a client does not read).
     ending
 }

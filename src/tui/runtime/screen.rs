@@ -29,4 +29,9 @@ pub trait Screen {
     fn suspend(&mut self) -> io::Result<bool>;
     /// Forgets what was drawn, so the next frame is drawn whole.
     fn redraw_all(&mut self) -> io::Result<()>;
+    /// Called before every frame; `true` when the frame will be drawn whole (a remote screen
+    /// whose client missed a frame).
+    fn before_frame(&mut self) -> io::Result<bool> {
+        Ok(false)
+    }
 }

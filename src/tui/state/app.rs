@@ -10,6 +10,7 @@ use crate::scene::{LoadedScene, Scene, SceneSource};
 
 use super::exploration::Exploration;
 use super::follow::Follow;
+use super::history::History;
 use super::params::Row;
 use super::picker::PresetPicker;
 use super::prompt::Prompt;
@@ -83,9 +84,6 @@ pub enum Ending {
     Idle,
 }
 
-/// Most undo steps kept.
-pub const UNDO_LIMIT: usize = 1000;
-
 /// How an explorer starts, beyond its scene: its look and what it may do here.
 #[derive(Debug, Clone)]
 pub struct Options {
@@ -132,9 +130,8 @@ pub struct App {
     pub exploration: Exploration,
     /// The scene as last loaded or saved: the state differs from it when it is modified.
     pub saved: Scene,
-    /// Earlier scenes, the newest last (undo), and undone ones (redo).
-    pub undo: Vec<Scene>,
-    pub redo: Vec<Scene>,
+    /// Earlier scenes (undo) and undone ones (redo), bounded in steps and bytes.
+    pub history: History,
     pub save_policy: SavePolicy,
     /// What to do once the save in progress succeeds (`s` in a "lose the changes?" question).
     pub after_save: Option<Discard>,
@@ -192,8 +189,7 @@ impl App {
         Ok(App {
             saved: loaded.scene.clone(),
             exploration: Exploration::new(loaded),
-            undo: Vec::new(),
-            redo: Vec::new(),
+            history: History::default(),
             save_policy: options.save_policy,
             after_save: None,
             save_directory: options.save_directory.unwrap_or_else(|| PathBuf::from(".")),

@@ -1,6 +1,6 @@
 //! The explorer's state, the bottom of its layers above the jobs: [`app::App`] (one screen's
 //! own state around the shared [`exploration::Exploration`]), the parameter rows
-//! ([`params`]), the preset picker, the prompt, follow mode, the sweeps' slots and the words
+//! ([`params`]), the preset picker, the prompt, follow mode, the undo history, the sweeps' slots and the words
 //! for an obstacle's motion. Nothing here changes the state after [`app::App::new`] but the
 //! update layer (`tui::update`), and nothing here imports the input, layout, view, update or
 //! runtime layers.
@@ -8,11 +8,13 @@
 pub mod app;
 pub mod exploration;
 pub mod follow;
+pub mod history;
 pub mod motion;
 pub mod params;
 pub mod picker;
 pub mod prompt;
 pub mod sweeps;
 
-pub use app::{App, Discard, Drag, Ending, Look, Mode, Options, Palette, SavePolicy, UNDO_LIMIT};
+pub use app::{App, Discard, Drag, Ending, Look, Mode, Options, Palette, SavePolicy};
 pub use exploration::{Diagram, Exploration};
+pub use history::{History, UNDO_BYTES, UNDO_LIMIT};

@@ -9,7 +9,7 @@ use crate::solve::Method;
 use crate::tui::jobs::solve::SolveRequest;
 use crate::tui::state::app::sorted;
 use crate::tui::state::params::{Row, step};
-use crate::tui::state::{App, Diagram, Exploration, UNDO_LIMIT};
+use crate::tui::state::{App, Diagram, Exploration, History};
 
 use super::refresh_sweeps;
 
@@ -30,35 +30,27 @@ pub(super) fn clamp_selection(app: &mut App) {
 
 /// Keeps the current scene for undo, before it changes.
 pub(super) fn remember(app: &mut App) {
-    app.undo.push(app.exploration.scene.clone());
-    if app.undo.len() > UNDO_LIMIT {
-        app.undo.remove(0);
-    }
-    app.redo.clear();
+    app.history.remember(app.exploration.scene.clone());
 }
 
 /// Steps back (`undo`) or forward through the scenes.
 pub(super) fn undo_redo(app: &mut App, undo: bool) {
-    let (from, word) = if undo {
-        (&mut app.undo, "undone")
-    } else {
-        (&mut app.redo, "redone")
-    };
-    let Some(scene) = from.pop() else {
+    let word = if undo { "undone" } else { "redone" };
+    let Some(scene) = app.history.pop(undo) else {
         app.message = Some(format!("nothing to {}", if undo { "undo" } else { "redo" }));
         return;
     };
     match scene.validate(&app.exploration.source.to_string()) {
         Ok((problem, settings)) => {
             let current = std::mem::replace(&mut app.exploration.scene, scene);
-            if undo {
-                app.redo.push(current);
-            } else {
-                app.undo.push(current);
-            }
+            app.history.push(!undo, current);
             clamp_selection(app);
             request_solve(app, problem, settings);
-            let left = if undo { app.undo.len() } else { app.redo.len() };
+            let left = if undo {
+                app.history.undo_len()
+            } else {
+                app.history.redo_len()
+            };
             app.message = Some(format!("{word} ({left} more)"));
         }
         Err(e) => app.message = Some(format!("cannot restore: {e}")),
@@ -245,8 +237,7 @@ fn load(app: &mut App, loaded: LoadedScene) {
     let Ok(loaded) = sorted(loaded) else { return };
     let (problem, settings) = (loaded.problem.clone(), loaded.settings);
     app.saved = loaded.scene.clone();
-    app.undo.clear();
-    app.redo.clear();
+    app.history = History::default();
     app.zoom = false;
     // The last solve and sweeps stay, drawn as out of date until the new ones arrive.
     let shown = app.exploration.shown.take();

@@ -1,0 +1,287 @@
+//! `beamfric serve` against a hostile client (issue 22), through real SSH on loopback: silent
+//! connections, a flood of window changes, a burst of keys on a 4000-obstacle scene, a client
+//! that never reads, and options that could break the server. Each waits on conditions with
+//! generous deadlines; how fast the server recovers is measured by `cargo bench --bench
+//! attacks`.
+
+#![cfg(unix)]
+
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use beamfric::serve::admission::WAITING_CAP;
+use beamfric::serve::{ServeOptions, Server};
+use russh::client::KeyboardInteractiveAuthResponse;
+
+use crate::harness::ssh::{
+    Explorer, connect, disconnect, logged_in, logged_in_with, runtime, user_key,
+};
+use crate::harness::wait::eventually;
+
+fn options(dir: &tempfile::TempDir) -> ServeOptions {
+    ServeOptions {
+        listen: "127.0.0.1:0".into(),
+        host_key: Some(dir.path().join("host_key")),
+        open: true,
+        ..ServeOptions::default()
+    }
+}
+
+/// Ends the connection as a client that goes away does, without waiting on a client whose
+/// own buffers are full.
+async fn hang_up(handle: russh::client::Handle<crate::harness::ssh::TrustingClient>) {
+    let _ = tokio::time::timeout(Duration::from_secs(1), disconnect(&handle)).await;
+    drop(handle);
+}
+
+/// A scene file of `k` obstacles on Benchmark 3's beam at 10⁴ elements (condensed).
+fn many_obstacles(dir: &tempfile::TempDir, k: usize) -> String {
+    let mut text = String::from(
+        "title = \"Many\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\nsection = { shape = \
+         \"circle\", radius = 0.01 }\n[load]\nf0 = 1e5\nf1 = 1.5e5\n",
+    );
+    for i in 0..k {
+        let x = (i + 1) as f64 / (k + 1) as f64;
+        text.push_str(&format!(
+            "[[obstacle]]\nx = {x:.12}\nsliding = 20\nswivel = 5\n"
+        ));
+    }
+    text.push_str("[mesh]\nelements = 10000\n[solver]\nmethod = \"condensed\"\n");
+    let path = dir.path().join("many.toml");
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn three_hundred_silent_connections_do_not_keep_a_student_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&options(&dir)).unwrap();
+    let silent: Vec<TcpStream> = (0..300)
+        .map(|_| TcpStream::connect(server.address()).unwrap())
+        .collect();
+    eventually("the server saw the silent connections", || {
+        server.waiting_to_log_in() == WAITING_CAP
+    });
+    // The student gets in at the first attempt while every silent connection is still open
+    // (the oldest made room for the newest, and the student is the newest).
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (80, 24), &[]).await;
+        explorer.wait_for("Parameters").await;
+    });
+    assert!(server.waiting_to_log_in() <= WAITING_CAP);
+    drop(silent);
+    eventually("the silent connections are gone", || {
+        server.waiting_to_log_in() == 0
+    });
+}
+
+#[test]
+fn a_flood_of_window_changes_then_a_hangup_ends_the_session_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&options(&dir)).unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        let start = Instant::now();
+        let mut changes = 0u32;
+        while start.elapsed() < Duration::from_secs(2) {
+            let (w, h) = if changes.is_multiple_of(2) {
+                (1000, 500)
+            } else {
+                (999, 499)
+            };
+            // This client does not read meanwhile: its own buffers may fill and hold it up.
+            let change = explorer.channel.window_change(w, h, 0, 0);
+            if let Ok(sent) = tokio::time::timeout(Duration::from_millis(100), change).await {
+                sent.unwrap();
+                changes += 1;
+            }
+        }
+        assert!(changes > 100, "{changes} window changes");
+        hang_up(handle).await;
+    });
+    // Nothing queued behind the hang-up is applied: the session and its workers are gone.
+    eventually("the session ended", || server.sessions() == 0);
+}
+
+#[test]
+fn a_burst_of_keys_at_four_thousand_obstacles_then_a_hangup_ends_the_session_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = many_obstacles(&dir, 4000);
+    let server = Server::start(&ServeOptions {
+        scene,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        // 32 000 bytes, within the input budget: each a change of the scene, the first one up.
+        let mut burst = b"]".to_vec();
+        burst.extend(b"][".repeat(15_999));
+        burst.push(b'[');
+        explorer.send(&burst).await;
+        // A frame after the first keys: the burst has arrived and is being applied.
+        let deadline = crate::harness::wait::deadline();
+        while explorer.text().contains("load f0 (x=0)  1.0e5") {
+            assert!(explorer.read_once(deadline).await, "{}", explorer.text());
+            assert!(
+                Instant::now() < deadline,
+                "no key applied: {}",
+                explorer.text()
+            );
+        }
+        hang_up(handle).await;
+    });
+    eventually("the session ended", || server.sessions() == 0);
+}
+
+/// The resident memory of this process, in KiB.
+fn resident_kib() -> u64 {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .unwrap()
+}
+
+#[test]
+fn a_client_that_never_reads_holds_bounded_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&options(&dir)).unwrap();
+    let before = resident_kib();
+    let mut peak = before;
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let explorer = Explorer::open(&handle, (200, 60), &[]).await;
+        // Window changes and keys, and never a read: the client's own buffers fill up, and
+        // so would the server's if it kept every frame.
+        let start = Instant::now();
+        let mut round = 0u32;
+        while start.elapsed() < Duration::from_secs(5) {
+            let (w, h) = if round.is_multiple_of(2) {
+                (1000, 500)
+            } else {
+                (999, 499)
+            };
+            let change = explorer.channel.window_change(w, h, 0, 0);
+            let _ = tokio::time::timeout(Duration::from_millis(100), change).await;
+            let key = explorer.channel.data_bytes(b"l".to_vec());
+            let _ = tokio::time::timeout(Duration::from_millis(100), key).await;
+            round += 1;
+            if round.is_multiple_of(50) {
+                peak = peak.max(resident_kib());
+            }
+        }
+        peak = peak.max(resident_kib());
+        hang_up(handle).await;
+    });
+    // Before the output was bounded, such a client grew the server by over 128 MB. The frames
+    // kept for it now are a few at 500 × 200 cells at most.
+    let grown = peak.saturating_sub(before);
+    assert!(grown < 96 * 1024, "the server grew by {grown} KiB");
+    eventually("the session ended", || server.sessions() == 0);
+}
+
+#[test]
+fn numeric_options_out_of_range_are_refused_and_no_host_key_is_left_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    for (options, words) in [
+        (
+            ServeOptions {
+                idle_timeout: Some(Duration::from_secs(u64::MAX)),
+                ..options(&dir)
+            },
+            "--idle-timeout 18446744073709551615: at most 604800 s",
+        ),
+        (
+            ServeOptions {
+                max_sessions: 0,
+                ..options(&dir)
+            },
+            "--max-sessions 0: must be from 1 to 4096",
+        ),
+        (
+            ServeOptions {
+                max_elements: 0,
+                ..options(&dir)
+            },
+            "--max-elements 0: must be at least 1",
+        ),
+    ] {
+        let error = Server::start(&options).err().expect("refused").to_string();
+        assert!(error.contains(words), "{error}");
+    }
+    // A start that fails (the port is taken) writes no host key.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let failed = Server::start(&ServeOptions {
+        listen: taken.local_addr().unwrap().to_string(),
+        ..options(&dir)
+    });
+    assert!(failed.is_err());
+    assert!(!dir.path().join("host_key").exists());
+}
+
+#[test]
+fn open_with_presenter_keys_lets_students_in_without_a_password_and_the_key_presents() {
+    let dir = tempfile::tempdir().unwrap();
+    let presenter_key = user_key(7);
+    let presenters = dir.path().join("presenters");
+    std::fs::write(
+        &presenters,
+        presenter_key.public_key().to_openssh().unwrap(),
+    )
+    .unwrap();
+    let server = Server::start(&ServeOptions {
+        presenter_keys: Some(presenters.clone()),
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let lecturer = logged_in_with(server.address(), "lecturer", presenter_key).await;
+        let mut presenter = Explorer::open(&lecturer, (120, 40), &[]).await;
+        presenter.wait_for("presenting").await;
+        // A student with no key and no password: keyboard-interactive asks nothing.
+        let mut student = connect(server.address()).await;
+        let answer = student
+            .authenticate_keyboard_interactive_start("student", None)
+            .await
+            .unwrap();
+        assert!(
+            matches!(answer, KeyboardInteractiveAuthResponse::Success),
+            "{answer:?}"
+        );
+        let mut follower = Explorer::open(&student, (120, 40), &[]).await;
+        follower.wait_for("following the presenter").await;
+    });
+    // --open says anyone; a password file or student keys say who: not both.
+    let password = dir.path().join("password");
+    std::fs::write(&password, "secret\n").unwrap();
+    std::fs::set_permissions(
+        &password,
+        std::os::unix::fs::PermissionsExt::from_mode(0o600),
+    )
+    .unwrap();
+    let error = Server::start(&ServeOptions {
+        password_file: Some(password),
+        ..options(&dir)
+    })
+    .err()
+    .expect("refused")
+    .to_string();
+    assert!(error.contains("--open lets anyone log in"), "{error}");
+    // Presenter keys alone let no student in: refused with what to add.
+    let error = Server::start(&ServeOptions {
+        presenter_keys: Some(presenters),
+        open: false,
+        ..options(&dir)
+    })
+    .err()
+    .expect("refused")
+    .to_string();
+    assert!(error.contains("--presenter-keys alone"), "{error}");
+}
