@@ -1,22 +1,27 @@
 //! How long a replaced solve keeps its core: for every method on its worst scene, a solve runs
 //! on a thread, its `Cancellation` is triggered after a delay, and the time from the cancel to
-//! `solve`'s return is measured. A measured harness, not a test:
-//! `cargo bench --bench cancel [-- FILTER… --repeats N --cap SECONDS]` (release build).
+//! `solve`'s return is measured. A measured harness, not a test: `cargo bench --bench cancel
+//! [-- FILTER… --repeats N --sweep N --span S --cap S --condition off|auto|full]` (release
+//! build).
 //!
 //! Delays are counted in the solving thread's CPU time (not wall time), so that on a busy
-//! machine a delay still lands in the same phase of the solve: 50 ms, 200 ms, 1 s, and 30 %,
-//! 60 %, 90 % and 97 % of the uncancelled solve's CPU time (measured first, cut at `--cap`,
-//! default 60 s; a solve longer than that gets 3 s, 10 s and 30 s instead). Each delay is
-//! repeated (`--repeats`, default 3). Reported per delay: the latency from the cancel to the
-//! return, in wall time and in the solving thread's CPU time, median and max — the CPU time is
-//! what the solve takes from its core after the cancel, whatever else the machine runs.
+//! machine a delay still lands in the same phase of the solve. First the uncancelled solve's
+//! CPU time T is measured (cut at `--cap` seconds, default 60). Then: 50 ms, 200 ms and 1 s,
+//! each repeated (`--repeats`, default 3), and a sweep of `--sweep` delays (default 24, one
+//! solve each) evenly spread over the first min(T, `--span`) seconds (default 10), so that
+//! every phase of the solve is hit. Reported: the latency from the cancel to the return, in
+//! wall time and in the solving thread's CPU time, median and max — the CPU time is what the
+//! solve takes from its core after the cancel, whatever else the machine runs (its wall time
+//! also counts waiting for a core).
 //!
 //! The scenes: 511 obstacles (the dense methods' limit is 512) on the meshes where each method
 //! is slowest (n = 1000 for the stiffness route, whose rounding makes the box QP hard there;
-//! n = 2001, N = 4000 unknowns, for `dual-inverse`'s dense inverse) and on 10⁷ elements
-//! (the largest mesh: the O(n) stages); 6 obstacles for the enumeration (9⁶ cases, its limit),
-//! 4000 obstacles for `condensed`, Benchmark 1 for the closed form. Every solve runs with
-//! the default options (condition numbers `auto`, the reference error).
+//! n = 2001, N = 4000 unknowns, for `dual-inverse`'s dense inverse), on 10⁵ elements (where
+//! rounding makes `dual`'s K indefinite: its LU route) and on 10⁷ elements (the largest mesh:
+//! the O(n) stages); 6 obstacles for the enumeration (9⁶ cases, its limit), 4000 obstacles for
+//! `condensed`, Benchmark 1 for the closed form. The options are the defaults of
+//! `beamfric solve` (condition numbers `auto`, the reference error) unless `--condition`
+//! says otherwise.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -26,7 +31,7 @@ use std::time::{Duration, Instant};
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
 use beamfric::scene::{ObstacleSpec, Scene, preset};
-use beamfric::solve::{Cancellation, Method, SolveErrorKind, SolveOptions, solve};
+use beamfric::solve::{Cancellation, ConditionLevel, Method, SolveErrorKind, SolveOptions, solve};
 use nix::libc;
 
 /// A scene of the harness: a method on a problem and a mesh size.
@@ -112,6 +117,7 @@ fn cases() -> Vec<Case> {
     let six = crowded(6);
     vec![
         case(Method::Dual, &dense, 1000),
+        case(Method::Dual, &dense, 100_000),
         case(Method::Dual, &dense, 10_000_000),
         case(Method::DualInverse, &dense, 2001),
         case(Method::Flexibility, &dense, 1000),
@@ -156,9 +162,10 @@ struct Run {
     outcome: &'static str,
 }
 
-fn run(case: &Case, mesh: &Mesh, delay: Option<Duration>) -> Run {
+fn run(case: &Case, mesh: &Mesh, delay: Option<Duration>, condition: ConditionLevel) -> Run {
     let newest = Arc::new(AtomicU64::new(1));
     let options = SolveOptions {
+        condition,
         cancel: Cancellation::watching(Arc::clone(&newest), 1),
         ..SolveOptions::default()
     };
@@ -217,21 +224,36 @@ fn ms(d: Duration) -> String {
 struct Settings {
     filters: Vec<String>,
     repeats: usize,
+    sweep: usize,
+    span: Duration,
     cap: Duration,
+    condition: ConditionLevel,
 }
 
 fn settings() -> Settings {
     let mut settings = Settings {
         filters: Vec::new(),
         repeats: 3,
+        sweep: 24,
+        span: Duration::from_secs(10),
         cap: Duration::from_secs(60),
+        condition: ConditionLevel::Auto,
     };
     let mut args = std::env::args().skip(1);
+    let value = |args: &mut std::iter::Skip<std::env::Args>| args.next().unwrap();
     while let Some(arg) = args.next() {
+        let seconds = |text: String| Duration::from_secs_f64(text.parse().unwrap());
         match arg.as_str() {
-            "--repeats" => settings.repeats = args.next().unwrap().parse().unwrap(),
-            "--cap" => {
-                settings.cap = Duration::from_secs_f64(args.next().unwrap().parse().unwrap())
+            "--repeats" => settings.repeats = value(&mut args).parse().unwrap(),
+            "--sweep" => settings.sweep = value(&mut args).parse().unwrap(),
+            "--span" => settings.span = seconds(value(&mut args)),
+            "--cap" => settings.cap = seconds(value(&mut args)),
+            "--condition" => {
+                let name = value(&mut args);
+                settings.condition = ConditionLevel::ALL
+                    .into_iter()
+                    .find(|level| level.name() == name)
+                    .unwrap_or_else(|| panic!("no condition level {name}"));
             }
             // What `cargo bench` passes to every bench target.
             "--bench" => {}
@@ -241,9 +263,39 @@ fn settings() -> Settings {
     settings
 }
 
+/// One row of the table: the latencies of `runs` cancelled after `label`.
+fn row(label: &str, runs: &[(Duration, Run)]) -> (Duration, Duration) {
+    let latencies: Vec<(Duration, Duration)> = runs.iter().filter_map(|r| r.1.latency).collect();
+    let mut outcomes: Vec<&str> = runs.iter().map(|r| r.1.outcome).collect();
+    outcomes.sort();
+    outcomes.dedup();
+    if latencies.is_empty() {
+        println!("| {label} | – | – | – | – | {} |", outcomes.join(", "));
+        return (Duration::ZERO, Duration::ZERO);
+    }
+    let (wall_median, wall_max) = median_max(latencies.iter().map(|l| l.0).collect());
+    let (cpu_median, cpu_max) = median_max(latencies.iter().map(|l| l.1).collect());
+    // Where the slowest cancel came.
+    let slowest = runs
+        .iter()
+        .filter_map(|(delay, r)| r.latency.map(|l| (l.1, *delay)))
+        .max()
+        .map_or(0.0, |(_, delay)| delay.as_secs_f64() * 1e3);
+    println!(
+        "| {label} | {} | {} | {} | {} (at {slowest:.0}) | {} |",
+        ms(wall_median),
+        ms(wall_max),
+        ms(cpu_median),
+        ms(cpu_max),
+        outcomes.join(", ")
+    );
+    (wall_max, cpu_max)
+}
+
 fn measure(case: &Case, settings: &Settings) {
     let mesh = Mesh::new(&case.problem, case.elements);
-    let baseline = run(case, &mesh, Some(settings.cap));
+    let solve_after = |delay: Duration| (delay, run(case, &mesh, Some(delay), settings.condition));
+    let baseline = run(case, &mesh, Some(settings.cap), settings.condition);
     let whole = (baseline.latency.is_none()).then_some(baseline.cpu);
     match whole {
         Some(cpu) => println!(
@@ -259,47 +311,28 @@ fn measure(case: &Case, settings: &Settings) {
             ms(baseline.latency.unwrap().1)
         ),
     }
-    let mut delays: Vec<Duration> = [50, 200, 1000].map(Duration::from_millis).to_vec();
-    match whole {
-        Some(cpu) => delays.extend([0.3, 0.6, 0.9, 0.97].map(|f| cpu.mul_f64(f))),
-        None => delays.extend([3, 10, 30].map(Duration::from_secs)),
-    }
-    delays.sort();
-    println!("| delay (CPU ms) | wall median | wall max | CPU median | CPU max | outcomes |");
+    let total = whole.unwrap_or(settings.cap);
+    println!(
+        "| delay (CPU ms) | wall median | wall max | CPU median | CPU max (at delay) | outcomes |"
+    );
     println!("|---:|---:|---:|---:|---:|---|");
     let mut worst = (Duration::ZERO, Duration::ZERO);
-    for delay in delays {
-        if whole.is_some_and(|cpu| delay >= cpu) {
+    for delay in [50, 200, 1000].map(Duration::from_millis) {
+        if delay >= total {
             continue;
         }
-        let runs: Vec<Run> = (0..settings.repeats)
-            .map(|_| run(case, &mesh, Some(delay)))
-            .collect();
-        let latencies: Vec<(Duration, Duration)> = runs.iter().filter_map(|r| r.latency).collect();
-        let mut outcomes: Vec<&str> = runs.iter().map(|r| r.outcome).collect();
-        outcomes.sort();
-        outcomes.dedup();
-        if latencies.is_empty() {
-            println!(
-                "| {} | – | – | – | – | {} |",
-                ms(delay),
-                outcomes.join(", ")
-            );
-            continue;
-        }
-        let (wall_median, wall_max) = median_max(latencies.iter().map(|l| l.0).collect());
-        let (cpu_median, cpu_max) = median_max(latencies.iter().map(|l| l.1).collect());
-        worst = (worst.0.max(wall_max), worst.1.max(cpu_max));
-        println!(
-            "| {} | {} | {} | {} | {} | {} |",
-            ms(delay),
-            ms(wall_median),
-            ms(wall_max),
-            ms(cpu_median),
-            ms(cpu_max),
-            outcomes.join(", ")
-        );
+        let runs: Vec<(Duration, Run)> =
+            (0..settings.repeats).map(|_| solve_after(delay)).collect();
+        let (wall, cpu) = row(&ms(delay), &runs);
+        worst = (worst.0.max(wall), worst.1.max(cpu));
     }
+    let span = total.min(settings.span);
+    let runs: Vec<(Duration, Run)> = (0..settings.sweep)
+        .map(|i| solve_after(span.mul_f64((i as f64 + 0.5) / settings.sweep as f64)))
+        .collect();
+    let label = format!("sweep of {} over {} ms", settings.sweep, span.as_millis());
+    let (wall, cpu) = row(&label, &runs);
+    worst = (worst.0.max(wall), worst.1.max(cpu));
     println!(
         "{}: worst latency {} ms wall, {} ms CPU\n",
         case.name,
