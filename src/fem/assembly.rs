@@ -12,6 +12,7 @@
 use super::element::{element_load, element_stiffness};
 use super::mesh::Mesh;
 use crate::linalg::BlockMatrix;
+use crate::linalg::stop::{NEVER, Stop, Stopped};
 use crate::model::Problem;
 
 /// The blocks of one element matrix: left-left, left-right and right-right.
@@ -70,6 +71,16 @@ impl BlockMatrix for StiffnessMatrix<'_> {
 /// b of (38) by node, ends included (as zeros): (∫ f φ_u, ∫ f φ_u') at every node. Integrated
 /// exactly for the linear load.
 pub fn load_vector(problem: &Problem, mesh: &Mesh) -> (Vec<f64>, Vec<f64>) {
+    load_vector_until(problem, mesh, NEVER).expect("never stopped")
+}
+
+/// [`load_vector`], giving up when `stop` says so (asked every 2¹⁶ elements: 10⁷ elements
+/// are most of a second with the fresh memory).
+pub fn load_vector_until(
+    problem: &Problem,
+    mesh: &Mesh,
+    stop: Stop,
+) -> Result<(Vec<f64>, Vec<f64>), Stopped> {
     let n = mesh.elements();
     let mut u = vec![0.0; n + 1];
     let mut du = vec![0.0; n + 1];
@@ -77,6 +88,9 @@ pub fn load_vector(problem: &Problem, mesh: &Mesh) -> (Vec<f64>, Vec<f64>) {
         let h = mesh.element_length(piece);
         let mut fa = problem.load_at(mesh.nodes[piece.first_node]);
         for e in piece.first_node..piece.last_node {
+            if e % (1 << 16) == 0 && stop() {
+                return Err(Stopped);
+            }
             let fb = problem.load_at(mesh.nodes[e + 1]);
             let load = element_load(h, fa, fb);
             u[e] += load[0];
@@ -90,7 +104,7 @@ pub fn load_vector(problem: &Problem, mesh: &Mesh) -> (Vec<f64>, Vec<f64>) {
     du[0] = 0.0;
     u[n] = 0.0;
     du[n] = 0.0;
-    (u, du)
+    Ok((u, du))
 }
 
 /// The stationarity part of the KKT conditions of (38): ‖A c − b + Bᵀλ‖∞ together with the

@@ -7,6 +7,7 @@ use super::element::{element_stiffness, unit_hermite};
 use super::mesh::Mesh;
 use crate::linalg::BlockTridiagonal;
 use crate::linalg::condition::{ConditionKind, ConditionNumber, smallest_rayleigh_quotient};
+use crate::linalg::stop::{NEVER, Stop, Stopped};
 
 /// Coarse elements per mesh piece in the Rayleigh–Ritz space of
 /// [`stiffness_condition_bounds`].
@@ -28,10 +29,20 @@ const COARSE_PER_PIECE: usize = 4;
 pub fn stiffness_condition_bounds(
     mesh: &Mesh,
 ) -> (Option<ConditionNumber>, Option<ConditionNumber>) {
+    stiffness_condition_bounds_until(mesh, NEVER).expect("never stopped")
+}
+
+/// [`stiffness_condition_bounds`], giving up when `stop` says so (asked every
+/// [`NODES_BETWEEN_QUESTIONS`] fine nodes of the sums over them: 10⁷ nodes are a tenth of a
+/// second).
+pub fn stiffness_condition_bounds_until(
+    mesh: &Mesh,
+    stop: Stop,
+) -> Result<(Option<ConditionNumber>, Option<ConditionNumber>), Stopped> {
     let coarse = CoarseMesh::of(mesh);
     let sides = diagonal_sides(mesh);
     let (largest, largest_scaled) = largest_eigenvalue_bounds(mesh, &sides);
-    let forms = coarse.forms(mesh, &sides);
+    let forms = coarse.forms(mesh, &sides, stop)?;
     // No bound at all rather than a made-up one when the coarse problem fails.
     let lower_bound = |largest: f64, mass: &BlockTridiagonal| {
         let smallest = smallest_rayleigh_quotient(&forms.stiffness, mass);
@@ -41,11 +52,14 @@ pub fn stiffness_condition_bounds(
             kind: ConditionKind::LowerBound,
         })
     };
-    (
+    Ok((
         lower_bound(largest, &forms.plain),
         lower_bound(largest_scaled, &forms.weighted),
-    )
+    ))
 }
+
+/// Fine nodes summed between two questions to `stop`: about a millisecond.
+const NODES_BETWEEN_QUESTIONS: usize = 1 << 16;
 
 /// The coarse mesh of the Rayleigh–Ritz space: every piece boundary and a few fine nodes inside
 /// each piece; each coarse element lies in one piece.
@@ -147,7 +161,7 @@ impl CoarseMesh {
 
     /// The coarse stiffness form (the element stiffness of every coarse element: exact, the
     /// vectors are cubic on every fine element) and the two mass forms.
-    fn forms(&self, mesh: &Mesh, sides: &[(f64, f64)]) -> CoarseForms {
+    fn forms(&self, mesh: &Mesh, sides: &[(f64, f64)], stop: Stop) -> Result<CoarseForms, Stopped> {
         let interior = self.nodes.len() - 2;
         let empty = || BlockTridiagonal {
             diag: vec![[0.0; 3]; interior],
@@ -164,7 +178,7 @@ impl CoarseMesh {
                 e,
                 &element_stiffness(piece.bending_stiffness, length),
             );
-            let sums = fine_sums(mesh, (first, end), piece.first_node);
+            let sums = fine_sums(mesh, (first, end), piece.first_node, stop)?;
             // Inside a piece D is constant; the piece's first node also sees the previous
             // piece.
             let p = self.piece[e];
@@ -181,11 +195,11 @@ impl CoarseMesh {
                 &sums.form(inner.0, inner.1, at_first.0, at_first.1),
             );
         }
-        CoarseForms {
+        Ok(CoarseForms {
             stiffness: g,
             plain,
             weighted,
-        }
+        })
     }
 }
 
@@ -217,12 +231,20 @@ fn add_element_form(matrix: &mut BlockTridiagonal, interior: usize, e: usize, k:
 /// Σ N Nᵀ and Σ N' N'ᵀ over the fine nodes `first..end` of one coarse element (the left end
 /// belongs here; the supports have no DOFs), N the coarse Hermite basis ([`unit_hermite`]);
 /// the node `piece_first` (its mesh piece's first node) apart.
-fn fine_sums(mesh: &Mesh, (first, end): (usize, usize), piece_first: usize) -> FineSums {
+fn fine_sums(
+    mesh: &Mesh,
+    (first, end): (usize, usize),
+    piece_first: usize,
+    stop: Stop,
+) -> Result<FineSums, Stopped> {
     let last = mesh.elements();
     let (a, length) = (mesh.nodes[first], mesh.nodes[end] - mesh.nodes[first]);
     let mut sums = FineSums::default();
     let inv = 1.0 / length;
     for node in first.max(1)..end.min(last) {
+        if node % NODES_BETWEEN_QUESTIONS == 0 && stop() {
+            return Err(Stopped);
+        }
         let xi = (mesh.nodes[node] - a) * inv;
         let (shape, shape_slope, _, _) = unit_hermite(xi);
         let n = [shape[0], length * shape[1], shape[2], length * shape[3]];
@@ -244,5 +266,5 @@ fn fine_sums(mesh: &Mesh, (first, end): (usize, usize), piece_first: usize) -> F
             }
         }
     }
-    sums
+    Ok(sums)
 }

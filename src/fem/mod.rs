@@ -10,8 +10,8 @@ mod conditioning;
 mod element;
 mod mesh;
 
-pub use assembly::{StiffnessMatrix, kkt_stationarity, load_vector};
-pub use conditioning::stiffness_condition_bounds;
+pub use assembly::{StiffnessMatrix, kkt_stationarity, load_vector, load_vector_until};
+pub use conditioning::{stiffness_condition_bounds, stiffness_condition_bounds_until};
 pub use element::{element_load, element_stiffness, hermite_basis};
 pub use mesh::{Mesh, MeshPiece};
 

@@ -10,6 +10,9 @@
 //! numbers per node (the pivot inverses). A general sparse Cholesky (faer) does the same work
 //! with more bookkeeping and memory; `benches/solve.rs` measures the difference.
 //!
+//! At 10⁷ elements a sweep is most of a second: the `_until` variants ask the caller's `stop`
+//! every [`BLOCKS_BETWEEN_QUESTIONS`] blocks of every stretch (`linalg::stop`).
+//!
 //! In exact arithmetic every pivot is positive definite. When rounding of A's entries has
 //! destroyed that (cond(A)·eps ≳ 1, around n = 10⁶ for the paper's beam), the elimination goes
 //! on with the indefinite pivot — like the paper's sparse LU would — and reports where it
@@ -17,9 +20,13 @@
 
 use super::BlockMatrix;
 use super::parallel::run_jobs;
+use super::stop::{NEVER, Stop, Stopped};
 use super::two_by_two::{
     Mat, Sym, mul, mul_vec, neg, sym_inverse, sym_mul, sym_vec, tmul_sym, tmul_vec,
 };
+
+/// Blocks eliminated or substituted between two questions to `stop`: about a millisecond.
+const BLOCKS_BETWEEN_QUESTIONS: usize = 1 << 16;
 
 /// The factorization broke down: a pivot is singular or not finite.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,6 +101,17 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
         u: &mut [f64],
         t: &mut [f64],
     ) -> Result<(Self, Vec<f64>), Breakdown> {
+        Self::with_rhs_until(matrix, boundary, (u, t), NEVER).expect("never stopped")
+    }
+
+    /// [`with_rhs`](Self::with_rhs), giving up when `stop` says so (asked every
+    /// [`BLOCKS_BETWEEN_QUESTIONS`] blocks).
+    pub fn with_rhs_until(
+        matrix: M,
+        boundary: &[usize],
+        (u, t): (&mut [f64], &mut [f64]),
+        stop: Stop,
+    ) -> Result<Result<(Self, Vec<f64>), Breakdown>, Stopped> {
         let m = matrix.blocks();
         let k = boundary.len();
         let stretches: Vec<Stretch> = (0..=k)
@@ -141,7 +159,7 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
             run_jobs(
                 jobs,
                 |(s, ..)| s.end.saturating_sub(s.first),
-                |(s, p, u, t)| eliminate(matrix, boundary, s, p, u.zip(t)),
+                |(s, p, u, t)| eliminate(matrix, boundary, s, p, u.zip(t), stop),
             )
         };
         let mut factor = FrictionLastFactor {
@@ -152,8 +170,15 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
             schur,
             first_indefinite: None,
         };
+        if results.iter().any(|r| r.is_err()) {
+            return Err(Stopped);
+        }
         for (stretch, result) in factor.stretches.clone().iter().zip(results) {
-            let r = result?;
+            let r = match result {
+                Ok(Ok(r)) => r,
+                Ok(Err(breakdown)) => return Ok(Err(breakdown)),
+                Err(Stopped) => return Err(Stopped),
+            };
             if let Some(li) = stretch.left {
                 factor.add_schur(li, li, r.left_left);
                 condensed[2 * li] += r.load_left[0];
@@ -174,7 +199,7 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
         if !has_rhs {
             condensed.iter_mut().for_each(|v| *v = 0.0);
         }
-        Ok((factor, condensed))
+        Ok(Ok((factor, condensed)))
     }
 
     fn add_schur(&mut self, row: usize, col: usize, value: Mat) {
@@ -248,6 +273,19 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
     /// `boundary_values` the solution on the friction DOFs (2k). On return they hold the full
     /// solution.
     pub fn backward(&self, u: &mut [f64], t: &mut [f64], boundary_values: &[f64]) {
+        self.backward_until(u, t, boundary_values, NEVER)
+            .expect("never stopped");
+    }
+
+    /// [`backward`](Self::backward), giving up when `stop` says so (asked every
+    /// [`BLOCKS_BETWEEN_QUESTIONS`] blocks); `u` and `t` then hold partial values.
+    pub fn backward_until(
+        &self,
+        u: &mut [f64],
+        t: &mut [f64],
+        boundary_values: &[f64],
+        stop: Stop,
+    ) -> Result<(), Stopped> {
         for (j, &b) in self.boundary.iter().enumerate() {
             u[b] = boundary_values[2 * j];
             t[b] = boundary_values[2 * j + 1];
@@ -271,30 +309,31 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
             .zip(split_by_stretch(t, &self.stretches))
             .map(|(((s, e), u), t)| (*s, e, u, t))
             .collect();
-        run_jobs(
+        let results = run_jobs(
             jobs,
             |(s, ..)| s.end.saturating_sub(s.first),
             |(s, [left_value, right_value], u, t)| {
-                self.back_substitute(s, left_value, right_value, u, t)
+                self.back_substitute(s, [left_value, right_value], (u, t), stop)
             },
         );
+        results.into_iter().collect()
     }
 
     /// Back substitution on one stretch; `u`, `t` hold its blocks only.
     fn back_substitute(
         &self,
         stretch: Stretch,
-        left_value: Option<[f64; 2]>,
-        right_value: Option<[f64; 2]>,
-        u: &mut [f64],
-        t: &mut [f64],
-    ) {
+        [left_value, right_value]: [Option<[f64; 2]>; 2],
+        (u, t): (&mut [f64], &mut [f64]),
+        stop: Stop,
+    ) -> Result<(), Stopped> {
         let Stretch {
             left, first, end, ..
         } = stretch;
         if first >= end {
-            return;
+            return Ok(());
         }
+        let asked = |j: usize| j.is_multiple_of(BLOCKS_BETWEEN_QUESTIONS) && stop();
         let last = end - first - 1;
         let pivots = &self.pivots[first..end];
         // The known left value enters each eliminated equation through the forward sweep.
@@ -302,6 +341,9 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
             let d = tmul_vec(self.matrix.upper(self.boundary[li]), value);
             let mut delta = [-d[0], -d[1]];
             for j in 0..=last {
+                if asked(j) {
+                    return Err(Stopped);
+                }
                 u[j] += delta[0];
                 t[j] += delta[1];
                 if j < last {
@@ -319,10 +361,14 @@ impl<M: BlockMatrix + Sync> FrictionLastFactor<M> {
         let mut next = sym_vec(pivots[last], [u[last], t[last]]);
         [u[last], t[last]] = next;
         for j in (0..last).rev() {
+            if asked(j) {
+                return Err(Stopped);
+            }
             let d = mul_vec(self.matrix.upper(first + j), next);
             next = sym_vec(pivots[j], [u[j] - d[0], t[j] - d[1]]);
             [u[j], t[j]] = next;
         }
+        Ok(())
     }
 
     /// Solves A x = rhs in place (friction DOFs included), with `schur_solve` solving
@@ -352,7 +398,8 @@ fn eliminate<M: BlockMatrix>(
     stretch: Stretch,
     pivots: &mut [Sym],
     mut rhs: Option<(&mut [f64], &mut [f64])>,
-) -> Result<StretchResult, Breakdown> {
+    stop: Stop,
+) -> Result<Result<StretchResult, Breakdown>, Stopped> {
     let Stretch {
         left,
         first,
@@ -365,7 +412,7 @@ fn eliminate<M: BlockMatrix>(
         if let (Some(li), Some(_)) = (left, right) {
             result.left_right = matrix.upper(boundary[li]);
         }
-        return Ok(result);
+        return Ok(Ok(result));
     }
     let mut pivot = matrix.diag(first);
     // Coupling between the left friction node (rows) and the current block (columns).
@@ -373,7 +420,12 @@ fn eliminate<M: BlockMatrix>(
     let mut corner = [0.0; 4];
     let last = end - 1;
     for i in first..=last {
-        let (inverse, definite) = sym_inverse(pivot).ok_or(Breakdown { block: i })?;
+        if (i - first) % BLOCKS_BETWEEN_QUESTIONS == 0 && stop() {
+            return Err(Stopped);
+        }
+        let Some((inverse, definite)) = sym_inverse(pivot) else {
+            return Ok(Err(Breakdown { block: i }));
+        };
         if !definite && result.first_indefinite.is_none() {
             result.first_indefinite = Some(i);
         }
@@ -422,7 +474,7 @@ fn eliminate<M: BlockMatrix>(
     if left.is_some() {
         result.left_left = corner;
     }
-    Ok(result)
+    Ok(Ok(result))
 }
 
 /// One step of the forward elimination of a right-hand side at local block `j` of a stretch

@@ -9,10 +9,15 @@
 //! reduced gradient projections) finds an active set and the primal method finishes from there.
 //! The problem is first scaled to unit diagonal, since S mixes deflection (m/N) and rotation
 //! (rad/(N m)) entries.
+//!
+//! At 2k = 1022 one Cholesky factorization of a free block is up to a second of work: the
+//! factorizations and the line search ask `stop` as they go (`linalg::stop`), not only once
+//! per iteration.
 
 mod mprgp;
 
 use super::dense::Cholesky;
+use super::stop::{Stop, Stopped};
 use mprgp::mprgp;
 
 /// Largest dimension solved by the active-set method alone.
@@ -43,9 +48,9 @@ pub struct QpResult {
 }
 
 /// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i (`h` row-major n×n SPD, `g` ≥ 0), giving up
-/// (unconverged) as soon as `stop` says so, checked once per iteration: the explorer cancels a
-/// solve whose result is no longer wanted.
-pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: &dyn Fn() -> bool) -> QpResult {
+/// (unconverged) as soon as `stop` says so, asked every millisecond or so of work: the explorer
+/// cancels a solve whose result is no longer wanted.
+pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> QpResult {
     let n = z.len();
     if n == 0 {
         return QpResult {
@@ -120,13 +125,7 @@ fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
 /// The primal active-set method from `start`: minimise on the face of the current free
 /// variables, stop at the first bound in the way, and release the bound with the worst
 /// multiplier once at the face's minimiser.
-fn active_set(
-    h: &[f64],
-    z: &[f64],
-    g: &[f64],
-    start: Vec<f64>,
-    stop: &dyn Fn() -> bool,
-) -> QpResult {
+fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>, stop: Stop) -> QpResult {
     let n = z.len();
     let mut x = start;
     let mut state = clamp_to_box(g, &mut x);
@@ -142,7 +141,8 @@ fn active_set(
         }
         let free: Vec<usize> = (0..n).filter(|&i| state[i] == BoundState::Free).collect();
         if !free.is_empty() {
-            let Some(minimiser) = face_minimiser(h, z, &x, &state, &free) else {
+            let Ok(Some(minimiser)) = face_minimiser(h, z, &x, &state, &free, stop) else {
+                // Not positive definite, or stopped.
                 return QpResult {
                     x,
                     state,
@@ -202,14 +202,15 @@ fn clamp_to_box(g: &[f64], x: &mut [f64]) -> Vec<BoundState> {
 }
 
 /// The minimiser over the `free` variables with the others held at their bounds; `None` if
-/// the free block of H is not positive definite.
+/// the free block of H is not positive definite, [`Stopped`] when `stop` said so.
 fn face_minimiser(
     h: &[f64],
     z: &[f64],
     x: &[f64],
     state: &[BoundState],
     free: &[usize],
-) -> Option<Vec<f64>> {
+    stop: Stop,
+) -> Result<Option<Vec<f64>>, Stopped> {
     let n = x.len();
     let m = free.len();
     let mut sub = vec![0.0; m * m];
@@ -224,9 +225,11 @@ fn face_minimiser(
                 .map(|j| h[i * n + j] * x[j])
                 .sum::<f64>();
     }
-    let factor = Cholesky::new(&sub, m)?;
+    let Some(factor) = Cholesky::factor_until(&sub, m, stop)? else {
+        return Ok(None);
+    };
     factor.solve_in_place(&mut rhs);
-    Some(rhs)
+    Ok(Some(rhs))
 }
 
 /// The longest feasible step of the free variables towards `minimiser`; returns the variable
@@ -300,12 +303,7 @@ const PROJECTED_NEWTON_MAX_STEPS: usize = 200;
 /// Cholesky solves where the primal active-set method needs one solve per bound. Returns the
 /// iterate at the first step that reached the minimiser of its face (the caller certifies it),
 /// with the number of steps, or `None` on a singular block or after too many steps.
-fn projected_newton(
-    h: &[f64],
-    z: &[f64],
-    g: &[f64],
-    stop: &dyn Fn() -> bool,
-) -> Option<(Vec<f64>, usize)> {
+fn projected_newton(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> Option<(Vec<f64>, usize)> {
     let n = z.len();
     let objective = |x: &[f64]| -> f64 {
         let hx: f64 = (0..n)
@@ -351,7 +349,8 @@ fn projected_newton(
                 }
                 rhs[a] = -grad[i];
             }
-            let factor = Cholesky::new(&sub, m)?;
+            // Singular, or stopped.
+            let factor = Cholesky::factor_until(&sub, m, stop).ok()??;
             factor.solve_in_place(&mut rhs);
             for (a, &i) in free.iter().enumerate() {
                 direction[i] = rhs[a];
@@ -363,6 +362,10 @@ fn projected_newton(
         let mut length = 1.0;
         let mut accepted = None;
         for _ in 0..60 {
+            // Each trial is n² multiply-adds: a millisecond at n = 1022.
+            if stop() {
+                return None;
+            }
             let trial: Vec<f64> = (0..n)
                 .map(|i| (x[i] + length * direction[i]).clamp(-g[i], g[i]))
                 .collect();

@@ -8,6 +8,7 @@ use faer::{Mat, Side};
 use serde::Serialize;
 
 use super::blocktri::FrictionLastFactor;
+use super::stop::{NEVER, Stop, Stopped};
 use super::{BlockMatrix, BlockTridiagonal};
 
 /// Largest N for which all eigenvalues are computed.
@@ -71,6 +72,41 @@ pub fn dense_extremes(a: &[f64], n: usize) -> Option<(f64, f64)> {
     Some((*values.first()?, *values.last()?))
 }
 
+/// From this size on faer's eigensolver is more than a few milliseconds of work in one call
+/// that cannot be interrupted (90 ms at n = 1022, the largest dual matrix).
+const EIGENSOLVER_ON_HELPER: usize = 256;
+
+/// [`dense_extremes`], stopping to wait when `stop` says so. From
+/// [`EIGENSOLVER_ON_HELPER`] on, faer's eigensolver runs on a helper thread while this one asks
+/// `stop` every millisecond: a cancelled caller returns at once, and the helper ends by itself
+/// when its one call is done (its answer is dropped). The numbers are faer's either way.
+fn dense_extremes_until(a: &[f64], n: usize, stop: Stop) -> Result<Option<(f64, f64)>, Stopped> {
+    use std::sync::mpsc::{RecvTimeoutError, channel};
+    if n < EIGENSOLVER_ON_HELPER {
+        return Ok(dense_extremes(a, n));
+    }
+    if stop() {
+        return Err(Stopped);
+    }
+    let (matrix, (tell, told)) = (a.to_vec(), channel());
+    let helper = std::thread::Builder::new()
+        .name("eigenvalues".into())
+        .spawn(move || tell.send(dense_extremes(&matrix, n)));
+    if helper.is_err() {
+        // No thread to be had: the call here, to the end.
+        return Ok(dense_extremes(a, n));
+    }
+    loop {
+        match told.recv_timeout(std::time::Duration::from_millis(1)) {
+            Ok(extremes) => return Ok(extremes),
+            Err(RecvTimeoutError::Timeout) if stop() => return Err(Stopped),
+            Err(RecvTimeoutError::Timeout) => {}
+            // The helper panicked: as if the eigensolver had failed.
+            Err(RecvTimeoutError::Disconnected) => return Ok(None),
+        }
+    }
+}
+
 /// How far above rounding (n·eps·λ_max, the eigensolver's absolute accuracy) λ_min must be for
 /// the condition number from the eigenvalues to be called exact (three digits).
 const RESOLVED_EIGENVALUE: f64 = 1e3;
@@ -82,27 +118,46 @@ const RESOLVED_EIGENVALUE: f64 = 1e3;
 /// λ_max / (max(λ_min, 0) + n·eps·λ_max) (`LowerBound`). `None` if an entry is not finite (the
 /// eigensolver would spin on it for seconds) or the eigensolver fails.
 pub fn dense_condition(a: &[f64], n: usize) -> Option<ConditionNumber> {
-    let (min, max) = dense_extremes(a, n)?;
+    dense_condition_until(a, n, NEVER).expect("never stopped")
+}
+
+/// [`dense_condition`], giving up when `stop` says so: between the eigensolver's calls and
+/// inside the Cholesky factorization and inverse (a second each at n = 1022; faer's
+/// eigensolver itself is one call, tens of milliseconds at that size).
+pub fn dense_condition_until(
+    a: &[f64],
+    n: usize,
+    stop: Stop,
+) -> Result<Option<ConditionNumber>, Stopped> {
+    let Some((min, max)) = dense_extremes_until(a, n, stop)? else {
+        return Ok(None);
+    };
     if !(max > 0.0 && max.is_finite()) {
-        return None;
+        return Ok(None);
     }
     let rounding = n as f64 * f64::EPSILON * max;
     if min > RESOLVED_EIGENVALUE * rounding {
-        return condition_from(min, max, ConditionKind::Exact);
+        return Ok(condition_from(min, max, ConditionKind::Exact));
     }
     let bound = ConditionNumber {
         value: max / (min.max(0.0) + rounding),
         kind: ConditionKind::LowerBound,
     };
-    let inverse = crate::linalg::dense::Cholesky::new(a, n).map(|c| c.inverse());
-    let estimate = inverse
-        .and_then(|inverse| dense_extremes(&inverse, n))
+    let inverse = match crate::linalg::dense::Cholesky::factor_until(a, n, stop)? {
+        Some(c) => Some(c.inverse_until(stop)?),
+        None => None,
+    };
+    let inverse_extremes = match inverse {
+        Some(inverse) => dense_extremes_until(&inverse, n, stop)?,
+        None => None,
+    };
+    let estimate = inverse_extremes
         .map(|(_, inverse_max)| max * inverse_max)
         .filter(|v| v.is_finite() && *v >= bound.value);
-    Some(estimate.map_or(bound, |value| ConditionNumber {
+    Ok(Some(estimate.map_or(bound, |value| ConditionNumber {
         value,
         kind: ConditionKind::Estimate,
-    }))
+    })))
 }
 
 fn condition_from(min: f64, max: f64, kind: ConditionKind) -> Option<ConditionNumber> {
@@ -145,30 +200,50 @@ pub fn jacobi_scaled(a: &BlockTridiagonal) -> BlockTridiagonal {
 /// a Lanczos estimate, or a lower bound when the matrix is not positive definite to working
 /// precision.
 pub fn block_condition(a: &BlockTridiagonal) -> Option<ConditionNumber> {
+    block_condition_until(a, NEVER).expect("never stopped")
+}
+
+/// [`block_condition`], giving up when `stop` says so, asked before every Lanczos step and
+/// around the factorization (each O(n)).
+pub fn block_condition_until(
+    a: &BlockTridiagonal,
+    stop: Stop,
+) -> Result<Option<ConditionNumber>, Stopped> {
     let n = 2 * a.blocks();
     if n <= DENSE_LIMIT {
-        return dense_condition(&a.to_dense(), n);
+        return dense_condition_until(&a.to_dense(), n, stop);
     }
-    let max = lanczos_largest(n, |v| flat_apply(a, v));
+    let max = lanczos_largest(n, |v| flat_apply(a, v), stop)?;
     // A is not positive definite in floating point: λ_min is below the factorization's
     // rounding, a few ulps of λ_max for a banded matrix, so cond(A) ≥ 1/(64 eps).
     let indefinite = Some(ConditionNumber {
         value: 1.0 / (64.0 * f64::EPSILON),
         kind: ConditionKind::LowerBound,
     });
+    if stop() {
+        return Err(Stopped);
+    }
     let Ok(factor) = FrictionLastFactor::new(a.clone(), &[]) else {
-        return indefinite;
+        return Ok(indefinite);
     };
     if factor.first_indefinite.is_some() {
-        return indefinite;
+        return Ok(indefinite);
     }
-    let inverse_max = lanczos_largest(n, |v| {
-        let mut u: Vec<f64> = v.iter().step_by(2).copied().collect();
-        let mut t: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
-        factor.solve(&mut u, &mut t, |_| Vec::new());
-        u.iter().zip(&t).flat_map(|(a, b)| [*a, *b]).collect()
-    });
-    condition_from(1.0 / inverse_max, max, ConditionKind::Estimate)
+    let inverse_max = lanczos_largest(
+        n,
+        |v| {
+            let mut u: Vec<f64> = v.iter().step_by(2).copied().collect();
+            let mut t: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
+            factor.solve(&mut u, &mut t, |_| Vec::new());
+            u.iter().zip(&t).flat_map(|(a, b)| [*a, *b]).collect()
+        },
+        stop,
+    )?;
+    Ok(condition_from(
+        1.0 / inverse_max,
+        max,
+        ConditionKind::Estimate,
+    ))
 }
 
 fn flat_apply(a: &BlockTridiagonal, v: &[f64]) -> Vec<f64> {
@@ -177,8 +252,13 @@ fn flat_apply(a: &BlockTridiagonal, v: &[f64]) -> Vec<f64> {
 }
 
 /// Largest eigenvalue of a symmetric operator by Lanczos without reorthogonalisation (the
-/// extreme Ritz value converges from below), deterministic start vector.
-fn lanczos_largest(n: usize, apply: impl Fn(&[f64]) -> Vec<f64>) -> f64 {
+/// extreme Ritz value converges from below), deterministic start vector; `stop` is asked
+/// before every step.
+fn lanczos_largest(
+    n: usize,
+    apply: impl Fn(&[f64]) -> Vec<f64>,
+    stop: Stop,
+) -> Result<f64, Stopped> {
     let steps = LANCZOS_STEPS.min(n);
     let mut v: Vec<f64> = (0..n)
         .map(|i| 1.0 + 0.5 * ((i as f64) * 0.618_033_988_75).fract())
@@ -189,6 +269,9 @@ fn lanczos_largest(n: usize, apply: impl Fn(&[f64]) -> Vec<f64>) -> f64 {
     let (mut alphas, mut betas) = (Vec::new(), Vec::new());
     let mut beta = 0.0;
     for _ in 0..steps {
+        if stop() {
+            return Err(Stopped);
+        }
         let mut w = apply(&v);
         let alpha: f64 = w.iter().zip(&v).map(|(a, b)| a * b).sum();
         for i in 0..n {
@@ -212,10 +295,10 @@ fn lanczos_largest(n: usize, apply: impl Fn(&[f64]) -> Vec<f64>) -> f64 {
             0.0
         }
     });
-    t.self_adjoint_eigenvalues(Side::Lower)
+    Ok(t.self_adjoint_eigenvalues(Side::Lower)
         .ok()
         .and_then(|v| v.last().copied())
-        .unwrap_or(f64::NAN)
+        .unwrap_or(f64::NAN))
 }
 
 /// Inverse-iteration steps of [`smallest_rayleigh_quotient`].

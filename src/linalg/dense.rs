@@ -1,7 +1,11 @@
 //! Dense Cholesky for the small SPD systems on the friction DOFs (size 2k ≤ 512): the
 //! Schur complement K, the cases of the regularised method and the subproblems of the QP.
 //! Row-major storage, no allocation beyond the factor; faer is used where matrices are large
-//! (the explicit inverse of `dual-inverse`, eigenvalues for condition numbers).
+//! (the explicit inverse of `dual-inverse`, eigenvalues for condition numbers). At 2k = 1022
+//! a factorization or an inverse is a second of work: the `_until` variants give up between
+//! columns when their `stop` says so (`linalg::stop`).
+
+use super::stop::{NEVER, Stop, StopCheck, Stopped};
 
 /// L with A = L Lᵀ, row-major lower triangle.
 #[derive(Debug, Clone)]
@@ -14,14 +18,21 @@ impl Cholesky {
     /// Factors the n×n row-major SPD matrix `a`; `None` if a pivot is not positive (not SPD to
     /// working precision) or not finite.
     pub fn new(a: &[f64], n: usize) -> Option<Cholesky> {
+        Self::factor_until(a, n, NEVER).unwrap_or(None)
+    }
+
+    /// [`new`](Self::new), giving up between columns when `stop` says so.
+    pub fn factor_until(a: &[f64], n: usize, stop: Stop) -> Result<Option<Cholesky>, Stopped> {
+        let mut check = StopCheck::new(stop);
         let mut l = vec![0.0; n * n];
         for j in 0..n {
+            check.after((n - j) * (j + 1))?;
             let mut d = a[j * n + j];
             for k in 0..j {
                 d -= l[j * n + k] * l[j * n + k];
             }
             if !(d > 0.0 && d.is_finite()) {
-                return None;
+                return Ok(None);
             }
             let d = d.sqrt();
             l[j * n + j] = d;
@@ -33,7 +44,7 @@ impl Cholesky {
                 l[i * n + j] = s / d;
             }
         }
-        Some(Cholesky { n, l })
+        Ok(Some(Cholesky { n, l }))
     }
 
     /// Dimension.
@@ -69,10 +80,18 @@ impl Cholesky {
 
     /// A⁻¹, row-major, exactly symmetric.
     pub fn inverse(&self) -> Vec<f64> {
+        self.inverse_until(NEVER)
+            .expect("never stopped: the inverse is computed to the end")
+    }
+
+    /// [`inverse`](Self::inverse), giving up between columns when `stop` says so.
+    pub fn inverse_until(&self, stop: Stop) -> Result<Vec<f64>, Stopped> {
         let n = self.n;
+        let mut check = StopCheck::new(stop);
         let mut inv = vec![0.0; n * n];
         let mut e = vec![0.0; n];
         for j in 0..n {
+            check.after(n * n)?;
             e.iter_mut().for_each(|v| *v = 0.0);
             e[j] = 1.0;
             self.solve_in_place(&mut e);
@@ -87,7 +106,7 @@ impl Cholesky {
                 inv[j * n + i] = v;
             }
         }
-        inv
+        Ok(inv)
     }
 }
 

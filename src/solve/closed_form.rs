@@ -12,9 +12,11 @@
 //! so the difference does not show there; this module follows the minimisation, and the tests
 //! check swivelling cases against the flexibility method.
 
+use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch};
 use super::solution::{MethodDetails, SolveError, SolveErrorKind, Timing};
 use crate::fem::{Mesh, NodalField};
+use crate::linalg::stop::{NEVER, Stop, Stopped};
 use crate::model::{Method, Problem};
 
 /// The closed-form solution of one problem.
@@ -176,8 +178,17 @@ impl ClosedForm {
 
     /// u and u' at the nodes of `mesh`.
     pub fn nodal_field(&self, mesh: &Mesh) -> NodalField {
+        self.nodal_field_until(mesh, NEVER).expect("never stopped")
+    }
+
+    /// [`nodal_field`](Self::nodal_field), giving up when `stop` says so (asked every 2¹⁶
+    /// nodes: 10⁷ nodes are a fraction of a second).
+    pub fn nodal_field_until(&self, mesh: &Mesh, stop: Stop) -> Result<NodalField, Stopped> {
         let mut field = NodalField::zeros(mesh.nodes.len());
         for (i, &x) in mesh.nodes.iter().enumerate() {
+            if i % (1 << 16) == 0 && stop() {
+                return Err(Stopped);
+            }
             field.deflection[i] = self.deflection(x);
             field.slope[i] = self.slope(x);
         }
@@ -194,7 +205,7 @@ impl ClosedForm {
         field.slope[0] = 0.0;
         field.deflection[last] = 0.0;
         field.slope[last] = 0.0;
-        field
+        Ok(field)
     }
 
     /// (force, moment) at the obstacle, if there is one.
@@ -203,7 +214,11 @@ impl ClosedForm {
     }
 }
 
-pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, SolveError> {
+pub(super) fn solve(
+    problem: &Problem,
+    mesh: &Mesh,
+    options: &SolveOptions,
+) -> Result<MethodOutput, SolveError> {
     let mut timing = Timing::default();
     let mut clock = Stopwatch::start();
     let exact = closed_form(problem).map_err(|reason| SolveError {
@@ -213,7 +228,9 @@ pub(super) fn solve(problem: &Problem, mesh: &Mesh) -> Result<MethodOutput, Solv
         suggestion: Method::Condensed,
     })?;
     timing.friction_stage = clock.lap();
-    let field = exact.nodal_field(mesh);
+    let field = exact
+        .nodal_field_until(mesh, &|| options.cancel.is_cancelled())
+        .map_err(|_| super::shared::cancelled(Method::ClosedForm))?;
     timing.reconstruction = clock.lap();
     let lambda = match exact.obstacle {
         Some(o) => vec![[o.force, o.moment]],

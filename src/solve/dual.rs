@@ -20,10 +20,10 @@ pub(super) fn solve(
 ) -> Result<MethodOutput, SolveError> {
     super::shared::refuse_many_obstacles(problem, Method::Dual)?;
     let mut timing = Timing::default();
-    let factored = assemble_and_factor(problem, mesh, Method::Dual, &mut timing)?;
+    let factored = assemble_and_factor(problem, mesh, (Method::Dual, options), &mut timing)?;
     let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
-    let (s, z0, indefinite_k) = factored.dual_matrices(Method::Dual, mesh)?;
+    let (s, z0, indefinite_k) = factored.dual_matrices(Method::Dual, mesh, options)?;
     timing.factorization += clock.lap();
 
     let g = problem.thresholds();
@@ -35,7 +35,7 @@ pub(super) fn solve(
     // c_F = B A⁻¹ (b − Bᵀλ) = z0 − S λ.
     let s_lambda = mat_vec(&s, lambda);
     let friction_values: Vec<f64> = z0.iter().zip(&s_lambda).map(|(z, sl)| z - sl).collect();
-    let field = factored.reconstruct(&friction_values);
+    let field = factored.reconstruct(&friction_values, (Method::Dual, options))?;
     timing.reconstruction = clock.lap();
 
     let warnings = stiffness_indefinite_warning

@@ -2,10 +2,11 @@
 //! explicit inverse A⁻¹ (dense, faer's Cholesky), Â = B A⁻¹ Bᵀ and b̂ = B A⁻¹ b of (49), the box
 //! QP, then c = A⁻¹ (b − Bᵀ λ) of (48) by a dense product. O(N³) time and O(N²) memory: it is
 //! here to show why the paper's dual was slow (its Figures 6 and 8), and refuses sizes whose
-//! inverse would not fit comfortably ([`SolveOptions::max_dense_unknowns`]).
+//! inverse would not fit comfortably ([`SolveOptions::max_dense_unknowns`]). faer's
+//! factorization and inverse run in steps (`linalg::faer_stepwise`, the same bits) so that a
+//! cancelled solve stops within milliseconds, not after seconds of O(N³) work.
 
-use faer::linalg::solvers::DenseSolveCore;
-use faer::{Col, Mat, Side};
+use faer::Col;
 
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
@@ -14,6 +15,10 @@ use super::stiffness_route::breakdown;
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
 use crate::linalg::BlockMatrix;
 use crate::linalg::boxqp::solve_box_qp_until;
+use crate::linalg::faer_stepwise::{
+    llt_in_place_until, llt_inverse_until, mat_vec_until, zeros_until,
+};
+use crate::linalg::stop::Stopped;
 use crate::model::{Method, Problem};
 
 pub(super) fn solve(
@@ -38,21 +43,22 @@ pub(super) fn solve(
             suggestion: Method::Condensed,
         });
     }
+    let stop = || options.cancel.is_cancelled();
+    let cancelled = |_: Stopped| super::shared::cancelled(Method::DualInverse);
     let mut timing = Timing::default();
     let mut clock = Stopwatch::start();
     let matrix = StiffnessMatrix::new(mesh);
-    let mut a = Mat::<f64>::zeros(n, n);
+    // The lower triangle of A: what faer's `llt(Side::Lower)` reads.
+    let mut a = zeros_until(n, &stop).map_err(cancelled)?;
     for i in 0..n / 2 {
         let d = matrix.diag(i);
         a[(2 * i, 2 * i)] = d[0];
         a[(2 * i + 1, 2 * i)] = d[1];
-        a[(2 * i, 2 * i + 1)] = d[1];
         a[(2 * i + 1, 2 * i + 1)] = d[2];
         if 2 * i + 2 < n {
             let u = matrix.upper(i);
             for r in 0..2 {
                 for c in 0..2 {
-                    a[(2 * i + r, 2 * i + 2 + c)] = u[2 * r + c];
                     a[(2 * i + 2 + c, 2 * i + r)] = u[2 * r + c];
                 }
             }
@@ -68,16 +74,17 @@ pub(super) fn solve(
     });
     timing.assembly = clock.lap();
 
-    let factor = a.llt(Side::Lower).map_err(|_| {
-        breakdown(
-            Method::DualInverse,
-            mesh,
-            "the dense Cholesky factorization of A failed".into(),
-        )
-    })?;
+    llt_in_place_until(a.as_mut(), &stop)
+        .map_err(cancelled)?
+        .map_err(|_| {
+            breakdown(
+                Method::DualInverse,
+                mesh,
+                "the dense Cholesky factorization of A failed".into(),
+            )
+        })?;
+    let inverse = llt_inverse_until(a.as_ref(), &stop).map_err(cancelled)?;
     drop(a);
-    let inverse = factor.inverse();
-    drop(factor);
     timing.factorization = clock.lap();
 
     // Rows of B: the friction DOFs (u and u' of each obstacle node).
@@ -87,14 +94,12 @@ pub(super) fn solve(
         .flat_map(|&node| [2 * (node - 1), 2 * (node - 1) + 1])
         .collect();
     let dim = dofs.len();
-    let inverse_b = &inverse * &b;
+    let inverse_b = mat_vec_until(inverse.as_ref(), b.as_ref(), &stop).map_err(cancelled)?;
     let s: Vec<f64> = (0..dim * dim)
         .map(|ij| inverse[(dofs[ij / dim], dofs[ij % dim])])
         .collect();
     let z0: Vec<f64> = dofs.iter().map(|&d| inverse_b[d]).collect();
-    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &|| {
-        options.cancel.is_cancelled()
-    });
+    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &stop);
     check_cancel(options, Method::DualInverse)?;
     let lambda = qp.x.clone();
     timing.friction_stage = clock.lap();
@@ -103,7 +108,7 @@ pub(super) fn solve(
     for (q, &d) in dofs.iter().enumerate() {
         load[d] -= lambda[q];
     }
-    let c = &inverse * &load;
+    let c = mat_vec_until(inverse.as_ref(), load.as_ref(), &stop).map_err(cancelled)?;
     let mut field = NodalField::zeros(mesh.nodes.len());
     for i in 0..n / 2 {
         field.deflection[i + 1] = c[2 * i];

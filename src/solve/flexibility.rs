@@ -94,6 +94,7 @@ pub(super) fn solve(
     let z0: Vec<f64> = (0..dim).map(|q| fitted(0, q)).collect();
     let mut s = vec![0.0; dim * dim];
     for q in 0..dim {
+        check_cancel(options, Method::Flexibility)?;
         for p in 0..dim {
             s[q * dim + p] = -fitted(3 + p, q);
         }
@@ -124,6 +125,7 @@ pub(super) fn solve(
     let mut field = NodalField::zeros(mesh.nodes.len());
     let mut state: State = [0.0, 0.0, reaction[0], reaction[1]];
     for piece in &mesh.pieces {
+        check_cancel(options, Method::Flexibility)?;
         if let Some(j) = obstacle_at(piece.first_node) {
             state[3] -= lambda[2 * j];
             state[2] += lambda[2 * j + 1];
@@ -132,6 +134,10 @@ pub(super) fn solve(
         let ej = piece.bending_stiffness;
         let f0 = problem.load_at(a);
         for node in piece.first_node..piece.last_node {
+            // Ten million nodes are a fraction of a second: asked every 2¹⁶.
+            if node % (1 << 16) == 0 {
+                check_cancel(options, Method::Flexibility)?;
+            }
             let s = propagate(state, mesh.nodes[node] - a, ej, f0, slope);
             field.deflection[node] = s[0];
             field.slope[node] = s[1];

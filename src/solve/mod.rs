@@ -123,12 +123,12 @@ fn certified(
         Method::DualInverse => dual_inverse::solve(problem, mesh, options)?,
         Method::Dual => dual::solve(problem, mesh, options)?,
         Method::Flexibility => flexibility::solve(problem, mesh, options)?,
-        Method::ClosedForm => closed_form::solve(problem, mesh)?,
+        Method::ClosedForm => closed_form::solve(problem, mesh, options)?,
         Method::Condensed => condensed::solve(problem, mesh, options)?,
     };
     shared::check_cancel(options, method)?;
     let solution = certificate::certify(problem, mesh, method, options, output, Some(reference));
-    // The certificate's own reference solve may have been cut short.
+    // The certificate (or its own reference solve) may have been cut short.
     shared::check_cancel(options, method)?;
-    Ok(solution)
+    solution.ok_or_else(|| shared::cancelled(method))
 }

@@ -117,7 +117,7 @@ pub(super) fn solve(
     };
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
-    let factored = assemble_and_factor(problem, mesh, Method::Regularized, &mut timing)?;
+    let factored = assemble_and_factor(problem, mesh, (Method::Regularized, options), &mut timing)?;
     let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
     let dim = factored.friction_dofs;
@@ -167,7 +167,7 @@ pub(super) fn solve(
         (&regions, &friction_values, &g, epsilon),
         (&factored.friction_stiffness, &factored.friction_load),
     );
-    let field = factored.reconstruct(&friction_values);
+    let field = factored.reconstruct(&friction_values, (Method::Regularized, options))?;
     timing.reconstruction = clock.lap();
 
     let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();

@@ -85,7 +85,12 @@ pub(super) fn solve(
     super::shared::refuse_many_obstacles(problem, Method::RegularizedNewton)?;
     let epsilon = options.epsilon;
     let mut timing = Timing::default();
-    let factored = assemble_and_factor(problem, mesh, Method::RegularizedNewton, &mut timing)?;
+    let factored = assemble_and_factor(
+        problem,
+        mesh,
+        (Method::RegularizedNewton, options),
+        &mut timing,
+    )?;
     let stiffness_indefinite_warning = indefinite_warning(&factored, mesh);
     let mut clock = Stopwatch::start();
     let (k, b, dim) = (
@@ -135,7 +140,11 @@ pub(super) fn solve(
                 matrix[q * dim + q] += g[q] / epsilon;
             }
         }
-        let Some(factor) = Cholesky::new(&matrix, dim) else {
+        // A second of work at 2k = 1022: cancelled between columns.
+        let stop = || options.cancel.is_cancelled();
+        let factor = Cholesky::factor_until(&matrix, dim, &stop)
+            .map_err(|_| super::shared::cancelled(Method::RegularizedNewton))?;
+        let Some(factor) = factor else {
             break;
         };
         // Newton direction d = −(K + D)⁻¹ ∇φ, then the exact minimiser along it.
@@ -156,7 +165,7 @@ pub(super) fn solve(
     let regions: Vec<EpsilonRegion> = c.iter().map(|&c| EpsilonRegion::of(c, epsilon)).collect();
     timing.friction_stage = clock.lap();
     let lambda = regularized_forces((&regions, &c, &g, epsilon), (k, b));
-    let field = factored.reconstruct(&c);
+    let field = factored.reconstruct(&c, (Method::RegularizedNewton, options))?;
     timing.reconstruction = clock.lap();
 
     let mut warnings: Vec<Warning> = stiffness_indefinite_warning.into_iter().collect();

@@ -8,7 +8,7 @@ use super::options::{ConditionLevel, SolveOptions};
 use super::solution::{FrictionState, MethodDetails, Timing, Warning, WarningCode};
 use crate::fem::NodalField;
 use crate::linalg::boxqp::QpResult;
-use crate::linalg::condition::{ConditionNumber, dense_condition};
+use crate::linalg::condition::{ConditionNumber, dense_condition_until};
 
 /// What a method module hands back before the common certification.
 pub(crate) struct MethodOutput {
@@ -131,13 +131,15 @@ pub(crate) fn dual_output(
     }
 }
 
-/// cond₂(S) of a dense 2k×2k matrix, when asked for.
+/// cond₂(S) of a dense 2k×2k matrix, when asked for. A cancelled solve gets none, and
+/// `solve` turns it into the cancelled error right after the method.
 pub(crate) fn dual_condition(
     s: &[f64],
     dim: usize,
     options: &SolveOptions,
 ) -> Option<ConditionNumber> {
+    let stop = || options.cancel.is_cancelled();
     (options.condition != ConditionLevel::Off && dim > 0)
-        .then(|| dense_condition(s, dim))
+        .then(|| dense_condition_until(s, dim, &stop).unwrap_or(None))
         .flatten()
 }

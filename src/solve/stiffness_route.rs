@@ -7,11 +7,14 @@
 //! b̃ = b_F − A_FI A_II⁻¹ b_I. Hence S = B A⁻¹ Bᵀ = K⁻¹ and z0 = K⁻¹ b̃ (49), and the cases of
 //! the regularised method (43) only change K's diagonal and b̃.
 
+use super::options::SolveOptions;
 use super::shared::Stopwatch;
 use super::solution::{SolveError, SolveErrorKind, Timing, Warning, WarningCode};
-use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
+use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector_until};
 use crate::linalg::blocktri::FrictionLastFactor;
 use crate::linalg::dense::{Cholesky, mat_vec};
+use crate::linalg::faer_stepwise::lu_inverse_until;
+use crate::linalg::stop::Stopped;
 use crate::model::{Method, Problem};
 
 /// The stiffness matrix A factored with the friction nodes last, and its Schur complement K and
@@ -29,29 +32,31 @@ pub(super) struct FactoredStiffness<'m> {
     pub friction_dofs: usize,
 }
 
-/// Assembles and factors; times the two stages into `timing`.
+/// Assembles and factors; times the two stages into `timing`. Cancelled inside both sweeps.
 pub(super) fn assemble_and_factor<'m>(
     problem: &Problem,
     mesh: &'m Mesh,
-    method: Method,
+    (method, options): (Method, &SolveOptions),
     timing: &mut Timing,
 ) -> Result<FactoredStiffness<'m>, SolveError> {
+    let stop = || options.cancel.is_cancelled();
+    let cancelled = |_: Stopped| super::shared::cancelled(method);
     let mut clock = Stopwatch::start();
     let matrix = StiffnessMatrix::new(mesh);
-    let (mut u, mut t) = load_vector(problem, mesh);
+    let (mut u, mut t) = load_vector_until(problem, mesh, &stop).map_err(cancelled)?;
     timing.assembly = clock.lap();
     let boundary: Vec<usize> = mesh.obstacle_nodes.iter().map(|&node| node - 1).collect();
     let n = mesh.elements();
-    let (factor, load) =
-        FrictionLastFactor::with_rhs(matrix, &boundary, &mut u[1..n], &mut t[1..n]).map_err(
-            |b| {
-                breakdown(
-                    method,
-                    mesh,
-                    format!("the pivot of node {} is singular", b.block + 1),
-                )
-            },
-        )?;
+    let rhs = (&mut u[1..n], &mut t[1..n]);
+    let (factor, load) = FrictionLastFactor::with_rhs_until(matrix, &boundary, rhs, &stop)
+        .map_err(cancelled)?
+        .map_err(|b| {
+            breakdown(
+                method,
+                mesh,
+                format!("the pivot of node {} is singular", b.block + 1),
+            )
+        })?;
     timing.factorization = clock.lap();
     Ok(FactoredStiffness {
         friction_stiffness: factor.schur.clone(),
@@ -68,16 +73,23 @@ impl FactoredStiffness<'_> {
         self.factor.first_indefinite.map(|block| block + 1)
     }
 
-    /// The nodal solution for the given values on the friction DOFs.
-    pub fn reconstruct(self, friction_values: &[f64]) -> NodalField {
+    /// The nodal solution for the given values on the friction DOFs; cancelled inside the
+    /// sweep.
+    pub fn reconstruct(
+        self,
+        friction_values: &[f64],
+        (method, options): (Method, &SolveOptions),
+    ) -> Result<NodalField, SolveError> {
         let (mut u, mut t) = self.rhs;
         let n = u.len() - 1;
+        let stop = || options.cancel.is_cancelled();
         self.factor
-            .backward(&mut u[1..n], &mut t[1..n], friction_values);
-        NodalField {
+            .backward_until(&mut u[1..n], &mut t[1..n], friction_values, &stop)
+            .map_err(|_| super::shared::cancelled(method))?;
+        Ok(NodalField {
             deflection: u,
             slope: t,
-        }
+        })
     }
 }
 
@@ -87,14 +99,28 @@ pub(super) type DualMatrices = (Vec<f64>, Vec<f64>, Option<Warning>);
 impl FactoredStiffness<'_> {
     /// S = K⁻¹ and z0 = K⁻¹ b̃ of (49). K is SPD in exact arithmetic; when rounding has made it
     /// indefinite, the inverse comes from an LU factorization instead and the warning says so.
-    pub fn dual_matrices(&self, method: Method, mesh: &Mesh) -> Result<DualMatrices, SolveError> {
+    /// Cancelled between columns of the factorization and the inverse (a second of work each
+    /// at 2k = 1022).
+    pub fn dual_matrices(
+        &self,
+        method: Method,
+        mesh: &Mesh,
+        options: &SolveOptions,
+    ) -> Result<DualMatrices, SolveError> {
         let dim = self.friction_dofs;
-        if let Some(k) = Cholesky::new(&self.friction_stiffness, dim) {
-            return Ok((k.inverse(), k.solve(&self.friction_load), None));
+        let stop = || options.cancel.is_cancelled();
+        let cancelled = |_: Stopped| super::shared::cancelled(method);
+        let cholesky =
+            Cholesky::factor_until(&self.friction_stiffness, dim, &stop).map_err(cancelled)?;
+        if let Some(k) = cholesky {
+            let inverse = k.inverse_until(&stop).map_err(cancelled)?;
+            return Ok((inverse, k.solve(&self.friction_load), None));
         }
-        use faer::linalg::solvers::DenseSolveCore;
+        // faer's LU factorization in one call (tens of milliseconds at 2k = 1022), its inverse
+        // in steps.
         let k = faer::Mat::from_fn(dim, dim, |i, j| self.friction_stiffness[i * dim + j]);
-        let inverse = k.partial_piv_lu().inverse();
+        let lu = k.partial_piv_lu();
+        let inverse = lu_inverse_until((lu.L(), lu.U(), lu.P()), &stop).map_err(cancelled)?;
         let s: Vec<f64> = (0..dim * dim)
             .map(|ij| inverse[(ij / dim, ij % dim)])
             .collect();

@@ -3,9 +3,10 @@
 //! active-set method then finishes exactly.
 
 use super::gradient;
+use crate::linalg::stop::Stop;
 
 /// MPRGP on the scaled problem; returns the iterate and the number of steps.
-pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64], stop: &dyn Fn() -> bool) -> (Vec<f64>, usize) {
+pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> (Vec<f64>, usize) {
     let n = z.len();
     let problem = Mprgp::new(h, g);
     let x = vec![0.0; n];

@@ -8,11 +8,11 @@ use super::warnings::{
     accuracy_warning, conditioning_warning, force_warning, kkt_warning, mesh_raised_warning,
     non_finite_warning, unresolved_force_warning, untrusted_reference_warning,
 };
-use crate::fem::{Mesh, NodalField, StiffnessMatrix, stiffness_condition_bounds};
-use crate::linalg::BlockMatrix;
+use crate::fem::{Mesh, NodalField, StiffnessMatrix, stiffness_condition_bounds_until};
 use crate::linalg::condition::{
-    ConditionKind, ConditionNumber, DENSE_LIMIT, block_condition, jacobi_scaled,
+    ConditionKind, ConditionNumber, DENSE_LIMIT, block_condition_until, jacobi_scaled,
 };
+use crate::linalg::{BlockMatrix, BlockTridiagonal};
 use crate::model::{Method, Problem};
 use crate::solve::options::{ConditionLevel, SolveOptions};
 use crate::solve::shared::MethodOutput;
@@ -20,7 +20,8 @@ use crate::solve::solution::{Conditioning, FrictionState, ObstacleResult, Soluti
 
 /// Certifies a method's `output`. `reference` grades it (and names the alternative of a
 /// non-finite answer); `None` only for the condensed reference's own certificate, which asks
-/// for no reference (method `condensed`, `options.reference` off).
+/// for no reference (method `condensed`, `options.reference` off). `None` when the solve was
+/// cancelled: asked between the stages and inside the long ones (each O(n)).
 pub(in crate::solve) fn certify(
     problem: &Problem,
     mesh: &Mesh,
@@ -28,7 +29,9 @@ pub(in crate::solve) fn certify(
     options: &SolveOptions,
     output: MethodOutput,
     reference: Option<&MeshReference>,
-) -> Solution {
+) -> Option<Solution> {
+    let stop = || options.cancel.is_cancelled();
+    let still_wanted = || (!stop()).then_some(());
     let MethodOutput {
         field,
         lambda,
@@ -58,7 +61,8 @@ pub(in crate::solve) fn certify(
             &regularized_cases,
             conditioning,
             &mut warnings,
-        );
+        )?;
+        still_wanted()?;
     }
     let judging = Judging {
         motion_resolution: motion_resolution(problem, method, stiffness_scaled),
@@ -68,7 +72,7 @@ pub(in crate::solve) fn certify(
         residual: kkt_residual,
         mut states,
         unresolved_force,
-    } = equilibrium::check(problem, mesh, &field, &lambda, judging);
+    } = equilibrium::check(problem, mesh, (&field, &lambda), judging, &stop)?;
     if let Some(method_states) = method_states {
         refine_states(&mut states, &method_states);
     }
@@ -98,8 +102,8 @@ pub(in crate::solve) fn certify(
         reference.is_some() || (method == Method::Condensed && !options.reference),
         "only the condensed reference's own certificate goes without a reference"
     );
-    judge_solution(problem, options, &mut solution, reference);
-    solution
+    judge_solution(problem, options, &mut solution, reference)?;
+    Some(solution)
 }
 
 /// The condensed method's certified solution on the mesh of `reference`, trusted or not,
@@ -108,7 +112,7 @@ pub(in crate::solve) fn certify(
 pub(in crate::solve) fn certified_condensed(reference: MeshReference) -> Option<Solution> {
     let (problem, mesh) = (reference.problem(), reference.mesh());
     let (output, options) = reference.into_condensed_output()?;
-    let solution = certify(problem, mesh, Method::Condensed, &options, output, None);
+    let solution = certify(problem, mesh, Method::Condensed, &options, output, None)?;
     // As any solve: a result no longer wanted is none.
     (!options.cancel.is_cancelled()).then_some(solution)
 }
@@ -134,7 +138,8 @@ fn judge_solution(
     options: &SolveOptions,
     solution: &mut Solution,
     reference: Option<&MeshReference>,
-) {
+) -> Option<()> {
+    let still_wanted = || (!options.cancel.is_cancelled()).then_some(());
     if !solution.is_finite() || !solution.kkt_residual.is_finite() {
         // Name a method that works only when it does: the condensed method certified itself.
         let condensed_works =
@@ -144,9 +149,11 @@ fn judge_solution(
             .warnings
             .insert(0, non_finite_warning(condensed_works));
     }
+    still_wanted()?;
     if let (true, Some(reference)) = (options.reference, reference) {
         solution.error = reference_error(problem, solution, reference);
-        if solution.error.is_none() && !options.cancel.is_cancelled() {
+        still_wanted()?;
+        if solution.error.is_none() {
             solution.warnings.push(untrusted_reference_warning());
         }
         if let Some(w) = accuracy_warning(solution, problem) {
@@ -156,6 +163,7 @@ fn judge_solution(
             solution.warnings.push(w);
         }
     }
+    Some(())
 }
 
 /// The result at every obstacle: position, nodal values, friction forces and state.
@@ -188,14 +196,16 @@ fn obstacle_results(
 /// For a method that works through A: its condition numbers (when asked for, else only the
 /// dual one already in `conditioning`), and the warning when A's conditioning — the better of
 /// the computed number and the cheap bound — predicts a visible loss of digits.
+/// `None` when the solve was cancelled.
 fn stiffness_conditioning_checked(
     mesh: &Mesh,
     options: &SolveOptions,
     regularized_cases: &[Vec<(usize, f64)>],
     mut conditioning: Conditioning,
     warnings: &mut Vec<Warning>,
-) -> (Conditioning, Option<ConditionNumber>) {
-    let (bound, scaled_bound) = stiffness_condition_bounds(mesh);
+) -> Option<(Conditioning, Option<ConditionNumber>)> {
+    let stop = || options.cancel.is_cancelled();
+    let (bound, scaled_bound) = stiffness_condition_bounds_until(mesh, &stop).ok()?;
     if options.condition != ConditionLevel::Off {
         let computed = stiffness_conditioning(mesh, options, regularized_cases);
         conditioning.stiffness = larger(computed.stiffness, bound);
@@ -207,7 +217,7 @@ fn stiffness_conditioning_checked(
     if let Some(w) = scaled.and_then(|scaled| conditioning_warning(scaled, mesh)) {
         warnings.push(w);
     }
-    (conditioning, scaled)
+    Some((conditioning, scaled))
 }
 
 /// The better of a computed condition number and a rigorous lower bound: an exact number
@@ -256,10 +266,14 @@ fn stiffness_conditioning(
     if !exact_possible && options.condition != ConditionLevel::Full {
         return Conditioning::default();
     }
+    // A cancelled solve stops here with what it has; `solve` answers it with the cancelled
+    // error right after the certificate.
+    let stop = || options.cancel.is_cancelled();
+    let condition = |a: &BlockTridiagonal| block_condition_until(a, &stop).unwrap_or(None);
     let matrix = StiffnessMatrix::new(mesh).to_block_tridiagonal();
     let mut result = Conditioning {
-        stiffness: block_condition(&matrix),
-        stiffness_scaled: block_condition(&jacobi_scaled(&matrix)),
+        stiffness: condition(&matrix),
+        stiffness_scaled: condition(&jacobi_scaled(&matrix)),
         ..Conditioning::default()
     };
     let max = |a: Option<ConditionNumber>, b: Option<ConditionNumber>| match (a, b) {
@@ -267,15 +281,18 @@ fn stiffness_conditioning(
         (a, b) => a.or(b),
     };
     for case in cases {
+        if stop() {
+            break;
+        }
         let mut modified = matrix.clone();
         for &(dof, add) in case {
             let block = mesh.obstacle_nodes[dof / 2] - 1;
             modified.diag[block][if dof % 2 == 0 { 0 } else { 2 }] += add;
         }
-        result.regularized_max = max(result.regularized_max, block_condition(&modified));
+        result.regularized_max = max(result.regularized_max, condition(&modified));
         result.regularized_scaled_max = max(
             result.regularized_scaled_max,
-            block_condition(&jacobi_scaled(&modified)),
+            condition(&jacobi_scaled(&modified)),
         );
     }
     result

@@ -6,6 +6,7 @@ use std::borrow::Cow;
 use std::cell::OnceCell;
 
 use crate::fem::{Mesh, NodalField};
+use crate::linalg::stop::Stop;
 use crate::model::{Method, Problem};
 use crate::solve::closed_form::closed_form;
 use crate::solve::condensed;
@@ -85,10 +86,10 @@ impl<'a> MeshReference<'a> {
     /// method's if it certified itself. `None` when it did not, failed or was cancelled.
     pub(super) fn field(&self) -> Option<(Reference, Cow<'_, NodalField>)> {
         if let Ok(exact) = closed_form(self.problem) {
-            return Some((
-                Reference::ClosedForm,
-                Cow::Owned(exact.nodal_field(self.mesh)),
-            ));
+            let cancel = &self.cancel;
+            let stop = || cancel.is_cancelled();
+            let field = exact.nodal_field_until(self.mesh, &stop).ok()?;
+            return Some((Reference::ClosedForm, Cow::Owned(field)));
         }
         let run = self.condensed_run()?;
         run.trusted
@@ -149,12 +150,14 @@ pub(super) fn reference_error(
             slope_max_rel: None,
         });
     }
-    let (reference, field) = reference.field()?;
-    let mut report = compare(reference, &solution.field, &field, problem.length);
+    let (kind, field) = reference.field()?;
+    let cancel = &reference.cancel;
+    let stop = || cancel.is_cancelled();
+    let mut report = compare(kind, &solution.field, &field, problem.length, &stop)?;
     // A reference that is zero at every node: relative to the natural scale f l⁴/EJ instead
     // of an infinite or undefined ratio.
     let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if largest(&field.deflection) == 0.0 && largest(&field.slope) == 0.0 {
+    if largest(&field.deflection) == 0.0 && !stop() && largest(&field.slope) == 0.0 {
         let l = problem.length;
         let load = problem.load.f0.abs().max(problem.load.f1.abs());
         let stiffest = problem
@@ -188,24 +191,33 @@ pub(super) fn reference_error(
 /// u/l), the slopes are a cancellation that f64 values of u at the ends of a piece resolve
 /// only to ulps of u/l, and a ratio to them would call that rounding "lost digits". The test
 /// suite's independent comparison (tests/it/reference/compare.rs) uses the same rule.
+/// `None` when `stop` says so, asked between the passes over the nodes (each a few
+/// milliseconds at 10⁷ nodes).
 pub(super) fn compare(
     reference: Reference,
     field: &NodalField,
     reference_field: &NodalField,
     length: f64,
-) -> ErrorReport {
+    stop: Stop,
+) -> Option<ErrorReport> {
+    let still_wanted = || (!stop()).then_some(());
     let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let (u_largest, slope_largest) = (
-        largest(&reference_field.deflection),
-        largest(&reference_field.slope),
-    );
+    let u_largest = largest(&reference_field.deflection);
+    still_wanted()?;
+    let slope_largest = largest(&reference_field.slope);
     let u_scale = u_largest.max(1e-3 * slope_largest * length);
     let slope_scale = slope_largest.max(1e-3 * u_largest / length);
     let stats = |a: &[f64], b: &[f64], scale: f64| {
-        if !a.iter().chain(b).all(|v| v.is_finite()) {
+        still_wanted()?;
+        let finite = a.iter().all(|v| v.is_finite()) && {
+            still_wanted()?;
+            b.iter().all(|v| v.is_finite())
+        };
+        if !finite {
             // No error at all rather than one that `max` computed by skipping NaN.
-            return (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
+            return Some((f64::NAN, f64::NAN, f64::NAN, f64::NAN));
         }
+        still_wanted()?;
         let (mut max_abs, mut sum) = (0.0f64, 0.0f64);
         for (x, y) in a.iter().zip(b) {
             let d = (x - y).abs();
@@ -222,18 +234,18 @@ pub(super) fn compare(
             }
         };
         let mean = sum / a.len() as f64;
-        (max_abs, mean, relative(max_abs), relative(mean))
+        Some((max_abs, mean, relative(max_abs), relative(mean)))
     };
     let (max_abs, mean_abs, max_rel, mean_rel) =
-        stats(&field.deflection, &reference_field.deflection, u_scale);
-    let (_, _, slope_rel, _) = stats(&field.slope, &reference_field.slope, slope_scale);
+        stats(&field.deflection, &reference_field.deflection, u_scale)?;
+    let (_, _, slope_rel, _) = stats(&field.slope, &reference_field.slope, slope_scale)?;
     let finite = |v: f64| v.is_finite().then_some(v);
-    ErrorReport {
+    Some(ErrorReport {
         reference,
         max_abs: finite(max_abs),
         max_rel: finite(max_rel),
         mean_abs: finite(mean_abs),
         mean_rel: finite(mean_rel),
         slope_max_rel: finite(slope_rel),
-    }
+    })
 }

@@ -61,13 +61,13 @@ pub(super) fn solve_with_newton_phases(
     let system = ShootingSystem::new(problem, mesh, &scales, first_fraction);
     let mut search = PatternSearch::new(&system, problem.obstacles.len(), newton_phases);
     let (solution, converged) = search.run(keep_going)?;
-    Ok(condensed_solution(
+    condensed_solution(
         (problem, mesh, &scales),
         &system,
         (&solution, &search.pattern),
-        search.solves,
-        converged,
-    ))
+        (search.solves, converged),
+        keep_going,
+    )
 }
 
 /// The search for the friction pattern between two solves: the pattern to solve next, the
@@ -329,14 +329,15 @@ impl<'a> PatternSearch<'a> {
 }
 
 /// The last stage: the final pattern's solution in SI units — the friction states, the
-/// friction forces (a moving DOF's exactly its threshold) and every node.
+/// friction forces (a moving DOF's exactly its threshold) and every node (asking `keep_going`
+/// as it goes).
 fn condensed_solution(
     (problem, mesh, scales): (&Problem, &Mesh, &Scales),
     system: &ShootingSystem,
     (solution, pattern): (&PatternSolution, &[Pattern]),
-    solves: usize,
-    converged: bool,
-) -> CondensedSolution {
+    (solves, converged): (usize, bool),
+    keep_going: &mut dyn FnMut() -> bool,
+) -> Result<CondensedSolution, CondensedFailure> {
     let states: Vec<[FrictionState; 2]> = (0..problem.obstacles.len())
         .map(|j| {
             [
@@ -365,12 +366,12 @@ fn condensed_solution(
             ]
         })
         .collect();
-    let field = nodal_field(mesh, system, solution, scales);
-    CondensedSolution {
+    let field = nodal_field(mesh, system, solution, scales, keep_going)?;
+    Ok(CondensedSolution {
         field,
         friction,
         states,
         solves,
         converged,
-    }
+    })
 }

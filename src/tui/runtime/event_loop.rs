@@ -132,8 +132,8 @@ impl Workers {
         if !wait {
             return;
         }
-        // Cancelled, they end at their next check; a step that cannot be cancelled (a dense
-        // inverse) is not waited for beyond WORKER_GRACE: it holds its core until it ends.
+        // Cancelled, they end at their next check (within tens of milliseconds in every
+        // method); whatever still runs is not waited for beyond WORKER_GRACE.
         let deadline = Instant::now() + WORKER_GRACE;
         while threads.iter().flatten().any(|t| !t.is_finished()) && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(2));

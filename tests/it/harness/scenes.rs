@@ -96,9 +96,15 @@ pub fn reference_values(name: &str) -> ReferenceValues {
 /// method `dual`, only the deflection panel: its solve takes seconds (5.5 s in a release
 /// build on the 2-core test machine), long work to interrupt.
 pub fn crowded_scene_text() -> String {
-    let mut text = String::from(
-        "title = \"256 obstacles\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\n\
-         section = { shape = \"rectangle\", width = 0.02, height = 0.02 }\n\
+    crowded_scene_text_of(256, 1000)
+}
+
+/// The crowded scene with `obstacles` evenly spaced obstacles on `elements` elements (the same
+/// sequence of thresholds, the first ones for fewer obstacles).
+pub fn crowded_scene_text_of(obstacles: usize, elements: usize) -> String {
+    let mut text = format!(
+        "title = \"{obstacles} obstacles\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\n\
+         section = {{ shape = \"rectangle\", width = 0.02, height = 0.02 }}\n\
          [load]\nf0 = 5e4\nf1 = -3e4\n",
     );
     let mut state = 7u64;
@@ -108,18 +114,25 @@ pub fn crowded_scene_text() -> String {
             .wrapping_add(1442695040888963407);
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
-    for i in 0..256 {
-        let x = (i + 1) as f64 / 257.0;
+    for i in 0..obstacles {
+        let x = (i + 1) as f64 / (obstacles + 1) as f64;
         let sliding = 10f64.powf(4.0 * uniform());
         let swivel = 10f64.powf(4.0 * uniform());
         text.push_str(&format!(
             "[[obstacle]]\nx = {x:?}\nsliding = {sliding:?}\nswivel = {swivel:?}\n"
         ));
     }
-    text.push_str(
-        "[mesh]\nelements = 1000\n[solver]\nmethod = \"dual\"\n[view]\npanels = [\"deflection\"]\n",
-    );
+    text.push_str(&format!(
+        "[mesh]\nelements = {elements}\n[solver]\nmethod = \"dual\"\n\
+         [view]\npanels = [\"deflection\"]\n"
+    ));
     text
+}
+
+/// The crowded scene's problem with `obstacles` obstacles.
+pub fn crowded_problem(obstacles: usize) -> Problem {
+    let text = crowded_scene_text_of(obstacles, 1000);
+    problem(&Scene::from_toml(&text, "crowded").expect("the crowded scene parses"))
 }
 
 /// A preset as the explorer loads it.

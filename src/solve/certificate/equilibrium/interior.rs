@@ -5,21 +5,22 @@
 use super::dimensionless::{Dimensionless, Units};
 use crate::fem::Mesh;
 use crate::linalg::parallel::run_jobs;
+use crate::linalg::stop::Stop;
 use crate::model::Problem;
 
 /// The largest relative difference between an interior node and its piece's exact local
 /// solution (Hermite interpolation of the end values plus the clamped–clamped response to
 /// the linear load), value and slope.
+/// `None` when `stop` says so (asked before every stretch of [`CHUNK`] nodes).
 pub(super) fn interior_residual(
     mesh: &Mesh,
     (u, t): (&Dimensionless, &Dimensionless),
-    magnitude: &[[f64; 2]],
-    units: &Units,
+    (magnitude, units): (&[[f64; 2]], &Units),
     problem: &Problem,
-) -> f64 {
+    stop: Stop,
+) -> Option<f64> {
     // Stretches of at most CHUNK interior nodes of one piece, shared out over two threads when
     // there are many (linalg::parallel decides).
-    const CHUNK: usize = 1 << 16;
     let jobs: Vec<(usize, std::ops::Range<usize>)> = mesh
         .pieces
         .iter()
@@ -35,20 +36,26 @@ pub(super) fn interior_residual(
         jobs,
         |(_, range)| range.len(),
         |(piece, range)| {
-            stretch_residual(
-                mesh,
-                (u, t),
-                magnitude[piece],
-                units,
-                problem,
-                (piece, range),
-            )
+            (!stop()).then(|| {
+                stretch_residual(
+                    mesh,
+                    (u, t),
+                    magnitude[piece],
+                    units,
+                    problem,
+                    (piece, range),
+                )
+            })
         },
     );
+    let results: Vec<(f64, bool)> = results.into_iter().collect::<Option<_>>()?;
     let overflow = results.iter().any(|&(_, overflow)| overflow);
     let worst = results.iter().fold(0.0f64, |m, &(w, _)| m.max(w));
-    if overflow { 1.0 } else { worst.min(1.0) }
+    Some(if overflow { 1.0 } else { worst.min(1.0) })
 }
+
+/// The most interior nodes checked in one job (a millisecond of work).
+const CHUNK: usize = 1 << 16;
 
 /// [`interior_residual`] on the interior nodes `range` of piece `piece`: the largest relative
 /// difference, and whether a scale overflowed (the residual is then 1, as `relative` says).

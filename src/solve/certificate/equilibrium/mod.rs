@@ -40,6 +40,7 @@ mod pieces;
 mod states;
 
 use crate::fem::{Mesh, NodalField};
+use crate::linalg::stop::Stop;
 use crate::model::Problem;
 use crate::solve::FrictionState;
 use dimensionless::DimensionlessSolution;
@@ -63,39 +64,43 @@ pub(in crate::solve) struct Equilibrium {
     pub unresolved_force: f64,
 }
 
-/// Checks (38) piece by piece and decides the friction states (module doc), stage by stage.
+/// Checks (38) piece by piece and decides the friction states (module doc), stage by stage;
+/// `None` when `stop` says so (asked between the stages and inside the O(n) ones).
 pub(in crate::solve) fn check(
     problem: &Problem,
     mesh: &Mesh,
-    field: &NodalField,
-    lambda: &[[f64; 2]],
+    (field, lambda): (&NodalField, &[[f64; 2]]),
     judging: Judging,
-) -> Equilibrium {
+    stop: Stop,
+) -> Option<Equilibrium> {
+    let still_wanted = || (!stop()).then_some(());
     let k = problem.obstacles.len();
     let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
     if !finite(&field.deflection) || !finite(&field.slope) || !lambda.iter().all(|l| finite(l)) {
-        return Equilibrium {
+        return Some(Equilibrium {
             residual: f64::NAN,
             states: vec![[FrictionState::AtThreshold; 2]; k],
             unresolved_force: 0.0,
-        };
+        });
     }
+    still_wanted()?;
     let data = DimensionlessSolution::new(problem, mesh, field, lambda);
     let scales = piece_scales(&data);
+    still_wanted()?;
     let pieces = piece_forces(&data, &scales.special_noise);
     let mut residual = balance_residual(&data, &pieces);
     residual = residual.max(interior_residual(
         mesh,
         (&data.deflection, &data.slope),
-        &scales.magnitude,
-        &data.units,
+        (&scales.magnitude, &data.units),
         problem,
-    ));
+        stop,
+    )?);
     let (states, unresolved_force) =
         friction_states(&data, &pieces, &scales.largest, judging, &mut residual);
-    Equilibrium {
+    Some(Equilibrium {
         residual,
         states,
         unresolved_force,
-    }
+    })
 }
