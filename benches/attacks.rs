@@ -3,8 +3,8 @@
 //! commit's), the attackers and students are russh clients or bare TCP connections, and the
 //! server's CPU time, threads and memory are read from `/proc`. A measured harness, not a
 //! test: `cargo bench --bench attacks [-- NAME…]` with NAME among `silent`, `resize`, `keys`,
-//! `memory`, `unread`, `heavy` (default: all). `ATTACK_SESSIONS` (64) and `ATTACK_UNDO_KEYS`
-//! (100) size the memory pass.
+//! `memory`, `unread`, `heavy` (default: all). `ATTACK_SESSIONS` (64), `ATTACK_ELEMENTS`
+//! (10⁴) and `ATTACK_UNDO_KEYS` (100) size the memory pass.
 
 use std::io::Write;
 use std::net::TcpStream;
@@ -178,11 +178,24 @@ fn keys(dir: &std::path::Path) {
     report_after_hangup("keys: 32000 bytes of ][ at k = 4000", &server, hung_up);
 }
 
-/// `sessions` sessions at `size` on a 4000-obstacle scene, each with `undo_keys` changes kept
-/// for undo: the server's memory per session.
-fn memory(dir: &std::path::Path, size: (u16, u16), sessions: usize, undo_keys: usize) {
-    let scene = many_obstacles(dir, 4000, 10_000, "condensed");
-    let server = ServerProcess::start_with(&["--scene", &scene, "--max-sessions", "4096"]);
+/// `sessions` sessions at `size` on a 4000-obstacle scene at `elements` elements, each with
+/// `undo_keys` changes kept for undo: the server's memory per session.
+fn memory(
+    dir: &std::path::Path,
+    size: (u16, u16),
+    (sessions, elements): (usize, usize),
+    undo_keys: usize,
+) {
+    let scene = many_obstacles(dir, 4000, elements, "condensed");
+    // No cap from the budget: what the sessions really take is measured.
+    let server = ServerProcess::start_with(&[
+        "--scene",
+        &scene,
+        "--max-sessions",
+        "4096",
+        "--memory-budget",
+        "1048576",
+    ]);
     let idle = server.resident_kib();
     let address = server.address;
     let pid = server.child.id();
@@ -212,11 +225,13 @@ fn memory(dir: &std::path::Path, size: (u16, u16), sessions: usize, undo_keys: u
         during
     });
     println!(
-        "memory: {sessions} sessions at {}x{} on k = 4000 with {undo_keys} changes each: server \
-         {idle} KiB idle, {during} KiB with them: {:.1} MiB per session",
+        "memory: {sessions} sessions at {}x{} on k = 4000, n = {elements} with {undo_keys} changes each: server \
+         {idle} KiB idle, {during} KiB with them: {:.1} MiB per session (the budget reserves {} \
+         MiB per session at the default --max-elements)",
         size.0,
         size.1,
-        (during.saturating_sub(idle)) as f64 / sessions as f64 / 1024.0
+        (during.saturating_sub(idle)) as f64 / sessions as f64 / 1024.0,
+        beamfric::serve::memory::per_session(100_000) >> 20
     );
 }
 
@@ -361,8 +376,9 @@ fn main() {
     if run("memory") {
         let sessions = number("ATTACK_SESSIONS", 64);
         let undo_keys = number("ATTACK_UNDO_KEYS", 100);
-        for size in [(80, 24), (200, 60), (1000, 500)] {
-            memory(dir.path(), size, sessions, undo_keys);
+        let elements = number("ATTACK_ELEMENTS", 10_000);
+        for size in [(80, 24), (200, 60), beamfric::tui::runtime::feed::MAX_SIZE] {
+            memory(dir.path(), size, (sessions, elements), undo_keys);
         }
     }
     if run("unread") {

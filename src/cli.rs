@@ -208,6 +208,7 @@ fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
         password_file: args.password_file.clone(),
         open: args.open,
         max_sessions: args.max_sessions,
+        memory_budget_mib: args.memory_budget,
         max_elements: args.max_elements,
         idle_timeout: (args.idle_timeout > 0)
             .then(|| std::time::Duration::from_secs(args.idle_timeout)),

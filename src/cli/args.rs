@@ -125,6 +125,10 @@ pub struct ServeArgs {
     /// Most explorers at once; beyond, a polite message.
     #[arg(long, default_value_t = 64, value_name = "N")]
     pub max_sessions: usize,
+    /// The server's memory budget in MiB: explorers beyond what it holds (at the largest
+    /// window, a full undo history and --max-elements) get a polite message.
+    #[arg(long, default_value_t = crate::serve::memory::DEFAULT_MEMORY_BUDGET_MIB, value_name = "MIB")]
+    pub memory_budget: usize,
     /// Most elements a served session may ask for.
     #[arg(long, default_value_t = 100_000, value_name = "N")]
     pub max_elements: usize,

@@ -8,6 +8,7 @@ use std::time::Duration;
 use russh::MethodKind;
 use russh::keys::PublicKey;
 
+use super::memory::MAX_MEMORY_BUDGET_MIB;
 use super::{DEFAULT_IDLE_TIMEOUT, ServeError, ServeOptions, keys};
 
 /// Who may log in.
@@ -74,6 +75,12 @@ pub(super) fn check_ranges(options: &ServeOptions) -> Result<(), ServeError> {
         return Err(ServeError::Option(format!(
             "--max-sessions {}: must be from 1 to {MAX_SESSIONS_LIMIT}",
             options.max_sessions
+        )));
+    }
+    if !(1..=MAX_MEMORY_BUDGET_MIB).contains(&options.memory_budget_mib) {
+        return Err(ServeError::Option(format!(
+            "--memory-budget {}: must be from 1 to {MAX_MEMORY_BUDGET_MIB} MiB",
+            options.memory_budget_mib
         )));
     }
     if options.max_elements == 0 {

@@ -299,10 +299,7 @@ impl Handler for Connection {
         }
         let Some(slot) = self.shared.slots.take() else {
             session.channel_success(channel)?;
-            let message = format!(
-                "beamfric: the server is full ({} explorers running); please try again in a moment.\r\n",
-                self.shared.slots.max()
-            );
+            let message = full_message(&self.shared);
             session.data(channel, message.into_bytes())?;
             session.exit_status_request(channel, 1)?;
             session.eof(channel)?;
@@ -440,5 +437,22 @@ impl Drop for Connection {
             "connection from {peer} user {user} key {key} lasted {:.1} s",
             self.started.elapsed().as_secs_f64()
         ));
+    }
+}
+
+/// What a student beyond the session cap reads: which limit it is, and what to do.
+fn full_message(shared: &Shared) -> String {
+    let running = shared.slots.max();
+    if shared.memory.limited_by_budget {
+        format!(
+            "beamfric: the server is full: {running} explorers use its memory budget of {} MiB; \
+             please try again in a moment.\r\n",
+            shared.memory.budget >> 20
+        )
+    } else {
+        format!(
+            "beamfric: the server is full ({running} explorers running); please try again in a \
+             moment.\r\n"
+        )
     }
 }

@@ -23,6 +23,7 @@ pub mod explorer;
 pub mod follow;
 pub mod keys;
 pub mod limits;
+pub mod memory;
 
 use std::collections::VecDeque;
 use std::net::SocketAddr;
@@ -70,6 +71,9 @@ pub struct ServeOptions {
     /// Anyone may log in (only when neither keys nor a password are given).
     pub open: bool,
     pub max_sessions: usize,
+    /// The server's memory budget in MiB: the session cap is derived from it too
+    /// ([`memory::plan`]).
+    pub memory_budget_mib: usize,
     pub max_elements: usize,
     /// `None`: sessions never time out.
     pub idle_timeout: Option<Duration>,
@@ -91,6 +95,7 @@ impl Default for ServeOptions {
             password_file: None,
             open: false,
             max_sessions: DEFAULT_MAX_SESSIONS,
+            memory_budget_mib: memory::DEFAULT_MEMORY_BUDGET_MIB,
             max_elements: DEFAULT_MAX_ELEMENTS,
             idle_timeout: Some(DEFAULT_IDLE_TIMEOUT),
             scene: "benchmark-1".into(),
@@ -106,6 +111,8 @@ pub(crate) struct Shared {
     pub access: Access,
     pub explorer: ExplorerSettings,
     pub slots: Arc<SessionSlots>,
+    /// How the memory budget is shared out (and whether it sets the session cap).
+    pub memory: memory::MemoryPlan,
     /// Connections open, logged in or not.
     pub connections: AtomicUsize,
     /// Connections waiting to log in.
@@ -209,6 +216,15 @@ impl Server {
                 scene.scene.mesh.elements, options.max_elements
             )));
         }
+        let cores = Cores::of_this_machine();
+        let memory = memory::plan(
+            options.memory_budget_mib,
+            options.max_sessions,
+            options.max_elements,
+            cores.limit(),
+        )
+        .map_err(ServeError::Option)?;
+        notes.push(memory.describe());
         let save_dir = match &options.save_dir {
             Some(dir) => Some(save_directory(dir)?),
             None => None,
@@ -229,12 +245,13 @@ impl Server {
                 mouse: options.mouse,
                 save_dir,
             },
-            slots: SessionSlots::new(options.max_sessions),
+            slots: SessionSlots::new(memory.sessions),
+            memory,
             connections: AtomicUsize::new(0),
             admission: admission::Admission::default(),
             dropped_input: AtomicU64::new(0),
             hub: (presenting || options.presenter_keys.is_some()).then(follow::Hub::default),
-            cores: Cores::of_this_machine(),
+            cores,
             explorers: Mutex::default(),
             next_explorer: AtomicU64::new(0),
             log: if presenting {
@@ -293,6 +310,11 @@ impl Server {
     /// Warnings and news for the lecturer (e.g. `--open`, a new host key).
     pub fn notes(&self) -> &[String] {
         &self.notes
+    }
+
+    /// How the memory budget is shared out: the session cap it sets, the bounds it assumes.
+    pub fn memory(&self) -> memory::MemoryPlan {
+        self.shared.memory
     }
 
     /// Explorers running now (a disconnected one counts until its thread has ended).

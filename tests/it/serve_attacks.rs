@@ -10,7 +10,7 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use beamfric::serve::admission::WAITING_CAP;
-use beamfric::serve::{ServeOptions, Server};
+use beamfric::serve::{ServeOptions, Server, memory};
 use russh::client::KeyboardInteractiveAuthResponse;
 
 use crate::harness::ssh::{
@@ -36,6 +36,12 @@ async fn hang_up(handle: russh::client::Handle<crate::harness::ssh::TrustingClie
 
 /// A scene file of `k` obstacles on Benchmark 3's beam at 10⁴ elements (condensed).
 fn many_obstacles(dir: &tempfile::TempDir, k: usize) -> String {
+    many_obstacles_on(dir, k, 10_000, "condensed")
+}
+
+/// A scene file of `k` obstacles on Benchmark 3's beam at `elements` elements, solved by
+/// `method`.
+fn many_obstacles_on(dir: &tempfile::TempDir, k: usize, elements: usize, method: &str) -> String {
     let mut text = String::from(
         "title = \"Many\"\n[beam]\nlength = 1.0\nyoung = 2.15e11\nsection = { shape = \
          \"circle\", radius = 0.01 }\n[load]\nf0 = 1e5\nf1 = 1.5e5\n",
@@ -46,8 +52,10 @@ fn many_obstacles(dir: &tempfile::TempDir, k: usize) -> String {
             "[[obstacle]]\nx = {x:.12}\nsliding = 20\nswivel = 5\n"
         ));
     }
-    text.push_str("[mesh]\nelements = 10000\n[solver]\nmethod = \"condensed\"\n");
-    let path = dir.path().join("many.toml");
+    text.push_str(&format!(
+        "[mesh]\nelements = {elements}\n[solver]\nmethod = \"{method}\"\n"
+    ));
+    let path = dir.path().join(format!("many-{k}-{method}.toml"));
     std::fs::write(&path, text).unwrap();
     path.display().to_string()
 }
@@ -212,6 +220,20 @@ fn numeric_options_out_of_range_are_refused_and_no_host_key_is_left_behind() {
             },
             "--max-elements 0: must be at least 1",
         ),
+        (
+            ServeOptions {
+                memory_budget_mib: 0,
+                ..options(&dir)
+            },
+            "--memory-budget 0: must be from 1 to 1048576 MiB",
+        ),
+        (
+            ServeOptions {
+                memory_budget_mib: 16,
+                ..options(&dir)
+            },
+            "--memory-budget 16: too small for one explorer",
+        ),
     ] {
         let error = Server::start(&options).err().expect("refused").to_string();
         assert!(error.contains(words), "{error}");
@@ -284,4 +306,123 @@ fn open_with_presenter_keys_lets_students_in_without_a_password_and_the_key_pres
     .expect("refused")
     .to_string();
     assert!(error.contains("--presenter-keys alone"), "{error}");
+}
+
+/// A budget that holds one explorer (with the solves the machine's cores may run at once, at
+/// the server's limits) sets the session cap to one: the next student is told it is the memory
+/// budget, and gets in once the first has left.
+#[test]
+fn the_memory_budget_sets_the_session_cap_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let max_elements = 1000;
+    let one_explorer = (memory::per_solve(max_elements) * cores
+        + memory::per_session(max_elements))
+    .div_ceil(1 << 20);
+    let server = Server::start(&ServeOptions {
+        memory_budget_mib: one_explorer,
+        max_elements,
+        ..options(&dir)
+    })
+    .unwrap();
+    assert_eq!(server.memory().sessions, 1);
+    assert!(server.memory().limited_by_budget);
+    assert!(
+        server
+            .notes()
+            .iter()
+            .any(|n| n.contains("1 explorer of at most")),
+        "{:?}",
+        server.notes()
+    );
+    runtime().block_on(async {
+        let first = logged_in(server.address()).await;
+        let mut running = Explorer::open(&first, (100, 30), &[]).await;
+        running.wait_for("Parameters").await;
+        let second = logged_in(server.address()).await;
+        let mut refused = Explorer::open(&second, (100, 30), &[]).await;
+        refused
+            .wait_for(&format!("use its memory budget of {one_explorer} MiB"))
+            .await;
+        refused.wait_for_close().await;
+        assert_eq!(refused.exit_status, Some(1));
+        hang_up(first).await;
+    });
+    eventually("the first session ended", || server.sessions() == 0);
+    runtime().block_on(async {
+        let third = logged_in(server.address()).await;
+        let mut admitted = Explorer::open(&third, (100, 30), &[]).await;
+        admitted.wait_for("Parameters").await;
+    });
+}
+
+/// Two students keep changing a 511-obstacle scene on `dual` (seconds per solve, each replaced
+/// 300 ms later); a third on Benchmark 1 still has every solve soon: a replaced solve gives its
+/// core back within milliseconds, and a free core goes first to the student who runs nothing.
+/// Before, a cancelled `dual` ran on for about 2 s and the light student waited 5 s (median).
+/// The deadline here is generous; `cargo bench --bench attacks -- heavy` measures the p99.
+#[test]
+fn two_heavy_students_do_not_starve_a_light_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = many_obstacles_on(&dir, 511, 2000, "dual");
+    let server = Server::start(&ServeOptions {
+        scene,
+        ..options(&dir)
+    })
+    .unwrap();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let slowest = runtime().block_on(async {
+        let mut heavy = Vec::new();
+        for _ in 0..2 {
+            let handle = logged_in(server.address()).await;
+            let mut student = Explorer::open(&handle, (100, 30), &[]).await;
+            student.wait_for("Parameters").await;
+            let stop = std::sync::Arc::clone(&stop);
+            heavy.push(tokio::spawn(async move {
+                for round in 0u32.. {
+                    if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                        break;
+                    }
+                    let key: &[u8] = if round.is_multiple_of(2) { b"l" } else { b"h" };
+                    student.send(key).await;
+                    // Read what it drew, as a client does, until the next key is due.
+                    let next = Instant::now() + Duration::from_millis(300);
+                    while Instant::now() < next && student.read_once(next).await {}
+                }
+                hang_up(handle).await;
+            }));
+        }
+        let handle = logged_in(server.address()).await;
+        let mut light = Explorer::open(&handle, (100, 30), &[]).await;
+        light.wait_for("Parameters").await;
+        light.send(b"pbenchmark-1\r").await;
+        light.wait_for("Benchmark 1").await;
+        light.wait_for("max |u|").await;
+        let mut slowest = Duration::ZERO;
+        for round in 0..12u32 {
+            let key: &[u8] = if round.is_multiple_of(2) { b"l" } else { b"h" };
+            let drawn = light.raw.len();
+            let sent = Instant::now();
+            light.send(key).await;
+            let deadline = sent + Duration::from_secs(60);
+            // A frame drawn after the key that no longer says "solving".
+            while light.raw.len() == drawn || light.text().contains("solving") {
+                assert!(
+                    light.read_once(deadline).await && Instant::now() < deadline,
+                    "the light student's solve never came; screen:\n{}",
+                    light.text()
+                );
+            }
+            slowest = slowest.max(sent.elapsed());
+        }
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        for task in heavy {
+            task.await.unwrap();
+        }
+        slowest
+    });
+    assert!(
+        slowest < Duration::from_secs(2),
+        "a light student waited {slowest:?} for a Benchmark 1 solve next to two heavy students"
+    );
 }

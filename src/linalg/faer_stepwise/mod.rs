@@ -173,7 +173,10 @@ fn llt_with_cuts(
             ask(stop)?;
             solve_lower_triangular_in_place(
                 diagonal.rb(),
-                below.rb_mut().subrows_mut(start, end - start).transpose_mut(),
+                below
+                    .rb_mut()
+                    .subrows_mut(start, end - start)
+                    .transpose_mut(),
                 Par::Seq,
             );
         }

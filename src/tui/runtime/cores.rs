@@ -91,6 +91,11 @@ impl Cores {
         })
     }
 
+    /// Solves and sweeps that may run at once.
+    pub fn limit(&self) -> usize {
+        self.limit
+    }
+
     /// As many permits as the machine has cores (its available parallelism).
     pub fn of_this_machine() -> Arc<Cores> {
         Cores::new(std::thread::available_parallelism().map_or(1, |n| n.get()))
