@@ -36,6 +36,18 @@ fn many_obstacles(dir: &std::path::Path, k: usize, elements: usize, method: &str
     path.display().to_string()
 }
 
+/// Ends the connection as a client that goes away does: a disconnect message if it can be
+/// sent within a second (a client that stopped reading may be unable to), then the socket is
+/// dropped.
+async fn hang_up<H: russh::client::Handler>(handle: russh::client::Handle<H>) {
+    let _ = tokio::time::timeout(
+        Duration::from_secs(1),
+        handle.disconnect(russh::Disconnect::ByApplication, "", ""),
+    )
+    .await;
+    drop(handle);
+}
+
 /// Waits until the server runs no session thread; how long that took.
 fn sessions_gone(server: &ServerProcess, since: Instant) -> Option<Duration> {
     let pid = server.child.id();
@@ -133,16 +145,17 @@ fn resize() {
             } else {
                 (999, 499)
             };
-            if student.channel.window_change(w, h, 0, 0).await.is_err() {
-                break;
+            // This client does not read meanwhile: its own buffers may fill and hold it up.
+            let change = student.channel.window_change(w, h, 0, 0);
+            match tokio::time::timeout(Duration::from_millis(100), change).await {
+                Ok(Ok(())) => changes += 1,
+                Ok(Err(_)) => break,
+                Err(_) => {}
             }
-            changes += 1;
         }
-        let _ = handle
-            .disconnect(russh::Disconnect::ByApplication, "", "")
-            .await;
-        let hung_up = Instant::now();
         drop(student);
+        hang_up(handle).await;
+        let hung_up = Instant::now();
         (changes, hung_up)
     });
     report_after_hangup(
@@ -168,12 +181,9 @@ fn keys(dir: &std::path::Path) {
             .unwrap();
         // Long enough for the bytes to reach the server, not for it to apply them.
         tokio::time::sleep(Duration::from_millis(200)).await;
-        let _ = handle
-            .disconnect(russh::Disconnect::ByApplication, "", "")
-            .await;
-        let hung_up = Instant::now();
         drop(student);
-        hung_up
+        hang_up(handle).await;
+        Instant::now()
     });
     report_after_hangup("keys: 32000 bytes of ][ at k = 4000", &server, hung_up);
 }
@@ -283,7 +293,12 @@ fn heavy(dir: &std::path::Path) {
     let address = server.address;
     let mut times = runtime().block_on(async move {
         let mut heavy = Vec::new();
-        for _ in 0..2 {
+        // ATTACK_HEAVY students at work (2): 0 measures the light student alone.
+        let heavy_students = std::env::var("ATTACK_HEAVY")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(2);
+        for _ in 0..heavy_students {
             let handle = logged_in(address).await;
             let mut student = Student::open(&handle).await;
             student.wait_for("Parameters").await;
@@ -291,7 +306,7 @@ fn heavy(dir: &std::path::Path) {
         }
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let mut tasks = Vec::new();
-        for (handle, student) in heavy {
+        for (handle, mut student) in heavy {
             let stop = stop.clone();
             tasks.push(tokio::spawn(async move {
                 let mut round = 0u32;
@@ -299,9 +314,18 @@ fn heavy(dir: &std::path::Path) {
                     let key: &[u8] = if round.is_multiple_of(2) { b"l" } else { b"h" };
                     let _ = student.channel.data_bytes(key.to_vec()).await;
                     round += 1;
-                    tokio::time::sleep(Duration::from_millis(300)).await;
+                    // Read what it drew, as a client does, until the next key is due.
+                    let next = tokio::time::Instant::now() + Duration::from_millis(300);
+                    while let Ok(Some(message)) =
+                        tokio::time::timeout_at(next, student.channel.wait()).await
+                    {
+                        if let russh::ChannelMsg::Data { data } = message {
+                            student.screen.process(&data);
+                        }
+                    }
                 }
-                drop(handle);
+                drop(student);
+                hang_up(handle).await;
             }));
         }
         let handle = logged_in(address).await;

@@ -54,7 +54,8 @@ impl ServerProcess {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap_or_else(|e| panic!("cannot start {binary}: {e}"));
-        // "listening on 127.0.0.1:PORT (host key …)"; the rest of the log is drained.
+        // "listening on 127.0.0.1:PORT (host key …)"; the rest of the log is drained (and shown
+        // on stderr with BEAMFRIC_SERVER_LOG=1).
         let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
         let address = loop {
             let line = lines
@@ -65,7 +66,14 @@ impl ServerProcess {
                 break rest.split_whitespace().next().unwrap().parse().unwrap();
             }
         };
-        std::thread::spawn(move || lines.for_each(drop));
+        let shown = std::env::var_os("BEAMFRIC_SERVER_LOG").is_some();
+        std::thread::spawn(move || {
+            for line in lines.map_while(Result::ok) {
+                if shown {
+                    eprintln!("server: {line}");
+                }
+            }
+        });
         ServerProcess {
             child,
             address,

@@ -4,7 +4,7 @@
 //! many explorers fit. The session cap is the smaller of `--max-sessions` and that number; a
 //! student beyond it is told so politely. The figures are upper bounds over measurements
 //! (`cargo bench --bench attacks -- memory`: at most 25.6 MiB per session at 500 × 200,
-//! 4000 obstacles, n = 10⁵ and a full undo history, where this reserves 44 MiB; the peak RSS
+//! 4000 obstacles, n = 10⁵ and a full undo history, where this reserves 45 MiB; the peak RSS
 //! of `beamfric solve`: 374 MiB for `dual-inverse` at N = 3998, 66 MiB for `dual` at 511
 //! obstacles and n = 10⁵; docs/classroom.md).
 
@@ -83,10 +83,9 @@ pub fn plan(
     let fitting = budget.saturating_sub(solves) / per_session;
     if fitting == 0 {
         return Err(format!(
-            "--memory-budget {budget_mib}: too small for one explorer: {} solves at once \
-             ({cores} cores) take up to {} MiB at --max-elements {max_elements}, and an \
-             explorer up to {} MiB; give at least {} MiB",
-            cores,
+            "--memory-budget {budget_mib}: too small for one explorer: the solves running at \
+             once (one per core, {cores} here) take up to {} MiB at --max-elements \
+             {max_elements}, and an explorer up to {} MiB; give at least {} MiB",
             solves.div_ceil(MIB),
             per_session.div_ceil(MIB),
             solves.saturating_add(per_session).div_ceil(MIB)

@@ -15,6 +15,8 @@ use std::time::Duration;
 
 /// How often a waiting worker looks whether it should give up (its explorer ended).
 const GIVE_UP_POLL: Duration = Duration::from_millis(20);
+/// Sessions whose last turn the queue remembers.
+const REMEMBERED_SESSIONS: usize = 256;
 
 /// The permits, shared by all sessions of a server.
 #[derive(Debug)]
@@ -33,22 +35,36 @@ pub struct Queue {
     /// Waiting workers in order of arrival: (ticket, session).
     pub waiting: VecDeque<(u64, u64)>,
     next_ticket: u64,
+    /// Sessions in the order they last gave back a permit, the longest ago first (at most
+    /// [`REMEMBERED_SESSIONS`]; a session not here was served longer ago than any that is).
+    served: VecDeque<u64>,
     /// The most permits ever held at once.
     pub peak: usize,
 }
 
 impl Queue {
-    /// The ticket served next when a permit is free: the first waiter whose session runs
-    /// nothing now, else the first waiter.
+    /// The ticket served next when a permit is free: among the waiters whose session runs
+    /// nothing now (else among all), the one whose session gave back a permit longest ago,
+    /// then the first to arrive. So a heavy session whose solve was just replaced does not
+    /// pass its other worker, queued long ago, ahead of a light session's new request.
     pub fn next(&self, limit: usize) -> Option<u64> {
         if self.running.len() >= limit {
             return None;
         }
-        self.waiting
-            .iter()
-            .find(|(_, session)| !self.running.contains(session))
-            .or(self.waiting.front())
-            .map(|(ticket, _)| *ticket)
+        let first_in_turn = |idle_only: bool| {
+            self.waiting
+                .iter()
+                .filter(|(_, session)| !idle_only || !self.running.contains(session))
+                .min_by_key(|(ticket, session)| (self.last_served(*session), *ticket))
+                .map(|(ticket, _)| *ticket)
+        };
+        first_in_turn(true).or_else(|| first_in_turn(false))
+    }
+
+    /// When `session` last gave back a permit: `None` (never, or too long ago to remember)
+    /// sorts before every remembered turn.
+    fn last_served(&self, session: u64) -> Option<usize> {
+        self.served.iter().position(|s| *s == session)
     }
 
     /// Queues a worker of `session`; returns its ticket.
@@ -76,6 +92,11 @@ impl Queue {
     fn release(&mut self, session: u64) {
         if let Some(at) = self.running.iter().position(|s| *s == session) {
             self.running.swap_remove(at);
+        }
+        self.served.retain(|s| *s != session);
+        self.served.push_back(session);
+        if self.served.len() > REMEMBERED_SESSIONS {
+            self.served.pop_front();
         }
     }
 }
@@ -197,6 +218,31 @@ mod tests {
         // Nobody runs: first come, first served.
         assert_eq!(queue.next(2), Some(heavy_again));
         assert_eq!(queue.peak, 2);
+    }
+
+    /// Two heavy sessions each with a solve running and a sweep queued long ago, a light one
+    /// queued later: when a heavy session's solve is replaced (its permit given back), the
+    /// free permit goes to the light session, not to that heavy session's sweep, although
+    /// both sessions then run nothing and the sweep came first.
+    #[test]
+    fn a_session_just_served_waits_behind_one_served_longer_ago() {
+        let mut queue = Queue::default();
+        for heavy in [0, 1] {
+            let solve = queue.arrive(heavy);
+            queue.grant(solve);
+        }
+        let sweep_0 = queue.arrive(0);
+        let sweep_1 = queue.arrive(1);
+        let light = queue.arrive(2);
+        queue.release(0);
+        assert_eq!(queue.next(2), Some(light));
+        queue.grant(light);
+        queue.release(2);
+        // Now session 0 gave its permit back before session 2 did: its sweep goes first.
+        assert_eq!(queue.next(2), Some(sweep_0));
+        queue.grant(sweep_0);
+        queue.release(1);
+        assert_eq!(queue.next(2), Some(sweep_1));
     }
 
     #[test]
