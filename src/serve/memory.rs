@@ -34,6 +34,10 @@ const FRAME_BYTES_PER_CELL: usize = 16;
 /// A solve's peak apart from its mesh: the dense methods' matrices at their limits
 /// (`dual-inverse`'s explicit inverse of A at N = 4000, three 4000 × 4000 matrices).
 const SOLVE_DENSE_PEAK: usize = 400 * MIB;
+/// A quick solve's peak (`SolveRequest::takes_milliseconds`: at most 2000 elements and 4
+/// obstacles; measured: under 5 MiB over the process's own): one may run per core beside the
+/// others, on an express permit.
+const QUICK_SOLVE_PEAK: usize = 16 * MIB;
 /// A solve's memory per element (the sparse factorizations, the fields, the certificate;
 /// measured: about 30 for the closed form at n = 10⁶, 170 for `dual` at 511 obstacles).
 const SOLVE_BYTES_PER_ELEMENT: usize = 512;
@@ -45,7 +49,8 @@ pub struct MemoryPlan {
     pub budget: usize,
     /// At most what one explorer holds, bytes.
     pub per_session: usize,
-    /// At most what the solves and sweeps running at once hold, bytes.
+    /// At most what the solves and sweeps running at once hold (one per core, and a quick
+    /// one per core beside them), bytes.
     pub solves: usize,
     /// The explorers that fit: never more than `--max-sessions`, at least 1 (or the start is
     /// refused).
@@ -69,6 +74,14 @@ pub fn per_solve(max_elements: usize) -> usize {
     SOLVE_DENSE_PEAK.saturating_add(max_elements.saturating_mul(SOLVE_BYTES_PER_ELEMENT))
 }
 
+/// At most what the solves running at once hold with `cores` permits: one of each kind per
+/// core.
+pub fn solves_at_once(max_elements: usize, cores: usize) -> usize {
+    per_solve(max_elements)
+        .saturating_add(QUICK_SOLVE_PEAK)
+        .saturating_mul(cores)
+}
+
 /// The plan for `budget_mib`, `max_sessions`, `max_elements` and `cores` solves at once;
 /// an error in words when not even one explorer fits.
 pub fn plan(
@@ -79,7 +92,7 @@ pub fn plan(
 ) -> Result<MemoryPlan, String> {
     let budget = budget_mib.saturating_mul(MIB);
     let per_session = per_session(max_elements);
-    let solves = per_solve(max_elements).saturating_mul(cores);
+    let solves = solves_at_once(max_elements, cores);
     let fitting = budget.saturating_sub(solves) / per_session;
     if fitting == 0 {
         return Err(format!(
@@ -134,7 +147,7 @@ mod tests {
 
     #[test]
     fn a_small_budget_lowers_the_cap_and_a_tiny_one_is_refused() {
-        let one = (per_solve(100_000) * 2 + per_session(100_000)).div_ceil(MIB);
+        let one = (solves_at_once(100_000, 2) + per_session(100_000)).div_ceil(MIB);
         let plan = plan(one, 64, 100_000, 2).unwrap();
         assert_eq!(plan.sessions, 1);
         assert!(plan.limited_by_budget);

@@ -147,24 +147,75 @@ fn a_burst_of_keys_at_four_thousand_obstacles_then_a_hangup_ends_the_session_at_
     eventually("the session ended", || server.sessions() == 0);
 }
 
-/// The resident memory of this process, in KiB.
-fn resident_kib() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap();
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:"))
-        .and_then(|v| v.split_whitespace().next()?.parse().ok())
-        .unwrap()
+/// `beamfric serve --open` as a process of its own, so that its memory is its alone (this test
+/// binary runs other tests at the same time).
+struct ServeChild {
+    child: std::process::Child,
+    address: std::net::SocketAddr,
+    _dir: tempfile::TempDir,
+}
+
+impl ServeChild {
+    fn start() -> ServeChild {
+        use std::io::BufRead;
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
+            .args(["serve", "--open", "--listen", "127.0.0.1:0", "--host-key"])
+            .arg(dir.path().join("host_key"))
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
+        // "… listening on 127.0.0.1:PORT (host key …)"; the rest of the log is drained.
+        let address = loop {
+            let line = lines
+                .next()
+                .expect("the server says where it listens")
+                .unwrap();
+            if let Some(rest) = line.split("listening on ").nth(1) {
+                break rest.split_whitespace().next().unwrap().parse().unwrap();
+            }
+        };
+        std::thread::spawn(move || lines.for_each(drop));
+        ServeChild {
+            child,
+            address,
+            _dir: dir,
+        }
+    }
+
+    /// Its resident memory, in KiB.
+    fn resident_kib(&self) -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.split_whitespace().next()?.parse().ok())
+            .unwrap()
+    }
+
+    /// Its explorers' threads running now.
+    fn sessions(&self) -> usize {
+        crate::harness::cpu::threads_named_in(self.child.id(), "session").len()
+    }
+}
+
+impl Drop for ServeChild {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
 }
 
 #[test]
 fn a_client_that_never_reads_holds_bounded_memory() {
-    let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(&options(&dir)).unwrap();
-    let before = resident_kib();
+    let server = ServeChild::start();
+    let before = server.resident_kib();
     let mut peak = before;
     runtime().block_on(async {
-        let handle = logged_in(server.address()).await;
+        let handle = logged_in(server.address).await;
         let explorer = Explorer::open(&handle, (200, 60), &[]).await;
         // Window changes and keys, and never a read: the client's own buffers fill up, and
         // so would the server's if it kept every frame.
@@ -182,10 +233,10 @@ fn a_client_that_never_reads_holds_bounded_memory() {
             let _ = tokio::time::timeout(Duration::from_millis(100), key).await;
             round += 1;
             if round.is_multiple_of(50) {
-                peak = peak.max(resident_kib());
+                peak = peak.max(server.resident_kib());
             }
         }
-        peak = peak.max(resident_kib());
+        peak = peak.max(server.resident_kib());
         hang_up(handle).await;
     });
     // Before the output was bounded, such a client grew the server by over 128 MB. The frames
@@ -316,7 +367,7 @@ fn the_memory_budget_sets_the_session_cap_and_says_so() {
     let dir = tempfile::tempdir().unwrap();
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let max_elements = 1000;
-    let one_explorer = (memory::per_solve(max_elements) * cores
+    let one_explorer = (memory::solves_at_once(max_elements, cores)
         + memory::per_session(max_elements))
     .div_ceil(1 << 20);
     let server = Server::start(&ServeOptions {

@@ -21,7 +21,31 @@ pub struct SolveRequest {
     pub options: SolveOptions,
 }
 
+/// The most elements of a solve that [`SolveRequest::takes_milliseconds`].
+const QUICK_ELEMENTS: usize = 2000;
+/// The most obstacles of such a solve (the enumeration: 9² cases).
+const QUICK_OBSTACLES: usize = 4;
+const QUICK_ENUMERATED_OBSTACLES: usize = 2;
+/// The most elements of such a `dual-inverse` solve (its dense inverse grows as n³).
+const QUICK_DENSE_INVERSE_ELEMENTS: usize = 200;
+
 impl SolveRequest {
+    /// A solve of a few milliseconds at most (Benchmark 1 and its like, with its reference):
+    /// few obstacles on a coarse mesh, whatever the method. Served sessions run such solves
+    /// beside heavy ones instead of waiting for them to end.
+    pub fn takes_milliseconds(&self) -> bool {
+        let obstacles = self.problem.obstacles.len();
+        match self.method {
+            Method::Regularized => {
+                obstacles <= QUICK_ENUMERATED_OBSTACLES && self.elements <= QUICK_ELEMENTS
+            }
+            Method::DualInverse => {
+                obstacles <= QUICK_OBSTACLES && self.elements <= QUICK_DENSE_INVERSE_ELEMENTS
+            }
+            _ => obstacles <= QUICK_OBSTACLES && self.elements <= QUICK_ELEMENTS,
+        }
+    }
+
     /// The solve a scene needs, with the problem and settings its validation built.
     pub fn for_scene(scene: &Scene, problem: &Problem, settings: Settings) -> SolveRequest {
         SolveRequest {

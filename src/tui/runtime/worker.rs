@@ -4,7 +4,8 @@
 //! its lane unseen, and cancels the one running there inside its loops (through the
 //! [`Cancellation`] it runs with), so ten quick key presses make one solve of the final
 //! value. In a served session the worker waits for its turn on the shared cores
-//! ([`super::cores`]) before it takes a job. A panic in a job is caught and reported as the
+//! ([`super::cores`]) before it takes a job — an express turn when its next job is quick
+//! ([`Job::is_quick`]). A panic in a job is caught and reported as the
 //! job's result. Dropping the worker never waits: a job in progress is cancelled (every method
 //! stops within tens of milliseconds, `benches/cancel.rs`) and, should a step still run,
 //! the thread runs on detached until it ends, then gives back its memory.
@@ -26,6 +27,11 @@ pub trait Job: Clone + PartialEq + Send + 'static {
     fn compute(&self, cancel: &Cancellation) -> Option<Self::Output>;
     /// What to deliver when the job panicked with `message`.
     fn failed(&self, message: String) -> Self::Output;
+    /// Whether the job takes milliseconds, so that it may run beside heavy ones on an
+    /// express permit of the shared cores.
+    fn is_quick(&self) -> bool {
+        false
+    }
 }
 
 /// The keystroke's solve: delivered as the solve, or as the message of a panic.
@@ -38,6 +44,10 @@ impl Job for SolveRequest {
         let solved = solve(&request);
         // A newer request also cuts the reference's solve short: drop the result.
         (!solved.was_cancelled()).then_some(Ok(solved))
+    }
+
+    fn is_quick(&self) -> bool {
+        self.takes_milliseconds()
     }
 
     fn failed(&self, message: String) -> Self::Output {
@@ -190,16 +200,24 @@ fn work<J: Job>(shared: &Shared<J>, options: WorkerOptions, deliver: impl Fn(J::
         }
         // Our turn on the shared cores (served sessions), then the oldest job waiting:
         // whatever was asked for meanwhile replaced the older one of its lane unseen.
-        let _permit = match &options.share {
-            Some(share) => match share.acquire(&closed) {
+        let quick = peek_oldest(&shared.lock()).is_some_and(J::is_quick);
+        let permit = match &options.share {
+            Some(share) => match share.acquire(quick, &closed) {
                 Some(permit) => Some(permit),
                 None => return,
             },
             None => None,
         };
-        let Some((lane, generation, job)) = oldest(&mut shared.lock()) else {
+        let mut queue = shared.lock();
+        // An express permit is for a quick job only: one asked for while waiting goes back.
+        let express = permit.as_ref().is_some_and(|p| p.is_express());
+        if express && !peek_oldest(&queue).is_some_and(J::is_quick) {
+            continue;
+        }
+        let Some((lane, generation, job)) = oldest(&mut queue) else {
             continue;
         };
+        drop(queue);
         let cancel = Cancellation::watching(Arc::clone(&shared.newest[lane]), generation);
         if cancel.is_cancelled() {
             continue;
@@ -219,15 +237,30 @@ fn work<J: Job>(shared: &Shared<J>, options: WorkerOptions, deliver: impl Fn(J::
     }
 }
 
-/// Takes the job that has waited longest (the smallest generation) out of the queue.
+/// The lane of the job that has waited longest (the smallest generation).
+fn oldest_lane<J>(queue: &Queue<J>) -> Option<usize> {
+    Some(
+        queue
+            .waiting
+            .iter()
+            .enumerate()
+            .filter_map(|(lane, waiting)| {
+                waiting.as_ref().map(|(generation, _)| (*generation, lane))
+            })
+            .min()?
+            .1,
+    )
+}
+
+/// The job that has waited longest, left in the queue.
+fn peek_oldest<J>(queue: &Queue<J>) -> Option<&J> {
+    let lane = oldest_lane(queue)?;
+    queue.waiting[lane].as_ref().map(|(_, job)| job)
+}
+
+/// Takes the job that has waited longest out of the queue.
 fn oldest<J>(queue: &mut Queue<J>) -> Option<(usize, u64, J)> {
-    let lane = queue
-        .waiting
-        .iter()
-        .enumerate()
-        .filter_map(|(lane, waiting)| waiting.as_ref().map(|(generation, _)| (*generation, lane)))
-        .min()?
-        .1;
+    let lane = oldest_lane(queue)?;
     let (generation, job) = queue.waiting[lane].take()?;
     Some((lane, generation, job))
 }
