@@ -15,10 +15,11 @@ use russh::keys::{PrivateKey, PrivateKeyWithHashAlg};
 use crate::harness::cpu;
 use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess};
 use crate::harness::screen::{find, rows, sgr};
+use crate::harness::serve_process::{ServeProcess, port_in};
 use crate::harness::ssh::{
     Explorer, connect, disconnect, logged_in, logged_in_with, runtime, succeeded, user_key,
 };
-use crate::harness::wait::{PATIENCE, deadline, eventually, until};
+use crate::harness::wait::{deadline, eventually, until};
 
 /// A server on a free loopback port with its host key in a temporary directory.
 struct TestServer {
@@ -676,72 +677,6 @@ fn the_work_of_all_sessions_never_runs_on_more_than_the_machines_cores() {
     println!("at most {peak} solves and studies ran at once on {cores} cores");
     assert!(peak >= 1, "nothing ran through the shared cores");
     assert!(peak <= cores, "{peak} at once on {cores} cores");
-}
-
-/// `beamfric serve` as a process, its stderr read line by line.
-struct ServeProcess {
-    child: std::process::Child,
-    lines: std::sync::mpsc::Receiver<String>,
-    seen: Vec<String>,
-}
-
-impl ServeProcess {
-    fn start(args: &[&str]) -> ServeProcess {
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
-            .args(args)
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let stderr = child.stderr.take().unwrap();
-        let (sender, lines) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            use std::io::BufRead;
-            for line in std::io::BufReader::new(stderr).lines() {
-                let Ok(line) = line else { return };
-                if sender.send(line).is_err() {
-                    return;
-                }
-            }
-        });
-        ServeProcess {
-            child,
-            lines,
-            seen: Vec::new(),
-        }
-    }
-
-    /// The first line containing `needle` (panics after [`PATIENCE`]).
-    fn wait_for_line(&mut self, needle: &str) -> String {
-        if let Some(line) = self.seen.iter().find(|l| l.contains(needle)) {
-            return line.clone();
-        }
-        loop {
-            let line = self
-                .lines
-                .recv_timeout(PATIENCE)
-                .unwrap_or_else(|_| panic!("no line with {needle:?}; so far: {:?}", self.seen));
-            self.seen.push(line.clone());
-            if line.contains(needle) {
-                return line;
-            }
-        }
-    }
-}
-
-impl Drop for ServeProcess {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// The port in a line "… listening on 127.0.0.1:PORT …".
-fn port_in(line: &str) -> u16 {
-    let after = line.split("127.0.0.1:").nth(1).expect("an address");
-    let digits: String = after.chars().take_while(char::is_ascii_digit).collect();
-    digits.parse().expect("a port")
 }
 
 #[test]

@@ -13,6 +13,7 @@ use beamfric::serve::admission::WAITING_CAP;
 use beamfric::serve::{ServeOptions, Server, memory};
 use russh::client::KeyboardInteractiveAuthResponse;
 
+use crate::harness::serve_process::{ServeProcess, port_in};
 use crate::harness::ssh::{
     Explorer, connect, disconnect, logged_in, logged_in_with, runtime, user_key,
 };
@@ -147,75 +148,37 @@ fn a_burst_of_keys_at_four_thousand_obstacles_then_a_hangup_ends_the_session_at_
     eventually("the session ended", || server.sessions() == 0);
 }
 
-/// `beamfric serve --open` as a process of its own, so that its memory is its alone (this test
-/// binary runs other tests at the same time).
-struct ServeChild {
-    child: std::process::Child,
-    address: std::net::SocketAddr,
-    _dir: tempfile::TempDir,
-}
-
-impl ServeChild {
-    fn start() -> ServeChild {
-        use std::io::BufRead;
-        let dir = tempfile::tempdir().unwrap();
-        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
-            .args(["serve", "--open", "--listen", "127.0.0.1:0", "--host-key"])
-            .arg(dir.path().join("host_key"))
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .unwrap();
-        let mut lines = std::io::BufReader::new(child.stderr.take().unwrap()).lines();
-        // "… listening on 127.0.0.1:PORT (host key …)"; the rest of the log is drained.
-        let address = loop {
-            let line = lines
-                .next()
-                .expect("the server says where it listens")
-                .unwrap();
-            if let Some(rest) = line.split("listening on ").nth(1) {
-                break rest.split_whitespace().next().unwrap().parse().unwrap();
-            }
-        };
-        std::thread::spawn(move || lines.for_each(drop));
-        ServeChild {
-            child,
-            address,
-            _dir: dir,
-        }
-    }
-
-    /// Its resident memory, in KiB.
-    fn resident_kib(&self) -> u64 {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
-        status
-            .lines()
-            .find_map(|l| l.strip_prefix("VmRSS:"))
-            .and_then(|v| v.split_whitespace().next()?.parse().ok())
-            .unwrap()
-    }
-
-    /// Its explorers' threads running now.
-    fn sessions(&self) -> usize {
-        crate::harness::cpu::threads_named_in(self.child.id(), "session").len()
-    }
-}
-
-impl Drop for ServeChild {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+/// The resident memory of process `pid`, in KiB.
+fn resident_kib(pid: u32) -> u64 {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))
+        .and_then(|v| v.split_whitespace().next()?.parse().ok())
+        .unwrap()
 }
 
 #[test]
 fn a_client_that_never_reads_holds_bounded_memory() {
-    let server = ServeChild::start();
-    let before = server.resident_kib();
+    // A server process of its own, so that its memory is its alone (this test binary runs
+    // other tests at the same time).
+    let dir = tempfile::tempdir().unwrap();
+    let host_key = dir.path().join("host_key");
+    let mut server = ServeProcess::start(&[
+        "serve",
+        "--open",
+        "--listen",
+        "127.0.0.1:0",
+        "--host-key",
+        host_key.to_str().unwrap(),
+    ]);
+    let port = port_in(&server.wait_for_line("listening on"));
+    let address: std::net::SocketAddr = ([127, 0, 0, 1], port).into();
+    let pid = server.pid();
+    let before = resident_kib(pid);
     let mut peak = before;
     runtime().block_on(async {
-        let handle = logged_in(server.address).await;
+        let handle = logged_in(address).await;
         let explorer = Explorer::open(&handle, (200, 60), &[]).await;
         // Window changes and keys, and never a read: the client's own buffers fill up, and
         // so would the server's if it kept every frame.
@@ -233,17 +196,19 @@ fn a_client_that_never_reads_holds_bounded_memory() {
             let _ = tokio::time::timeout(Duration::from_millis(100), key).await;
             round += 1;
             if round.is_multiple_of(50) {
-                peak = peak.max(server.resident_kib());
+                peak = peak.max(resident_kib(pid));
             }
         }
-        peak = peak.max(server.resident_kib());
+        peak = peak.max(resident_kib(pid));
         hang_up(handle).await;
     });
     // Before the output was bounded, such a client grew the server by over 128 MB. The frames
     // kept for it now are a few at 500 × 200 cells at most.
     let grown = peak.saturating_sub(before);
     assert!(grown < 96 * 1024, "the server grew by {grown} KiB");
-    eventually("the session ended", || server.sessions() == 0);
+    eventually("the session ended", || {
+        crate::harness::cpu::threads_named_in(pid, "session").is_empty()
+    });
 }
 
 #[test]

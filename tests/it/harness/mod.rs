@@ -9,6 +9,7 @@
 //!   sees it.
 //! - [`screen`]: finding text on a screen and mouse reports to send to it.
 //! - [`wait`]: waiting for a condition (`eventually`) instead of sleeping or timing.
+//! - [`serve_process`]: `beamfric serve` as a process of its own, its log line by line.
 //! - [`cpu`]: a thread's CPU time, to wait until work is provably under way.
 //! - [`seed`]: the one seed of every random draw, `BEAMFRIC_SEED`, printed to repeat a run.
 
@@ -19,6 +20,7 @@ pub mod pty;
 pub mod scenes;
 pub mod screen;
 pub mod seed;
+pub mod serve_process;
 #[cfg(unix)]
 pub mod ssh;
 pub mod wait;
