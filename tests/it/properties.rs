@@ -1,7 +1,8 @@
 //! Property tests over random valid scenes (issue 2): 1–6 obstacles, random thresholds from
 //! zero to clamping, linear loads of either sign, stretches with their own modulus and
-//! section. Every applicable method must agree with the flexibility method, within what the
-//! stiffness route's conditioning allows, and certify itself with a small KKT residual.
+//! section. Every applicable method must agree with the condensed method, within what its
+//! conditioning allows, and certify itself with a small KKT residual; flexibility (single
+//! shooting) agrees to 1e-10 or warns, the contract of issue 10 for an exact method.
 
 use beamfric::fem::{Mesh, StiffnessMatrix, stiffness_condition_bounds};
 use beamfric::linalg::BlockMatrix;
@@ -185,6 +186,13 @@ proptest! {
                 epsilon,
                 ..base.clone()
             };
+            // Flexibility runs as users run it, with the certificate's comparison against the
+            // condensed method: its contract is issue 10's for an exact method, agree to 1e-10
+            // or warn (see below).
+            let options = SolveOptions {
+                reference: method == Method::Flexibility,
+                ..options
+            };
             let solution = match solve(&problem, &mesh, method, &options) {
                 Ok(s) => s,
                 Err(e) => {
@@ -197,33 +205,43 @@ proptest! {
             // Exact methods solve a QP in the friction forces through A (stiffness route) or S
             // (both dual routes), so each is accurate to about (cond(A) + cond(S))·eps of its
             // own matrices (seen: 1.5e-11 with cond(A) = 4.5e4, cond(S) = 4.4e4 on six
-            // obstacles, eight elements; flexibility 2.3e-12 from condensed where its single
-            // shooting lost digits); regularised ones: O(ε) on top.
+            // obstacles, eight elements); regularised ones: O(ε) on top.
             let cond_stiffness = solution.conditioning.stiffness.map_or(1.0, |c| c.value);
             let cond_dual = solution.conditioning.dual.map_or(1.0, |c| c.value);
-            // Flexibility's single shooting carries rounding across the beam beyond what
-            // cond(S) says (issue 10): it is held to the issue's bound for an exact method
-            // that does not warn, 1e-10.
-            let shooting = if method == Method::Flexibility { 1e-10 } else { 0.0 };
-            let tolerance = (1e-12 + 2.0 * (cond_stiffness + cond_dual) * f64::EPSILON)
-                .max(shooting)
+            let tolerance = 1e-12
+                + 2.0 * (cond_stiffness + cond_dual) * f64::EPSILON
                 + if method.is_regularized() { 1e-6 } else { 0.0 };
             let du = scenes::relative_difference(&solution.field.deflection, &reference.field.deflection);
-            prop_assert!(du < tolerance, "{method}: u differs by {du:e} (tolerance {tolerance:e})");
             let ds = scenes::relative_difference(&solution.field.slope, &reference.field.slope);
-            prop_assert!(ds < tolerance, "{method}: u' differs by {ds:e}");
-            // The piecewise KKT check measures against the local values, which the stiffness
-            // route resolves to what its conditioning explains.
-            let kkt_tolerance = if method.is_regularized() { 1e-6 } else { 1e-9_f64.max(100.0 * tolerance) };
-            // Single shooting resolves values to about 1e-12 of the largest, not to an ulp of
-            // the local ones, so the piecewise check may find flexibility inconsistent near a
-            // stuck obstacle even where u agrees to 1e-10; then it must say so.
-            let flagged = method == Method::Flexibility
-                && solution.has_warning(beamfric::solve::WarningCode::KktResidual);
-            prop_assert!(
-                solution.kkt_residual < kkt_tolerance || flagged,
-                "{method}: KKT residual {:e}", solution.kkt_residual
-            );
+            if method == Method::Flexibility {
+                // Single shooting carries the rounding of the reactions and of S across the
+                // beam beyond what cond(S) says: 1.65e-10 in u' on a scene whose KKT residual
+                // is 7e-11, 2.2e-9 on one with a soft stretch (issue 10's finding; the
+                // regression file keeps both). So it is held to the contract: within 1e-10,
+                // or it says so (accuracy-loss from the comparison, or kkt-residual); and
+                // even then within 1e-7, far above the 2.2e-9 seen, far below a wrong answer.
+                let warned = solution.has_warning(beamfric::solve::WarningCode::AccuracyLoss)
+                    || solution.has_warning(beamfric::solve::WarningCode::KktResidual);
+                let bound = if warned { 1e-7 } else { tolerance.max(1e-10) };
+                prop_assert!(
+                    du < bound && ds < bound,
+                    "flexibility: u differs by {du:e}, u' by {ds:e} (bound {bound:e}, warned: {warned})"
+                );
+                prop_assert!(
+                    solution.kkt_residual < 1e-9_f64.max(100.0 * tolerance) || warned,
+                    "flexibility: KKT residual {:e} without a warning", solution.kkt_residual
+                );
+            } else {
+                prop_assert!(du < tolerance, "{method}: u differs by {du:e} (tolerance {tolerance:e})");
+                prop_assert!(ds < tolerance, "{method}: u' differs by {ds:e}");
+                // The piecewise KKT check measures against the local values, which the
+                // stiffness route resolves to what its conditioning explains.
+                let kkt_tolerance = if method.is_regularized() { 1e-6 } else { 1e-9_f64.max(100.0 * tolerance) };
+                prop_assert!(
+                    solution.kkt_residual < kkt_tolerance,
+                    "{method}: KKT residual {:e}", solution.kkt_residual
+                );
+            }
             for o in &solution.obstacles {
                 let g = problem.obstacles.iter().find(|p| p.x == o.x).unwrap();
                 prop_assert!(o.force.abs() <= g.sliding_threshold * (1.0 + 1e-9) + 1e-9 * g.sliding_threshold.max(1.0));
