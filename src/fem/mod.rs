@@ -24,6 +24,15 @@ pub struct NodalField {
     pub slope: Vec<f64>,
 }
 
+/// A field of 10⁷ nodes is 160 MB: it is freed off the dropping thread (`linalg::release`),
+/// so that a solve cancelled after its field was built returns at once.
+impl Drop for NodalField {
+    fn drop(&mut self) {
+        crate::linalg::release::release(std::mem::take(&mut self.deflection));
+        crate::linalg::release::release(std::mem::take(&mut self.slope));
+    }
+}
+
 /// u, u', bending moment M = −EJ u'' and shear T = M' (the paper's sign convention, Appendix
 /// A) of the finite-element solution at one point.
 #[derive(Debug, Clone, Copy, PartialEq)]

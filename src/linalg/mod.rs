@@ -4,7 +4,8 @@
 //! systems on the friction DOFs, the box-constrained QP of the dual problem (49), and
 //! condition numbers (dense eigenvalues through faer, Lanczos estimates for large N), faer's
 //! dense Cholesky and inverse in interruptible steps (`faer_stepwise`); `stop` is how the long
-//! kernels give up when their result is no longer wanted.
+//! kernels give up when their result is no longer wanted; `release` frees their large buffers off
+//! the solving thread.
 
 pub mod banded_lu;
 pub mod banded_lu_dd;
@@ -16,6 +17,7 @@ pub mod dense;
 pub mod double_double;
 pub mod faer_stepwise;
 pub(crate) mod parallel;
+pub mod release;
 pub mod stop;
 mod two_by_two;
 

@@ -18,6 +18,7 @@ use crate::linalg::boxqp::solve_box_qp_until;
 use crate::linalg::faer_stepwise::{
     llt_in_place_until, llt_inverse_until, mat_vec_until, zeros_until,
 };
+use crate::linalg::release::Background;
 use crate::linalg::stop::Stopped;
 use crate::model::{Method, Problem};
 
@@ -49,7 +50,8 @@ pub(super) fn solve(
     let mut clock = Stopwatch::start();
     let matrix = StiffnessMatrix::new(mesh);
     // The lower triangle of A: what faer's `llt(Side::Lower)` reads.
-    let mut a = zeros_until(n, &stop).map_err(cancelled)?;
+    // The N×N matrices are freed off this thread, on a cancel too (`linalg::release`).
+    let mut a = Background::new(zeros_until(n, &stop).map_err(cancelled)?);
     for i in 0..n / 2 {
         let d = matrix.diag(i);
         a[(2 * i, 2 * i)] = d[0];
@@ -83,8 +85,8 @@ pub(super) fn solve(
                 "the dense Cholesky factorization of A failed".into(),
             )
         })?;
-    let inverse = llt_inverse_until(a.as_ref(), &stop).map_err(cancelled)?;
-    drop(a);
+    let inverse = Background::new(llt_inverse_until(a.as_ref(), &stop).map_err(cancelled)?);
+    drop(a); // off this thread
     timing.factorization = clock.lap();
 
     // Rows of B: the friction DOFs (u and u' of each obstacle node).

@@ -2,7 +2,8 @@
 //! at N = 4000 two faer calls of a second or more each), and the inverse from faer's LU
 //! factors (the stiffness route's S = K⁻¹ when rounding made K indefinite: 50 ms at
 //! 2k = 1022), cut into calls of about sixteen million multiply-adds, with the caller's `stop`
-//! asked between them (`linalg::stop`).
+//! asked between them (`linalg::stop`); and the LU factorization itself in panels (`lu`, not
+//! faer's bits but faer's pivots).
 //!
 //! The cuts follow faer's own algorithms (faer 0.24): the right-looking factorization with
 //! diagonal blocks of 128 (`cholesky_recursion_right_looking`), the Cholesky inverse as L⁻¹ by
@@ -25,10 +26,14 @@ use faer::perm::{PermRef, permute_cols};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
+use super::release::Background;
 use super::stop::{Stop, Stopped};
 use triangular::{Diagonal, invert_lower, upper_times_lower_into_lower, upper_times_unit_lower};
 
+mod lu;
 mod triangular;
+
+pub use lu::partial_piv_lu_until;
 
 /// A pivot of the factorization was not positive: the matrix is not positive definite in
 /// floating point.
@@ -85,7 +90,8 @@ pub fn lu_inverse_until(
 /// A zero n×n matrix, written a few columns at a time (at N = 4000 the 128 MB take tens of
 /// milliseconds).
 pub fn zeros_until(n: usize, stop: Stop) -> Result<Mat<f64>, Stopped> {
-    let mut matrix = Mat::<f64>::new();
+    // Freed off this thread when stopped half-way (`release`).
+    let mut matrix = Background::new(Mat::<f64>::new());
     matrix.reserve(n, n);
     let columns = (CUTS.memory / n.max(1)).max(1);
     let mut done = 0;
@@ -94,7 +100,7 @@ pub fn zeros_until(n: usize, stop: Stop) -> Result<Mat<f64>, Stopped> {
         done = (done + columns).min(n);
         matrix.resize_with(n, done, |_, _| 0.0);
     }
-    Ok(matrix)
+    Ok(matrix.into_inner())
 }
 
 /// The product `a · x` of faer's `&a * &x` (one column), a few rows at a time.
@@ -255,9 +261,10 @@ fn pieces(total: usize, size: usize, cuts: Cuts) -> Vec<(usize, usize)> {
 /// faer's `Llt::inverse`: L⁻¹, the lower half of L⁻ᵀ L⁻¹, then the upper half mirrored.
 fn llt_inverse_with_cuts(l: MatRef<'_, f64>, stop: Stop, cuts: Cuts) -> Result<Mat<f64>, Stopped> {
     let n = l.nrows();
-    let mut l_inverse = zeros_until(n, stop)?;
+    // Both N×N matrices are freed off this thread, on a cancel too (`release`).
+    let mut l_inverse = Background::new(zeros_until(n, stop)?);
     invert_lower(l_inverse.as_mut(), l, Diagonal::Stored, stop, cuts)?;
-    let mut out = zeros_until(n, stop)?;
+    let mut out = Background::new(zeros_until(n, stop)?);
     upper_times_lower_into_lower(
         out.as_mut(),
         Accum::Replace,
@@ -279,7 +286,7 @@ fn llt_inverse_with_cuts(l: MatRef<'_, f64>, stop: Stop, cuts: Cuts) -> Result<M
         }
         j += columns;
     }
-    Ok(out)
+    Ok(out.into_inner())
 }
 
 /// faer's `lu::partial_pivoting::inverse`: L⁻¹ (strictly lower) and U⁻¹ (upper, as the lower
@@ -290,7 +297,8 @@ fn lu_inverse_with_cuts(
     cuts: Cuts,
 ) -> Result<Mat<f64>, Stopped> {
     let n = l.ncols();
-    let mut out = zeros_until(n, stop)?;
+    // Both N×N matrices are freed off this thread, on a cancel too (`release`).
+    let mut out = Background::new(zeros_until(n, stop)?);
     invert_lower(out.as_mut(), l, Diagonal::Unit, stop, cuts)?;
     invert_lower(
         out.as_mut().reverse_rows_and_cols_mut(),
@@ -299,11 +307,11 @@ fn lu_inverse_with_cuts(
         stop,
         cuts,
     )?;
-    let mut product = zeros_until(n, stop)?;
+    let mut product = Background::new(zeros_until(n, stop)?);
     upper_times_unit_lower(product.as_mut(), Accum::Replace, out.as_ref(), stop, cuts)?;
     ask(stop)?;
     permute_cols(out.as_mut(), product.as_ref(), p.inverse());
-    Ok(out)
+    Ok(out.into_inner())
 }
 
 #[cfg(test)]

@@ -133,3 +133,45 @@ fn not_positive_definite_and_stopped() {
     assert_eq!(llt_in_place_until(a.as_mut(), &|| true), Err(Stopped));
     assert!(llt_inverse_until(a.as_ref(), &|| true).is_err());
 }
+
+/// The stepwise LU against faer's: P A = L U to rounding, the same permutation convention (its
+/// inverse through `lu_inverse_until` agrees with faer's LU inverse), the same pivots on a
+/// matrix that needs them, and a stop heard.
+#[test]
+fn the_stepwise_lu_factors_as_faer_does_and_stops() {
+    for n in [1, 2, 3, 17, 64, 65, 130, 300, 1022] {
+        let a = spd(n, 5 * n as u64);
+        // Large entries below the diagonal: partial pivoting must interchange rows.
+        let a = Mat::from_fn(n, n, |i, j| {
+            a[(i, j)] + if i > j { 3.0 * n as f64 } else { 0.0 }
+        });
+        let (lu, p) = partial_piv_lu_until(a.as_ref(), NEVER).unwrap();
+        let faer_lu = a.partial_piv_lu();
+        let (forward, _) = p.as_ref().arrays();
+        let (faer_forward, _) = faer_lu.P().arrays();
+        assert_eq!(forward, faer_forward, "the pivots, n = {n}");
+        // P A = L U, row by row.
+        let scale = a.norm_max();
+        for i in 0..n {
+            for j in 0..n {
+                let sum: f64 = (0..=i.min(j))
+                    .map(|m| if m == i { 1.0 } else { lu[(i, m)] } * lu[(m, j)])
+                    .sum();
+                let diff = (sum - a[(forward[i], j)]).abs();
+                assert!(
+                    diff <= 1e-12 * scale,
+                    "P A = L U at ({i}, {j}), n = {n}: {diff:e}"
+                );
+            }
+        }
+        let inverse = lu_inverse_until((lu.as_ref(), lu.as_ref(), p.as_ref()), NEVER).unwrap();
+        let faer_inverse = faer_lu.inverse();
+        let diff = (&inverse - &faer_inverse).norm_max() / faer_inverse.norm_max();
+        assert!(
+            diff < 1e-10,
+            "inverse differs from faer's by {diff:e}, n = {n}"
+        );
+    }
+    let a = spd(300, 9);
+    assert!(partial_piv_lu_until(a.as_ref(), &|| true).is_err());
+}
