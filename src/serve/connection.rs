@@ -312,7 +312,7 @@ impl Handler for Connection {
             slot,
             handle,
             channel,
-            &self.terminal,
+            (&self.terminal, self.user.as_deref()),
         ) {
             Ok(feed) => {
                 self.feed = Some(feed);

@@ -141,7 +141,7 @@ pub(crate) fn start(
     slot: SessionSlot,
     handle: Handle,
     channel: ChannelId,
-    client: &ClientTerminal,
+    (client, user): (&ClientTerminal, Option<&str>),
 ) -> Result<Feed, ServeError> {
     let settings = &shared.explorer;
     let (feed, events) = remote::events();
@@ -152,7 +152,7 @@ pub(crate) fn start(
     let mut latest = None;
     if let Some(hub) = &shared.hub {
         if presenter {
-            follow = Some(Follow::presenter(&hub.followers));
+            follow = Some(Follow::presenter(&hub.followers, false));
             hub_id = Some(hub.join_presenter(feed.clone()));
             let publishing = Arc::clone(shared);
             after_frame = Some(Box::new(move |app: &App| {
@@ -180,6 +180,7 @@ pub(crate) fn start(
         save_directory: settings.save_dir.clone(),
         max_elements: Some(settings.max_elements),
         follow,
+        owner: user.map(str::to_string),
         ..Options::new(client.look())
     };
     let mut app = App::new(settings.scene.clone(), options)?;

@@ -1,14 +1,16 @@
 //! Follow mode, on the server's side: the hub that takes each frame's state of a presenter
 //! (a session logged in with a key of `--presenter-keys`) and hands it to every student's
 //! explorer, which shows it while following. The presenter's solve and sweeps travel with
-//! the state, so they are computed once, not once per student.
+//! the state, so they are computed once, not once per student. It also tells the students
+//! when the last presenter leaves (they get their keys back) and when the class ends (each
+//! shows its closing screen).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::tui::runtime::remote::Feed;
 use crate::tui::state::Exploration;
-use crate::tui::state::follow::Followers;
+use crate::tui::state::follow::{ClassNews, Followers};
 
 /// Feeds by id.
 type Feeds = Mutex<Vec<(u64, Feed)>>;
@@ -65,10 +67,33 @@ impl Hub {
         id
     }
 
-    /// A student or presenter left.
+    /// A student or presenter left. When the last presenter leaves, every student hears it
+    /// (a follower gets its keys back).
     pub fn leave(&self, id: u64) {
         lock(&self.students).retain(|(student, _)| *student != id);
-        lock(&self.presenters).retain(|(presenter, _)| *presenter != id);
+        let last_presenter_left = {
+            let mut presenters = lock(&self.presenters);
+            let before = presenters.len();
+            presenters.retain(|(presenter, _)| *presenter != id);
+            before > 0 && presenters.is_empty()
+        };
+        if last_presenter_left {
+            self.tell_students(ClassNews::PresenterLeft);
+        }
+    }
+
+    /// The class ends, by `by`: every student's explorer shows its closing screen. Returns how
+    /// many students were told.
+    pub fn end_class(&self, by: &str) -> usize {
+        self.tell_students(ClassNews::Ended { by: by.to_string() })
+    }
+
+    fn tell_students(&self, news: ClassNews) -> usize {
+        let students = lock(&self.students);
+        for (_, feed) in students.iter() {
+            feed.class_news(news.clone());
+        }
+        students.len()
     }
 
     /// A presenter drew a frame: its state goes to every student.

@@ -432,7 +432,7 @@ pub fn present(
     };
     let options = Options {
         show_timings: true,
-        follow: Some(Follow::presenter(&hub.followers)),
+        follow: Some(Follow::presenter(&hub.followers, true)),
         greeting: Some(format!(
             "presenting on {}: students connect with ssh -p {} HOST (host key {})",
             server.address(),
@@ -453,6 +453,18 @@ pub fn present(
         }))
     })
     .map_err(ServeError::Terminal);
+    // The class ends: every student sees their closing screen (their scene saved under
+    // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
+    let told = hub.end_class("the lecturer");
+    if told > 0 {
+        log(&format!(
+            "the class is over: {told} student{} see their closing screen; waiting up to {} s \
+             for them to leave (Ctrl-C stops now)",
+            if told == 1 { "" } else { "s" },
+            CLOSING_GRACE.as_secs()
+        ));
+        wait_for_students(&server);
+    }
     if let Some(id) = presenter_id {
         hub.leave(id);
     }
@@ -465,6 +477,28 @@ pub fn present(
     }
     log("stopped");
     ending
+}
+
+/// How long students may read their closing screen before the server closes.
+const CLOSING_GRACE: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Waits until every student's explorer has ended, [`CLOSING_GRACE`] has passed, or Ctrl-C.
+fn wait_for_students(server: &Server) {
+    let interrupted = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let hooks: Vec<_> = [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM]
+        .into_iter()
+        .filter_map(|signal| signal_hook::flag::register(signal, Arc::clone(&interrupted)).ok())
+        .collect();
+    let deadline = std::time::Instant::now() + CLOSING_GRACE;
+    while server.sessions() > 0
+        && std::time::Instant::now() < deadline
+        && !interrupted.load(std::sync::atomic::Ordering::Relaxed)
+    {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    for hook in hooks {
+        signal_hook::low_level::unregister(hook);
+    }
 }
 
 /// The `--save-dir` directory, resolved; it must exist and be a directory.

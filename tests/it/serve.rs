@@ -17,7 +17,8 @@ use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess};
 use crate::harness::screen::{find, rows, sgr};
 use crate::harness::serve_process::{ServeProcess, port_in};
 use crate::harness::ssh::{
-    Explorer, connect, disconnect, logged_in, logged_in_with, runtime, succeeded, user_key,
+    Explorer, connect, disconnect, logged_in, logged_in_as, logged_in_with, runtime, succeeded,
+    user_key,
 };
 use crate::harness::wait::{deadline, eventually, until};
 
@@ -494,6 +495,21 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         follower.wait_for("load f0 (x=0)  5.0e4").await;
         follower.wait_for("following the presenter").await;
         assert_eq!(server.followers(), 1);
+
+        // Issue 23 item 6: the presenter disconnects; the follower is told, keeps the view
+        // and gets its keys back (measured: see docs/classroom.md).
+        disconnect(&lecturer).await;
+        let left = Instant::now();
+        follower.wait_for("the presenter left").await;
+        eprintln!(
+            "the follower heard the presenter leave after {:?}",
+            left.elapsed()
+        );
+        follower.wait_for("own exploration").await;
+        assert!(follower.text().contains("load f0 (x=0)  5.0e4"));
+        follower.send(b"]").await;
+        follower.wait_for("load f0 (x=0)  5.0e5").await;
+        assert_eq!(server.followers(), 0);
     });
 }
 
@@ -754,9 +770,11 @@ fn every_connection_is_logged_with_address_user_key_and_duration_never_the_passw
 const PTY_SIZE: (u16, u16) = (120, 40);
 
 #[test]
-fn present_the_lecturers_own_explorer_leads_and_quitting_it_stops_the_server() {
+fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_students_work() {
     let dir = tempfile::tempdir().unwrap();
     let host_key = dir.path().join("host_key");
+    let saves = dir.path().join("saves");
+    std::fs::create_dir(&saves).unwrap();
     let mut lecturer = PtyProcess::start(
         &[
             "present",
@@ -765,6 +783,8 @@ fn present_the_lecturers_own_explorer_leads_and_quitting_it_stops_the_server() {
             "127.0.0.1:0",
             "--host-key",
             host_key.to_str().unwrap(),
+            "--save-dir",
+            saves.to_str().unwrap(),
         ],
         &[],
         PTY_SIZE,
@@ -774,14 +794,19 @@ fn present_the_lecturers_own_explorer_leads_and_quitting_it_stops_the_server() {
     let port = port_in(&lecturer.screen());
     let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
     runtime().block_on(async {
-        let handle = logged_in(address).await;
-        let mut follower = Explorer::open(&handle, PTY_SIZE, &[]).await;
+        let (alice, bob) = (
+            logged_in_as(address, "alice").await,
+            logged_in_as(address, "bob").await,
+        );
+        let mut follower = Explorer::open(&alice, PTY_SIZE, &[]).await;
+        let mut forker = Explorer::open(&bob, (80, 24), &[]).await;
         follower.wait_for("following the presenter").await;
         follower.wait_for("load f0 (x=0)  5.0e4").await;
-        // The lecturer's status line counts the student, and says it presents.
-        lecturer.wait_for_screen("presenting · 1 follow");
+        forker.wait_for("following the presenter").await;
+        // The lecturer's status line counts the students, and says it presents.
+        lecturer.wait_for_screen("presenting · 2 follow · 2 students");
 
-        // Each change of the lecturer's, up and down a coarse step, reaches the student.
+        // Each change of the lecturer's, up and down a coarse step, reaches the students.
         for (key, shown) in [
             (b"]", "5.0e5"),
             (b"[", "5.0e4"),
@@ -793,36 +818,89 @@ fn present_the_lecturers_own_explorer_leads_and_quitting_it_stops_the_server() {
             follower.wait_for(&format!("load f0 (x=0)  {shown}")).await;
         }
         lecturer.wait_for_screen("load f0 (x=0)  5.0e5");
+        forker.wait_for("5.0e5").await;
+        // Issue 23 item 2: the follower at 80×24 shows the presenter's error and KKT figures
+        // (the follow mode moved to the title line).
+        let figure = |screen: &str, word: &str| {
+            let at = screen
+                .find(word)
+                .unwrap_or_else(|| panic!("no {word:?} in\n{screen}"));
+            screen[at..].split_whitespace().nth(2).map(str::to_string)
+        };
+        lecturer.wait_for_screen("KKT");
+        forker.wait_for("KKT").await;
+        let lecturers = lecturer.screen();
+        let followers = forker.text();
+        assert!(followers.contains("following the presenter"), "{followers}");
+        for word in ["· KKT", "· error"] {
+            assert_eq!(
+                figure(&lecturers, word),
+                figure(&followers, word),
+                "{word}:\n{lecturers}\n{followers}"
+            );
+        }
 
-        // The student forks: the lecturer's explorer is not affected.
-        follower.send(b"f").await;
-        follower.wait_for("own exploration").await;
-        lecturer.wait_for_screen("presenting · 0 follow");
-        follower.send(b"]").await;
-        follower.wait_for("load f0 (x=0)  5.0e6").await;
+        // Bob forks and changes the load: the lecturer's explorer is not affected, and Bob now
+        // holds unsaved work.
+        forker.send(b"f").await;
+        forker.wait_for("own exploration").await;
+        lecturer.wait_for_screen("presenting · 1 follow · 2 students");
+        forker.send(b"]").await;
+        forker.wait_for("5.0e6").await;
         assert!(lecturer.screen().contains("load f0 (x=0)  5.0e5"));
 
-        // The lecturer quits (the changed scene is not saved: y): the server stops, and the
-        // student's explorer leaves its screen and its channel closes.
+        // Issue 23 item 1: the lecturer's quit asks first; n keeps teaching.
         lecturer.type_bytes(b"q");
+        lecturer.wait_for_screen("2 students (1 with unsaved work): end the class?");
+        lecturer.type_bytes(b"n");
+        lecturer.wait_for_screen("the class goes on");
+        // Yes ends it (and the lecturer's own changed scene is not saved: y).
+        lecturer.type_bytes(b"q");
+        lecturer.wait_for_screen("end the class?");
+        lecturer.type_bytes(b"y");
         lecturer.wait_for_screen("lose them?");
         lecturer.type_bytes(b"y");
-        follower.wait_for_close().await;
-        let raw = String::from_utf8_lossy(&follower.raw).into_owned();
-        assert!(
-            raw.contains(LEAVE_ALTERNATE),
-            "the student's screen was not left"
-        );
+
+        // Each student sees who ended it and their scene as TOML; Bob's fork is saved under
+        // --save-dir with his name; Alice (following) had nothing of her own to save.
+        follower
+            .wait_for("The class was ended by the lecturer")
+            .await;
+        follower.wait_for("Nothing is saved on the server").await;
+        follower.wait_for("[load]").await;
+        forker.wait_for("The class was ended by the lecturer").await;
+        forker.wait_for("bob-benchmark-1.toml").await;
+        let saved = std::fs::read_to_string(saves.join("bob-benchmark-1.toml")).unwrap();
+        let scene = beamfric::scene::Scene::from_toml(&saved, "bob").unwrap();
+        assert_eq!(scene.load.f0, 5e6, "{saved}");
+        assert_eq!(std::fs::read_dir(&saves).unwrap().count(), 1);
+
+        // A key leaves; the channels close and the screens are left.
+        follower.send(b"x").await;
+        forker.send(b"x").await;
+        for student in [&mut follower, &mut forker] {
+            student.wait_for_close().await;
+            let raw = String::from_utf8_lossy(&student.raw).into_owned();
+            assert!(
+                raw.contains(LEAVE_ALTERNATE),
+                "the student's screen was not left"
+            );
+        }
     });
     // Its exit, and everything it wrote before it.
     let status = lecturer.exit();
     assert_eq!(status.code(), Some(0), "{status:?}");
-    // The lecturer's terminal is restored, and the connection's log line follows.
+    // The lecturer's terminal is restored, and the class's end and the log lines follow.
     let raw = lecturer.text();
     let left = raw
         .rfind(LEAVE_ALTERNATE)
         .expect("the alternate screen was left");
-    assert!(raw[left..].contains("user student"), "{:?}", &raw[left..]);
+    assert!(
+        raw[left..].contains("the class is over: 2 students"),
+        "{:?}",
+        &raw[left..]
+    );
+    assert!(raw[left..].contains("user bob"), "{:?}", &raw[left..]);
     assert!(raw[left..].contains("stopped"), "{:?}", &raw[left..]);
     let flags = lecturer.local_flags();
     assert!(

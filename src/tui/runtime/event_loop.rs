@@ -430,6 +430,7 @@ fn apply_event<S: Screen>(
             state.last_input = Instant::now();
             update(app, Msg::Follow(exploration));
         }
+        Event::Class(news) => update(app, Msg::Class(news)),
     }
     Ok(())
 }

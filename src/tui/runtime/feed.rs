@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
 use std::sync::mpsc::{Receiver, Sender, channel};
 
 use crate::tui::state::Exploration;
+use crate::tui::state::follow::ClassNews;
 
 use crate::tui::jobs::solve::Solved;
 use crate::tui::jobs::sweeps::SweepResult;
@@ -29,6 +30,8 @@ pub enum Event {
     Swept(SweepResult),
     /// The presenter's new state (follow mode).
     Follow(Arc<Exploration>),
+    /// News of the class (follow mode): the presenter left, the class ended.
+    Class(ClassNews),
     /// Nothing but a new frame (e.g. the number of followers changed).
     Redraw,
 }
@@ -144,6 +147,11 @@ impl Feed {
     /// The presenter's new state (follow mode).
     pub fn follow(&self, exploration: Arc<Exploration>) {
         let _ = self.sender.send(Event::Follow(exploration));
+    }
+
+    /// News of the class (follow mode).
+    pub fn class_news(&self, news: ClassNews) {
+        let _ = self.sender.send(Event::Class(news));
     }
 
     /// Draw again (something the frame shows changed outside the explorer).

@@ -38,6 +38,11 @@ pub enum Mode {
     ConfirmOverwrite { path: String },
     /// The scene has unsaved changes: lose them to do `then`?
     ConfirmDiscard { then: Discard },
+    /// The lecturer's quit with students connected: end the class?
+    ConfirmEndClass,
+    /// A student's closing screen: the class was ended by `by`; the scene was saved as
+    /// `saved` (under `--save-dir`), and is shown as TOML to copy. Any key leaves.
+    ClassEnded { by: String, saved: Option<String> },
 }
 
 /// What would throw away unsaved changes, waiting for a yes.
@@ -103,6 +108,9 @@ pub struct Options {
     pub follow: Option<Follow>,
     /// The first message for the user.
     pub greeting: Option<String>,
+    /// Whose explorer this is (a served session's user name): the files it offers to save
+    /// are named after them, so that students sharing a save directory do not collide.
+    pub owner: Option<String>,
 }
 
 impl Options {
@@ -118,6 +126,7 @@ impl Options {
             max_elements: None,
             follow: None,
             greeting: None,
+            owner: None,
         }
     }
 }
@@ -137,8 +146,10 @@ pub struct App {
     pub after_save: Option<Discard>,
     /// The directory new files are saved to by default.
     pub save_directory: PathBuf,
-    /// The file to save to by default.
+    /// The file to save to by default (see [`App::default_save_path`]).
     pub save_path: String,
+    /// Whose explorer this is ([`Options::owner`]).
+    pub owner: Option<String>,
     /// Since when the wanted solve runs (interactive only: frames of a headless render never
     /// depend on the clock).
     pub busy_since: Option<Instant>,
@@ -180,12 +191,12 @@ impl App {
     /// `tui::update` and the runtimes).
     pub fn new(loaded: LoadedScene, options: Options) -> Result<App, crate::scene::SceneError> {
         let loaded = sorted(loaded)?;
-        let save_path = match (&options.save_directory, &loaded.source) {
-            (Some(directory), SceneSource::Preset(_)) => {
-                directory.join(loaded.source.default_file_name())
-            }
-            _ => loaded.source.default_file_name(),
-        };
+        let save_path = default_save_path(
+            &options.save_policy,
+            options.save_directory.as_deref(),
+            options.owner.as_deref(),
+            &loaded.source,
+        );
         Ok(App {
             saved: loaded.scene.clone(),
             exploration: Exploration::new(loaded),
@@ -193,7 +204,8 @@ impl App {
             save_policy: options.save_policy,
             after_save: None,
             save_directory: options.save_directory.unwrap_or_else(|| PathBuf::from(".")),
-            save_path: save_path.display().to_string(),
+            save_path,
+            owner: options.owner,
             busy_since: None,
             mode: Mode::Normal,
             message: options.greeting,
@@ -260,4 +272,50 @@ pub fn sorted(mut loaded: LoadedScene) -> Result<LoadedScene, crate::scene::Scen
     }
     loaded.scene.obstacles.sort_by(|a, b| a.x.total_cmp(&b.x));
     LoadedScene::new(loaded.scene, loaded.source)
+}
+
+/// The file the save prompt offers for a scene from `source`. Where saves land in one
+/// directory (`--save-dir`, `--allow-save`: [`SavePolicy::Within`]) it is a plain name inside
+/// it, shown relative to it — never the server's own path — and led by the owner's user name
+/// (`alice-benchmark-1.toml`); otherwise a preset's `name.toml` (in `save_directory` when one
+/// is set) or the scene file's own path.
+pub fn default_save_path(
+    policy: &SavePolicy,
+    save_directory: Option<&std::path::Path>,
+    owner: Option<&str>,
+    source: &SceneSource,
+) -> String {
+    let file = source.default_file_name();
+    match (policy, source) {
+        (SavePolicy::Within(_), _) => {
+            let name = file
+                .file_name()
+                .map_or_else(|| source.stem(), |n| n.to_string_lossy().into_owned());
+            match owner.map(file_safe).filter(|o| !o.is_empty()) {
+                Some(owner) => format!("{owner}-{name}"),
+                None => name,
+            }
+        }
+        (_, SceneSource::Preset(_)) => match save_directory {
+            Some(directory) => directory.join(file).display().to_string(),
+            None => file.display().to_string(),
+        },
+        _ => file.display().to_string(),
+    }
+}
+
+/// `name` as part of a file name: letters, digits, `.`, `_` and `-` kept (a leading dot
+/// dropped), anything else `_`, at most 32 characters.
+fn file_safe(name: &str) -> String {
+    name.trim_start_matches('.')
+        .chars()
+        .take(32)
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
 }

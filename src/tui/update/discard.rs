@@ -7,6 +7,24 @@ use crate::tui::state::{App, Discard, Ending, Mode};
 use super::edit::{clamp_selection, load_preset, remember, request_solve};
 use super::save::start_save;
 
+/// `q`: the lecturer's quit asks first while students are connected (it ends their class),
+/// then, like every quit, when it would lose unsaved changes.
+pub(super) fn quit(app: &mut App) {
+    match app.follow.as_ref().and_then(|f| f.class_to_end()) {
+        Some(_) => app.mode = Mode::ConfirmEndClass,
+        None => unless_unsaved(app, Discard::Quit),
+    }
+}
+
+/// The answer to "end the class?".
+pub(super) fn confirm_end_class(app: &mut App, action: Action) {
+    app.mode = Mode::Normal;
+    match action {
+        Action::Confirm => unless_unsaved(app, Discard::Quit),
+        _ => app.message = Some("the class goes on".into()),
+    }
+}
+
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 pub(super) fn unless_unsaved(app: &mut App, then: Discard) {
     if app.modified() {

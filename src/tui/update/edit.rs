@@ -259,11 +259,12 @@ pub(super) fn load_preset(app: &mut App, index: usize) {
             app.message = beyond_limits(app, &loaded.scene);
         }
         Ok(loaded) => {
-            app.save_path = app
-                .save_directory
-                .join(format!("{}.toml", preset.name))
-                .display()
-                .to_string();
+            app.save_path = crate::tui::state::app::default_save_path(
+                &app.save_policy,
+                Some(&app.save_directory),
+                app.owner.as_deref(),
+                &loaded.source,
+            );
             load(app, loaded);
             app.message = Some(format!("loaded {}", preset.name));
         }

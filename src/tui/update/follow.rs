@@ -1,14 +1,17 @@
 //! Follow mode's changes: the presenter's new state shown by a student who follows (one clone
 //! of the shared [`Exploration`] — scene, solve, sweeps and view — so the presenter's solve is
 //! done once and shared), `f` forking into the student's own exploration, `F` rejoining, and
-//! the keys a following student may not use (they would change the presenter's scene).
+//! the keys a following student may not use (they would change the presenter's scene), and the
+//! news of the class: the presenter leaving frees a follower, the class ending shows a
+//! student's closing screen with their work saved or shown to copy.
 
 use std::sync::Arc;
 
 use crate::tui::input::keymap::{Action, Key, action_for, follow_action};
-use crate::tui::state::follow::{Following, Role};
+use crate::tui::state::follow::{ClassNews, Following, Role};
 use crate::tui::state::{App, Exploration, Mode};
 
+use super::save::save_at_closing;
 use super::{act, refresh_sweeps};
 
 /// Makes `app` show the presenter's state (its own view size and mode stay).
@@ -47,6 +50,33 @@ pub(super) fn fork(app: &mut App) {
     } else {
         "exploring on your own already: F follows the presenter".into()
     });
+}
+
+/// What the server says of the class (students only).
+pub(super) fn class_news(app: &mut App, news: ClassNews) {
+    let Some(follow) = &mut app.follow else {
+        return;
+    };
+    let Role::Student(following) = &mut follow.role else {
+        return;
+    };
+    match news {
+        ClassNews::PresenterLeft => {
+            // The view stays; the keys are the student's again.
+            app.message = Some(if following.take().is_some() {
+                "the presenter left: this explorer is yours from here (F follows again once \
+                 a presenter is back)"
+                    .into()
+            } else {
+                "the presenter left".into()
+            });
+        }
+        ClassNews::Ended { by } => {
+            following.take();
+            let saved = save_at_closing(app);
+            app.mode = Mode::ClassEnded { by, saved };
+        }
+    }
 }
 
 /// [`Action::Rejoin`]: the student follows the presenter again, at its newest state.

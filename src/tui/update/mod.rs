@@ -31,6 +31,7 @@ use crate::tui::jobs::solve::Solved;
 use crate::tui::jobs::sweeps::{SWEEPS, SweepContext, SweepResult};
 use crate::tui::layout::picker::picker_rows_shown;
 use crate::tui::layout::{parameter_rows_shown, visible_panels};
+use crate::tui::state::follow::ClassNews;
 use crate::tui::state::{App, Discard, Ending, Exploration, Mode};
 
 pub use save::save_target;
@@ -62,6 +63,8 @@ pub enum Msg {
     Swept(SweepResult),
     /// The presenter's new state (follow mode).
     Follow(Arc<Exploration>),
+    /// News of the class from the server (the presenter left, the class ended).
+    Class(ClassNews),
     /// What came of Ctrl-Z or SIGTSTP.
     Suspension(Suspension),
     /// Time passed (a redraw while work is in flight); nothing changes.
@@ -110,6 +113,7 @@ pub fn update(app: &mut App, msg: Msg) {
         Msg::SolveFailed(message) => app.message = Some(message),
         Msg::Swept(result) => results::swept(app, result),
         Msg::Follow(exploration) => follow::receive(app, exploration),
+        Msg::Class(news) => follow::class_news(app, news),
         Msg::Suspension(suspension) => {
             app.suspend_requested = false;
             match suspension {
@@ -123,6 +127,10 @@ pub fn update(app: &mut App, msg: Msg) {
         Msg::End(ending) => {
             app.ending.get_or_insert(ending);
         }
+    }
+    // A student's unsaved work is counted for the lecturer's "end the class?".
+    if let Some(follow) = &app.follow {
+        follow.note_unsaved(app.modified());
     }
 }
 
@@ -165,13 +173,17 @@ fn keep_selection_in_view(app: &mut App) {
 fn apply(app: &mut App, action: Action) {
     match action {
         Action::Interrupt => {
-            // Ctrl-C quits at once unless that loses changes; then it asks, and a second
-            // Ctrl-C forces.
+            // Ctrl-C quits at once unless that loses changes or ends a class; then it asks,
+            // and a second Ctrl-C forces.
             let asked = app.mode
                 == Mode::ConfirmDiscard {
                     then: Discard::Quit,
-                };
-            if asked || !app.modified() {
+                }
+                || matches!(app.mode, Mode::ConfirmEndClass | Mode::ClassEnded { .. });
+            let class = app.follow.as_ref().and_then(|f| f.class_to_end());
+            if class.is_some() && !asked {
+                app.mode = Mode::ConfirmEndClass;
+            } else if asked || !app.modified() {
                 app.ending = Some(Ending::Quit);
             } else {
                 app.mode = Mode::ConfirmDiscard {
@@ -214,6 +226,9 @@ fn apply(app: &mut App, action: Action) {
                 }
             }
             Mode::ConfirmDiscard { then } => discard::confirm_discard(app, action, then),
+            Mode::ConfirmEndClass => discard::confirm_end_class(app, action),
+            // Any key leaves the closing screen (its work is saved or was shown).
+            Mode::ClassEnded { .. } => app.ending = Some(Ending::Quit),
         },
     }
 }

@@ -12,7 +12,7 @@ use crate::tui::state::picker::PresetPicker;
 use crate::tui::state::prompt::{Prompt, editable_number};
 use crate::tui::state::{App, Discard, Mode};
 
-use super::discard::unless_unsaved;
+use super::discard::{quit, unless_unsaved};
 use super::edit::{add_obstacle, change, delete_obstacle, next_diagram, next_method, undo_redo};
 use super::refresh_sweeps;
 use super::save::start_save;
@@ -44,7 +44,7 @@ pub(super) fn apply(app: &mut App, action: Action) {
         Action::Reset => unless_unsaved(app, Discard::Reset),
         Action::ShowHelp => app.mode = Mode::Help { offset: 0 },
         Action::ShowWarnings => app.mode = Mode::Warnings { offset: 0 },
-        Action::Quit => unless_unsaved(app, Discard::Quit),
+        Action::Quit => quit(app),
         Action::Undo => undo_redo(app, true),
         Action::Redo => undo_redo(app, false),
         Action::NextDiagram => show_next_diagram(app),

@@ -29,7 +29,7 @@ fn saving_is_off(app: &mut App) -> bool {
 pub(super) fn start_save(app: &mut App) {
     if !saving_is_off(app) {
         app.mode = Mode::Save {
-            prompt: Prompt::new(app.save_path.clone(), false),
+            prompt: Prompt::new(app.save_path.clone(), true),
         };
     }
 }
@@ -133,6 +133,41 @@ fn save(app: &mut App, path: &str, overwrite: bool) -> Option<Discard> {
             None
         }
     }
+}
+
+/// At the end of a class: saves a student's unsaved work under a name of its own where saves
+/// may go (`--save-dir`), never over a file (`alice-benchmark-1.toml`, else `…-2.toml` and
+/// on). Returns the name, or `None` when there is nothing to save or nowhere to save it (the
+/// closing screen shows the TOML either way).
+pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
+    if !app.modified() || !matches!(app.save_policy, SavePolicy::Within(_)) {
+        return None;
+    }
+    let offered = app.save_path.clone();
+    let stem = offered
+        .strip_suffix(".toml")
+        .unwrap_or(&offered)
+        .to_string();
+    for attempt in 1..=100 {
+        let name = match attempt {
+            1 => format!("{stem}.toml"),
+            n => format!("{stem}-{n}.toml"),
+        };
+        let target = save_target(&app.save_policy, &name)?;
+        if std::fs::symlink_metadata(&target).is_ok() {
+            continue;
+        }
+        match save_scene(app.scene(), &target, false) {
+            Ok(_) => {
+                app.save_path = name.clone();
+                app.saved = app.scene().clone();
+                return Some(name);
+            }
+            Err(crate::scene::SaveError::Exists(_)) => continue,
+            Err(_) => return None,
+        }
+    }
+    None
 }
 
 /// The file a save of `path` writes: the path itself, or under `--allow-save DIR` the path

@@ -81,7 +81,19 @@ fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         obstacles,
         if obstacles == 1 { "" } else { "s" },
     );
-    frame.render_widget(Paragraph::new(text).style(theme.title()), area);
+    // A follow mode leads the line, where it costs no figure of the status (issue 23 item 2);
+    // the scene's description is cut first.
+    let line = match &app.follow {
+        Some(follow) => Line::from(vec![
+            Span::styled(
+                format!(" {} ", theme.text(&follow.label())),
+                theme.warning(),
+            ),
+            Span::raw(format!("{}{text}", if app.look.ascii { "|" } else { "│" })),
+        ]),
+        None => Line::from(text),
+    };
+    frame.render_widget(Paragraph::new(line).style(theme.title()), area);
 }
 
 fn draw_parameters(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {

@@ -19,6 +19,9 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     match &app.mode {
         Mode::Help { offset } => help(frame, app, theme, area, *offset),
         Mode::SceneText => scene_text(frame, app, theme, area),
+        Mode::ClassEnded { by, saved } => {
+            class_ended(frame, app, theme, area, by, saved.as_deref())
+        }
         Mode::Warnings { offset } => super::warnings::draw_view(frame, app, theme, area, *offset),
         Mode::Presets(picker) => presets(frame, theme, area, picker),
         _ => {}
@@ -42,6 +45,45 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     );
     frame.render_widget(Clear, area);
     frame.render_widget(Paragraph::new(lines), area);
+}
+
+/// A student's closing screen: who ended the class, where their work went, and the scene as
+/// TOML to copy (without side borders, as [`scene_text`]).
+fn class_ended(
+    frame: &mut Frame,
+    app: &App,
+    theme: &Theme,
+    area: Rect,
+    by: &str,
+    saved: Option<&str>,
+) {
+    let kept = match saved {
+        Some(name) => format!(
+            "Your scene is saved as {} (in the class's save directory).",
+            printable(name)
+        ),
+        None => "Nothing is saved on the server: copy the scene below into a file.".into(),
+    };
+    let mut lines = vec![
+        Line::styled(
+            format!("The class was ended by {}.", printable(by)),
+            theme.warning(),
+        ),
+        Line::from(kept),
+        Line::styled(
+            "Any key leaves; the connection closes soon anyway.",
+            theme.dim(),
+        ),
+        Line::from(""),
+    ];
+    lines.extend(
+        app.scene()
+            .to_toml()
+            .lines()
+            .map(|l| Line::from(l.to_string())),
+    );
+    frame.render_widget(Clear, area);
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
 /// What the status line's words mean, for the help.

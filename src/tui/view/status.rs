@@ -14,7 +14,7 @@ use crate::format::{duration, sci};
 use crate::plot::Theme;
 use crate::solve::{Reference, Solution};
 use crate::tui::input::keymap::help::{
-    discard_hints, overwrite_question, picker_hints, prompt_keys, scroll_keys,
+    discard_hints, end_class_question, overwrite_question, picker_hints, prompt_keys, scroll_keys,
 };
 use crate::tui::input::keymap::{fitted_hint_line, follow_keys};
 use crate::tui::state::prompt::Prompt;
@@ -73,10 +73,9 @@ fn solution_items(app: &App, solution: &Solution, elements: usize, unknowns: usi
 
 pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let width = area.width as usize;
+    // The follow mode is on the title line (`draw_title`): here it would cost a figure at
+    // 80 columns (issue 23 item 2).
     let mut items = Vec::new();
-    if let Some(follow) = &app.follow {
-        items.push(Item::new(1, follow.label()));
-    }
     if let Some(busy) = busy_text(app) {
         items.push(Item::new(0, busy));
         if app.exploration.shown.is_some() {
@@ -107,12 +106,12 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
     for item in &mut items {
         item.text = theme.text(&item.text).into_owned();
     }
-    // The first item (the follow mode or the busy note) gets its own style.
+    // The first item (the busy note) gets its own style.
     let summary = fit_items(&items, &theme.text(" · "), width);
     let [first, second, third] = Layout::vertical([Constraint::Length(1); 3]).areas(area);
     let emphasised = items
         .first()
-        .filter(|i| i.importance <= 1 && (app.follow.is_some() || !app.exploration.is_current()))
+        .filter(|i| i.importance <= 1 && !app.exploration.is_current())
         .filter(|i| summary.starts_with(&i.text));
     let summary_line = match emphasised {
         Some(item) => Line::from(vec![
@@ -242,6 +241,17 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
         Mode::Help { .. } => format!("{} · any other key closes the help", scroll_keys(ascii)),
         Mode::Warnings { .. } => format!("{} · any other key closes", scroll_keys(ascii)),
         Mode::SceneText => "select the text with the mouse to copy it; any key closes".into(),
+        Mode::ConfirmEndClass => {
+            let (students, unsaved) = app
+                .follow
+                .as_ref()
+                .and_then(|f| f.class_to_end())
+                .unwrap_or((0, 0));
+            end_class_question(students, unsaved, ascii)
+        }
+        Mode::ClassEnded { .. } => {
+            "select the text with the mouse to copy it; any key leaves".into()
+        }
         Mode::Normal => fitted_hint_line(ascii, follow_keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);

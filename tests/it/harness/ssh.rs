@@ -50,8 +50,13 @@ pub async fn connect(address: SocketAddr) -> Handle<TrustingClient> {
 
 /// Connected and logged in as `student` with "none" (an `--open` server).
 pub async fn logged_in(address: SocketAddr) -> Handle<TrustingClient> {
+    logged_in_as(address, "student").await
+}
+
+/// Connected and logged in as `user` without credentials (an `--open` server).
+pub async fn logged_in_as(address: SocketAddr, user: &str) -> Handle<TrustingClient> {
     let mut handle = connect(address).await;
-    let result = handle.authenticate_none("student").await.unwrap();
+    let result = handle.authenticate_none(user).await.unwrap();
     assert_eq!(result, AuthResult::Success);
     handle
 }

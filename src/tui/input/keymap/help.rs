@@ -6,7 +6,8 @@
 use super::super::keys::Key;
 use super::action::Action;
 use super::tables::{
-    Binding, DISCARD_QUESTION, GLOBAL, Hint, NORMAL, OVERWRITE_QUESTION, PICKER, PROMPT, SCROLLING,
+    Binding, DISCARD_QUESTION, END_CLASS_QUESTION, GLOBAL, Hint, NORMAL, OVERWRITE_QUESTION,
+    PICKER, PROMPT, SCROLLING,
 };
 
 /// Joins key labels the way the help writes them: keys of one family (arrows, shifted arrows,
@@ -183,6 +184,20 @@ pub fn picker_hints(ascii: bool) -> Vec<(u8, String)> {
 pub fn overwrite_question(path: &str, ascii: bool) -> String {
     let yes = label_of(OVERWRITE_QUESTION, Action::Confirm, ascii);
     format!("{path} exists: overwrite it? {yes} / n")
+}
+
+/// The lecturer's question before a quit ends the class of `students` students, `unsaved`
+/// of them with unsaved work.
+pub fn end_class_question(students: usize, unsaved: usize, ascii: bool) -> String {
+    let yes = label_of(END_CLASS_QUESTION, Action::Confirm, ascii);
+    let work = match unsaved {
+        0 => String::new(),
+        n => format!(" ({n} with unsaved work)"),
+    };
+    format!(
+        "{students} student{}{work}: end the class? {yes} / n",
+        if students == 1 { "" } else { "s" }
+    )
 }
 
 /// The hint items of the question before unsaved changes are lost doing `what`.

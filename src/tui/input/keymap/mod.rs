@@ -14,8 +14,8 @@ pub use super::keys::{Key, parse_keys};
 pub use action::Action;
 pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
 pub use tables::{
-    Binding, DISCARD_QUESTION, FOLLOW, GLOBAL, Hint, NORMAL, OVERWRITE_QUESTION, PICKER, PROMPT,
-    SCROLLING,
+    Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, NORMAL,
+    OVERWRITE_QUESTION, PICKER, PROMPT, SCROLLING,
 };
 
 use super::super::state::{App, Mode};
@@ -41,6 +41,8 @@ fn keys_of(mode: &Mode) -> (&'static [Binding], Otherwise) {
         Mode::Presets(_) => (PICKER, Otherwise::Type),
         Mode::ConfirmOverwrite { .. } => (OVERWRITE_QUESTION, Otherwise::Cancel),
         Mode::ConfirmDiscard { .. } => (DISCARD_QUESTION, Otherwise::Cancel),
+        Mode::ConfirmEndClass => (END_CLASS_QUESTION, Otherwise::Cancel),
+        Mode::ClassEnded { .. } => (&[], Otherwise::Cancel),
     }
 }
 
@@ -134,6 +136,11 @@ mod tests {
             Mode::ConfirmOverwrite { path: "x".into() },
             Mode::ConfirmDiscard {
                 then: crate::tui::state::Discard::Quit,
+            },
+            Mode::ConfirmEndClass,
+            Mode::ClassEnded {
+                by: "the lecturer".into(),
+                saved: None,
             },
         ];
         for mode in &modes {

@@ -333,6 +333,13 @@ pub const OVERWRITE_QUESTION: &[Binding] = &[keys![
     Key::Char('Y') => Action::Confirm,
 ]];
 
+/// "End the class?" (the lecturer's quit with students connected): y says yes, any other
+/// key no.
+pub const END_CLASS_QUESTION: &[Binding] = &[keys![
+    Key::Char('y') => Action::Confirm,
+    Key::Char('Y') => Action::Confirm,
+]];
+
 /// "Lose the unsaved changes?": y says yes, s saves first, any other key no.
 pub const DISCARD_QUESTION: &[Binding] = &[keys![
     Key::Char('y') => Action::Confirm,
