@@ -73,13 +73,7 @@ pub fn dispatch(cli: Cli) -> ExitCode {
         Some(Command::Report(args)) => report_command(&args),
         Some(Command::Serve(args)) => serve_command(&args),
         Some(Command::Present(args)) => present_command(&args),
-        None => explore(
-            cli.scene.as_deref().unwrap_or("benchmark-1"),
-            cli.ascii,
-            cli.no_color,
-            cli.no_mouse,
-            cli.theme,
-        ),
+        None => explore(cli.scene.as_deref().unwrap_or("benchmark-1"), &cli.display),
     };
     match result {
         Ok(code) => code,
@@ -122,13 +116,20 @@ fn colors_wanted(no_color: bool) -> bool {
     !no_color && std::env::var_os("NO_COLOR").is_none_or(|v| v.is_empty())
 }
 
-fn explore(
-    name: &str,
-    ascii: bool,
-    no_color: bool,
-    no_mouse: bool,
-    palette: crate::plot::Palette,
-) -> Result<ExitCode, CliError> {
+/// The look of an explorer drawn on this process's terminal: ASCII when asked or when the
+/// locale is not UTF-8, colours unless refused.
+fn local_look(display: &DisplayArgs) -> crate::plot::Look {
+    crate::plot::Look {
+        ascii: display.ascii
+            || !crate::plot::locale_is_utf8(
+                |name| std::env::var(name).ok(),
+                crate::plot::UnsetLocale::Ascii,
+            ),
+        color: colors_wanted(display.no_color),
+    }
+}
+
+fn explore(name: &str, display: &DisplayArgs) -> Result<ExitCode, CliError> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(CliError::NotATerminal(
@@ -137,19 +138,11 @@ fn explore(
         ));
     }
     let loaded = scene::load(name)?;
-    let look = crate::plot::Look {
-        ascii: ascii
-            || !crate::plot::locale_is_utf8(
-                |name| std::env::var(name).ok(),
-                crate::plot::UnsetLocale::Ascii,
-            ),
-        color: colors_wanted(no_color),
-    };
     let options = crate::tui::state::Options {
-        palette,
-        mouse: !no_mouse,
+        palette: display.theme,
+        mouse: !display.no_mouse,
         show_timings: true,
-        ..crate::tui::state::Options::new(look)
+        ..crate::tui::state::Options::new(local_look(display))
     };
     let ending = crate::tui::explore(loaded, options)?;
     Ok(exit_code(ending))
@@ -183,13 +176,9 @@ fn present_command(args: &PresentArgs) -> Result<ExitCode, CliError> {
              `beamfric serve` serves without it",
         ));
     }
-    let look = crate::plot::Look {
-        ascii: args.ascii,
-        color: colors_wanted(args.no_color),
-    };
     Ok(exit_code(crate::serve::present(
         &serve_options(&args.serve),
-        look,
+        local_look(&args.serve.display),
     )?))
 }
 
@@ -212,7 +201,10 @@ fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
         max_elements: args.max_elements,
         idle_timeout: (args.idle_timeout > 0)
             .then(|| std::time::Duration::from_secs(args.idle_timeout)),
-        mouse: !args.no_mouse,
+        mouse: !args.display.no_mouse,
+        ascii: args.display.ascii,
+        color: !args.display.no_color,
+        palette: args.display.theme,
         scene: args.scene.clone(),
         save_dir: args.save_dir.clone(),
     }

@@ -63,11 +63,19 @@ pub struct Cli {
     pub command: Option<Command>,
     /// Scene file or preset name to open (default: benchmark-1).
     pub scene: Option<String>,
+    #[command(flatten)]
+    pub display: DisplayArgs,
+}
+
+/// How an explorer draws: the same options for `beamfric`, `serve` (the default of every
+/// session) and `present` (the lecturer's explorer and the sessions).
+#[derive(Debug, Args, Clone)]
+pub struct DisplayArgs {
     /// Draw without Unicode (no Braille, no box drawing) for plain terminals; automatic when
-    /// the locale (LC_ALL, LC_CTYPE or LANG) is not UTF-8.
+    /// the locale (LC_ALL, LC_CTYPE or LANG; a session's: its client's) is not UTF-8.
     #[arg(long)]
     pub ascii: bool,
-    /// No colours (also when the NO_COLOR environment variable is set).
+    /// No colours (also when NO_COLOR is set; a session's: its client's).
     #[arg(long)]
     pub no_color: bool,
     /// Colours for the terminal's background or a projector (`T` cycles them).
@@ -138,9 +146,8 @@ pub struct ServeArgs {
     /// The scene every session starts with: a preset name or a scene file.
     #[arg(long, default_value = "benchmark-1")]
     pub scene: String,
-    /// Sessions leave the mouse to the student's terminal (no clicks, wheel or drags).
-    #[arg(long)]
-    pub no_mouse: bool,
+    #[command(flatten)]
+    pub display: DisplayArgs,
     /// The only directory sessions may save scenes to (file names cannot leave it); without
     /// it, `s` shows the scene's TOML to copy.
     #[arg(long, value_name = "DIR")]
@@ -150,14 +157,9 @@ pub struct ServeArgs {
 /// `beamfric present`.
 #[derive(Debug, Args)]
 pub struct PresentArgs {
+    /// The options of `serve`; the display options are also your own explorer's.
     #[command(flatten)]
     pub serve: ServeArgs,
-    /// Draw your explorer without Unicode (students' look follows their own terminals).
-    #[arg(long)]
-    pub ascii: bool,
-    /// No colours in your explorer (also when NO_COLOR is set).
-    #[arg(long)]
-    pub no_color: bool,
 }
 
 /// `beamfric sweep …`.

@@ -44,6 +44,12 @@ pub struct ExplorerSettings {
     pub idle_timeout: Option<Duration>,
     /// Ask the client's terminal for mouse reports.
     pub mouse: bool,
+    /// ASCII for every session (`--ascii`), whatever the client's locale.
+    pub ascii: bool,
+    /// Colours allowed (`--no-color`: none).
+    pub color: bool,
+    /// The colours a session starts with (`--theme`).
+    pub palette: crate::plot::Palette,
     /// `--save-dir`, resolved: the only directory sessions save to.
     pub save_dir: Option<std::path::PathBuf>,
 }
@@ -181,7 +187,11 @@ pub(crate) fn start(
         max_elements: Some(settings.max_elements),
         follow,
         owner: user.map(str::to_string),
-        ..Options::new(client.look())
+        palette: settings.palette,
+        ..Options::new(Look {
+            ascii: client.look().ascii || settings.ascii,
+            color: client.look().color && settings.color,
+        })
     };
     let mut app = App::new(settings.scene.clone(), options)?;
     if let Some(exploration) = latest {

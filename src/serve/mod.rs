@@ -13,6 +13,8 @@
 //! - [`connection`]: one connection's SSH handler (what is allowed, what is refused);
 //! - [`explorer`]: one served explorer and the output path to its client;
 //! - [`follow`]: the presenter's state handed to the students who follow;
+//! - `present`: the lecturer's own explorer in front of the server, the join screen's words
+//!   and the end of the class;
 //! - [`limits`]: the cap on sessions and the input budget.
 
 mod access;
@@ -24,6 +26,7 @@ pub mod follow;
 pub mod keys;
 pub mod limits;
 pub mod memory;
+mod present;
 
 use std::collections::VecDeque;
 use std::net::SocketAddr;
@@ -41,6 +44,7 @@ pub use access::{MAX_IDLE_TIMEOUT, MAX_SESSIONS_LIMIT};
 pub use error::ServeError;
 use explorer::ExplorerSettings;
 use limits::SessionSlots;
+pub use present::present;
 
 /// Default listening address: loopback only.
 pub const DEFAULT_LISTEN: &str = "127.0.0.1:2222";
@@ -81,6 +85,12 @@ pub struct ServeOptions {
     pub scene: String,
     /// Sessions ask the client's terminal for mouse reports (`--no-mouse`: they do not).
     pub mouse: bool,
+    /// Every session draws in ASCII (`--ascii`), whatever its client's locale.
+    pub ascii: bool,
+    /// Sessions may use colours (`--no-color`: none, whatever the client sends).
+    pub color: bool,
+    /// The sessions' colours at start (`--theme`; `T` cycles them).
+    pub palette: crate::plot::Palette,
     /// The only directory served sessions may save to; `None`: `s` shows the TOML to copy.
     pub save_dir: Option<PathBuf>,
 }
@@ -100,6 +110,9 @@ impl Default for ServeOptions {
             idle_timeout: Some(DEFAULT_IDLE_TIMEOUT),
             scene: "benchmark-1".into(),
             mouse: true,
+            ascii: false,
+            color: true,
+            palette: crate::plot::Palette::default(),
             save_dir: None,
         }
     }
@@ -243,6 +256,9 @@ impl Server {
                 max_elements: options.max_elements,
                 idle_timeout: options.idle_timeout,
                 mouse: options.mouse,
+                ascii: options.ascii,
+                color: options.color,
+                palette: options.palette,
                 save_dir,
             },
             slots: SessionSlots::new(memory.sessions),
@@ -399,106 +415,6 @@ pub fn serve_until_stopped(options: &ServeOptions) -> Result<(), ServeError> {
     ));
     server.wait();
     Ok(())
-}
-
-/// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer
-/// in this terminal, which presents — its scene and view go to every following session, as a
-/// session logged in with a presenter key does. Log lines are kept while the explorer has the terminal
-/// and printed after it. Quitting the explorer stops the server: every student's explorer
-/// leaves its screen and its connection closes. Returns how the lecturer's explorer ended.
-pub fn present(
-    options: &ServeOptions,
-    look: crate::plot::Look,
-) -> Result<crate::tui::Ending, ServeError> {
-    use crate::tui::runtime::local::run_local;
-    use crate::tui::state::follow::Follow;
-    use crate::tui::state::{App, Options};
-    let server = Server::start_as(options, true)?;
-    let listening = format!(
-        "listening on {} (host key {}); students connect with: ssh -p {} HOST",
-        server.address(),
-        server.fingerprint(),
-        server.address().port()
-    );
-    for note in server.notes() {
-        log(note);
-    }
-    log(&listening);
-    let shared = Arc::clone(&server.shared);
-    let Some(hub) = &shared.hub else {
-        return Err(ServeError::Start(
-            "internal error: a presenting server without a follow hub".into(),
-        ));
-    };
-    let options = Options {
-        show_timings: true,
-        follow: Some(Follow::presenter(&hub.followers, true)),
-        greeting: Some(format!(
-            "presenting on {}: students connect with ssh -p {} HOST (host key {})",
-            server.address(),
-            server.address().port(),
-            server.fingerprint()
-        )),
-        ..Options::new(look)
-    };
-    let app = App::new(shared.explorer.scene.clone(), options)?;
-    let publishing = Arc::clone(&shared);
-    let mut presenter_id = None;
-    let ending = run_local(app, |feed| {
-        presenter_id = Some(hub.join_presenter(feed));
-        Some(Box::new(move |app: &App| {
-            if let Some(hub) = &publishing.hub {
-                hub.publish(&app.exploration);
-            }
-        }))
-    })
-    .map_err(ServeError::Terminal);
-    // The class ends: every student sees their closing screen (their scene saved under
-    // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
-    let told = hub.end_class("the lecturer");
-    if told > 0 {
-        log(&format!(
-            "the class is over: {told} student{} see their closing screen; waiting up to {} s \
-             for them to leave (Ctrl-C stops now)",
-            if told == 1 { "" } else { "s" },
-            CLOSING_GRACE.as_secs()
-        ));
-        wait_for_students(&server);
-    }
-    if let Some(id) = presenter_id {
-        hub.leave(id);
-    }
-    // The terminal is the lecturer's again: stop serving, then say what happened meanwhile.
-    drop(server);
-    if let Log::Kept(lines) = &shared.log {
-        for line in lock(lines).drain(..) {
-            log(&line);
-        }
-    }
-    log("stopped");
-    ending
-}
-
-/// How long students may read their closing screen before the server closes.
-const CLOSING_GRACE: std::time::Duration = std::time::Duration::from_secs(60);
-
-/// Waits until every student's explorer has ended, [`CLOSING_GRACE`] has passed, or Ctrl-C.
-fn wait_for_students(server: &Server) {
-    let interrupted = Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let hooks: Vec<_> = [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM]
-        .into_iter()
-        .filter_map(|signal| signal_hook::flag::register(signal, Arc::clone(&interrupted)).ok())
-        .collect();
-    let deadline = std::time::Instant::now() + CLOSING_GRACE;
-    while server.sessions() > 0
-        && std::time::Instant::now() < deadline
-        && !interrupted.load(std::sync::atomic::Ordering::Relaxed)
-    {
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    }
-    for hook in hooks {
-        signal_hook::low_level::unregister(hook);
-    }
 }
 
 /// The `--save-dir` directory, resolved; it must exist and be a directory.

@@ -988,3 +988,58 @@ fn a_student_hears_the_presenter_leave_and_the_class_end() {
     keys(&mut app, "x");
     assert_eq!(app.ending, Some(beamfric::tui::state::Ending::Quit));
 }
+
+/// Issue 23 item 5: a student who forks the presenter's fine mesh (10⁶ elements) on a server
+/// that allows 10⁵ gets a usable explorer at 10⁵ with a note, and the picker marks the presets
+/// beyond the limit with the reason.
+#[test]
+fn a_fork_beyond_the_servers_mesh_limit_starts_at_the_limit_with_a_note() {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let followers = Followers::new(|| {});
+    let options = Options {
+        follow: Some(Follow::student(&followers)),
+        max_elements: Some(100_000),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    let presenter = App::new(loaded_preset("fine-mesh"), Options::new(PLAIN)).unwrap();
+    assert_eq!(presenter.scene().mesh.elements, 1_000_000);
+    update(
+        &mut app,
+        Msg::Follow(std::sync::Arc::new(presenter.exploration.clone())),
+    );
+    assert_eq!(
+        app.scene().mesh.elements,
+        1_000_000,
+        "following shows the presenter's"
+    );
+    keys(&mut app, "f");
+    assert_eq!(app.scene().mesh.elements, 100_000);
+    let note = app.message.clone().unwrap();
+    assert!(
+        note.contains("at n = 100000") && note.contains("1000000"),
+        "{note}"
+    );
+    // Usable: a change is taken, not "rejected: mesh.elements".
+    keys(&mut app, "]");
+    assert!(
+        !app.message
+            .clone()
+            .unwrap_or_default()
+            .starts_with("rejected"),
+        "{:?}",
+        app.message
+    );
+    keys(&mut app, "p");
+    let picker = screen(&app);
+    let line = picker.lines().find(|l| l.contains("> fine-mesh")).unwrap();
+    assert!(
+        line.contains("[n = 1000000 is over this server's 100000: not here]"),
+        "{picker}"
+    );
+    assert!(
+        !picker
+            .lines()
+            .any(|l| l.contains("benchmark-1 ") && l.contains("not here"))
+    );
+}

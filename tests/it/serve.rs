@@ -117,6 +117,29 @@ fn ascii_and_no_color_follow_the_clients_environment() {
         fancy.wait_for("Parameters").await;
         assert!(fancy.text().contains('│'));
     });
+    // Issue 23 item 7: the server's --ascii and --no-color hold for every session, whatever
+    // its client sends.
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        ascii: true,
+        color: false,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut plain = Explorer::open(&handle, (100, 30), &[("LANG", "en_US.UTF-8")]).await;
+        plain.wait_for("Parameters").await;
+        let text = plain.text();
+        assert!(!text.contains('┌') && !text.contains('│'), "{text}");
+        let screen = plain.screen.screen();
+        for row in 0..30 {
+            for col in 0..100 {
+                let cell = screen.cell(row, col).unwrap();
+                assert_eq!(cell.fgcolor(), vt100::Color::Default, "({row}, {col})");
+            }
+        }
+    });
 }
 
 #[test]
@@ -789,9 +812,13 @@ fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_stu
         &[],
         PTY_SIZE,
     );
+    // Issue 23 item 3: the join screen first; any key closes it.
+    lecturer.wait_for_screen("Students join the class with");
+    let join = lecturer.screen();
+    let port = port_in(&join);
+    lecturer.type_bytes(b"x");
     lecturer.wait_for_screen("students connect with");
     lecturer.wait_for_screen("Parameters");
-    let port = port_in(&lecturer.screen());
     let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
     runtime().block_on(async {
         let (alice, bob) = (
@@ -900,6 +927,10 @@ fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_stu
         "{:?}",
         &raw[left..]
     );
+    // The join screen showed the host key's whole fingerprint, and the login.
+    let fingerprint = fingerprint_in(&raw);
+    assert!(join.contains(&fingerprint), "{fingerprint} not in\n{join}");
+    assert!(join.contains("any user name, no password"), "{join}");
     assert!(raw[left..].contains("user bob"), "{:?}", &raw[left..]);
     assert!(raw[left..].contains("stopped"), "{:?}", &raw[left..]);
     let flags = lecturer.local_flags();
@@ -908,6 +939,72 @@ fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_stu
     );
     // The port is free again: the server is gone.
     assert!(std::net::TcpStream::connect(address).is_err());
+}
+
+/// The `SHA256:…` fingerprint after "host key " in `text`.
+fn fingerprint_in(text: &str) -> String {
+    let at = text
+        .find("host key SHA256:")
+        .expect("a host key in the log")
+        + "host key ".len();
+    text[at..]
+        .chars()
+        .take_while(|c| !c.is_whitespace() && *c != ')')
+        .collect()
+}
+
+/// Issue 23 item 3: on the lecturer's 80×24 screen the join screen (at start, and on `J`)
+/// shows the host key's whole fingerprint — it was cut at `(host key S` before — the command
+/// and how students log in.
+#[test]
+fn the_join_screen_shows_the_whole_fingerprint_at_80x24() {
+    let dir = tempfile::tempdir().unwrap();
+    let host_key = dir.path().join("host_key");
+    let password = dir.path().join("password");
+    std::fs::write(&password, "class secret\n").unwrap();
+    std::fs::set_permissions(
+        &password,
+        std::os::unix::fs::PermissionsExt::from_mode(0o600),
+    )
+    .unwrap();
+    let mut lecturer = PtyProcess::start(
+        &[
+            "present",
+            "--password-file",
+            password.to_str().unwrap(),
+            "--listen",
+            "127.0.0.1:0",
+            "--host-key",
+            host_key.to_str().unwrap(),
+        ],
+        &[],
+        (80, 24),
+    );
+    lecturer.wait_for_screen("Students join the class with");
+    let first = lecturer.screen();
+    lecturer.type_bytes(b"x");
+    lecturer.wait_for_screen("Parameters");
+    lecturer.wait_for_screen("J:join");
+    lecturer.type_bytes(b"J");
+    lecturer.wait_for_screen("Students join the class with");
+    let again = lecturer.screen();
+    lecturer.type_bytes(b"x");
+    lecturer.wait_for_screen("Parameters");
+    lecturer.type_bytes(b"q");
+    let status = lecturer.exit();
+    assert_eq!(status.code(), Some(0), "{status:?}");
+    let fingerprint = fingerprint_in(&lecturer.text());
+    for screen in [&first, &again] {
+        assert!(
+            screen.contains(&fingerprint),
+            "{fingerprint} not in\n{screen}"
+        );
+        assert!(
+            screen.contains(&format!("ssh -p {} 127.0.0.1", port_in(screen))),
+            "{screen}"
+        );
+        assert!(screen.contains("the class password"), "{screen}");
+    }
 }
 
 #[test]
@@ -1013,6 +1110,14 @@ fn present_refuses_without_a_terminal_and_without_credentials_or_open() {
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
         .args(["present", "--open", "--listen", "127.0.0.1:0", "--host-key"])
         .arg(&host_key)
+        // The explorer's display options are `present`'s too (issue 23 item 7).
+        .args([
+            "--theme",
+            "high-contrast",
+            "--ascii",
+            "--no-color",
+            "--no-mouse",
+        ])
         .output()
         .unwrap();
     assert_eq!(output.status.code(), Some(2));

@@ -40,6 +40,8 @@ pub enum Mode {
     ConfirmDiscard { then: Discard },
     /// The lecturer's quit with students connected: end the class?
     ConfirmEndClass,
+    /// How students join the class (the lecturer's explorer: `J`, and at start).
+    Join,
     /// A student's closing screen: the class was ended by `by`; the scene was saved as
     /// `saved` (under `--save-dir`), and is shown as TOML to copy. Any key leaves.
     ClassEnded { by: String, saved: Option<String> },
@@ -111,6 +113,19 @@ pub struct Options {
     /// Whose explorer this is (a served session's user name): the files it offers to save
     /// are named after them, so that students sharing a save directory do not collide.
     pub owner: Option<String>,
+    /// How students join this lecturer's class (`beamfric present`): shown at start and on `J`.
+    pub join: Option<JoinInfo>,
+}
+
+/// How students reach a class: what the join screen shows.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JoinInfo {
+    /// The address the server listens on.
+    pub address: std::net::SocketAddr,
+    /// The host key's fingerprint (`SHA256:…`), for students to check when ssh asks.
+    pub fingerprint: String,
+    /// How students log in, in words (no password, the class password, their key).
+    pub login: String,
 }
 
 impl Options {
@@ -127,6 +142,7 @@ impl Options {
             follow: None,
             greeting: None,
             owner: None,
+            join: None,
         }
     }
 }
@@ -150,6 +166,8 @@ pub struct App {
     pub save_path: String,
     /// Whose explorer this is ([`Options::owner`]).
     pub owner: Option<String>,
+    /// How students join ([`Options::join`]).
+    pub join: Option<JoinInfo>,
     /// Since when the wanted solve runs (interactive only: frames of a headless render never
     /// depend on the clock).
     pub busy_since: Option<Instant>,
@@ -206,8 +224,14 @@ impl App {
             save_directory: options.save_directory.unwrap_or_else(|| PathBuf::from(".")),
             save_path,
             owner: options.owner,
+            // The lecturer sees how students join first.
+            mode: if options.join.is_some() {
+                Mode::Join
+            } else {
+                Mode::Normal
+            },
+            join: options.join,
             busy_since: None,
-            mode: Mode::Normal,
             message: options.greeting,
             zoom: false,
             mouse: options.mouse,

@@ -15,6 +15,6 @@ pub mod picker;
 pub mod prompt;
 pub mod sweeps;
 
-pub use app::{App, Discard, Drag, Ending, Look, Mode, Options, Palette, SavePolicy};
+pub use app::{App, Discard, Drag, Ending, JoinInfo, Look, Mode, Options, Palette, SavePolicy};
 pub use exploration::{Diagram, Exploration};
 pub use history::{History, UNDO_BYTES, UNDO_LIMIT};

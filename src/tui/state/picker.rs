@@ -16,6 +16,8 @@ pub struct PresetInfo {
     pub name: &'static str,
     pub title: String,
     pub description: String,
+    /// The scene's mesh size: a served student's picker marks presets beyond its limit.
+    pub elements: usize,
 }
 
 /// Every preset's name, title and description, in the order of [`PRESETS`] (read once).
@@ -29,6 +31,7 @@ pub fn preset_infos() -> &'static [PresetInfo] {
                 PresetInfo {
                     name: p.name,
                     title: scene.as_ref().map(|s| s.title.clone()).unwrap_or_default(),
+                    elements: scene.as_ref().map_or(0, |s| s.mesh.elements),
                     description: scene.map(|s| s.description).unwrap_or_default(),
                 }
             })

@@ -7,10 +7,11 @@
 
 use std::sync::Arc;
 
-use crate::tui::input::keymap::{Action, Key, action_for, follow_action};
+use crate::tui::input::keymap::{Action, Key, action_for, follow_action, presenting_action};
 use crate::tui::state::follow::{ClassNews, Following, Role};
 use crate::tui::state::{App, Exploration, Mode};
 
+use super::edit::try_apply;
 use super::save::save_at_closing;
 use super::{act, refresh_sweeps};
 
@@ -50,6 +51,27 @@ pub(super) fn fork(app: &mut App) {
     } else {
         "exploring on your own already: F follows the presenter".into()
     });
+    cap_elements(app);
+}
+
+/// A fork of the presenter's scene beyond this server's `--max-elements` starts at the limit,
+/// with a note, so that the student's explorer is usable at once (issue 23 item 5).
+fn cap_elements(app: &mut App) {
+    let Some(max) = app.max_elements else {
+        return;
+    };
+    let asked = app.scene().mesh.elements;
+    if asked <= max {
+        return;
+    }
+    let mut capped = app.scene().clone();
+    capped.mesh.elements = max;
+    if try_apply(app, capped) {
+        app.message = Some(format!(
+            "your own exploration from here, at n = {max}: the presenter's n = {asked} is beyond \
+             this server's limit for students (F follows the presenter again)"
+        ));
+    }
 }
 
 /// What the server says of the class (students only).
@@ -105,8 +127,16 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
     let Some(follow) = &app.follow else {
         return false;
     };
-    if !follow.is_student() || app.mode != Mode::Normal {
+    if app.mode != Mode::Normal {
         return false;
+    }
+    if !follow.is_student() {
+        // The lecturer's own key: the join screen.
+        let action = presenting_action(key).filter(|_| app.join.is_some());
+        if let Some(action) = action {
+            act(app, action);
+        }
+        return action.is_some();
     }
     if let Some(action) = follow_action(key) {
         act(app, action);

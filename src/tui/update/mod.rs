@@ -193,6 +193,11 @@ fn apply(app: &mut App, action: Action) {
         }
         Action::Suspend => app.suspend_requested = true,
         Action::Fork => follow::fork(app),
+        Action::ShowJoin => {
+            if app.join.is_some() {
+                app.mode = Mode::Join;
+            }
+        }
         Action::Rejoin => follow::rejoin(app),
         Action::PasteIgnored => {
             app.message =
@@ -208,7 +213,7 @@ fn apply(app: &mut App, action: Action) {
                 app.mode = prompts::scrolled(offset, action)
                     .map_or(Mode::Normal, |offset| Mode::Warnings { offset })
             }
-            Mode::SceneText => {
+            Mode::SceneText | Mode::Join => {
                 if action == Action::Cancel {
                     app.mode = Mode::Normal;
                 }

@@ -91,7 +91,8 @@ pub(super) fn apply(app: &mut App, action: Action) {
         | Action::Suspend
         | Action::PasteIgnored
         | Action::Fork
-        | Action::Rejoin => {}
+        | Action::Rejoin
+        | Action::ShowJoin => {}
     }
 }
 

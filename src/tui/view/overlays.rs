@@ -19,11 +19,12 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     match &app.mode {
         Mode::Help { offset } => help(frame, app, theme, area, *offset),
         Mode::SceneText => scene_text(frame, app, theme, area),
+        Mode::Join => join(frame, app, theme, area),
         Mode::ClassEnded { by, saved } => {
             class_ended(frame, app, theme, area, by, saved.as_deref())
         }
         Mode::Warnings { offset } => super::warnings::draw_view(frame, app, theme, area, *offset),
-        Mode::Presets(picker) => presets(frame, theme, area, picker),
+        Mode::Presets(picker) => presets(frame, theme, area, (picker, app.max_elements)),
         _ => {}
     }
 }
@@ -45,6 +46,51 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     );
     frame.render_widget(Clear, area);
     frame.render_widget(Paragraph::new(lines), area);
+}
+
+/// How students join (the lecturer's explorer, at start and on `J`): the command, the host
+/// key's whole fingerprint (wrapped, never cut: students check it when ssh asks) and how they
+/// log in, with the students connected now.
+fn join(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+    let Some(info) = &app.join else {
+        return;
+    };
+    let width = usize::from(area.width.saturating_sub(4)).max(8);
+    let address = info.address;
+    let host = if address.ip().is_unspecified() {
+        "HOST (this machine's name or address)".to_string()
+    } else {
+        address.ip().to_string()
+    };
+    let students = app.follow.as_ref().map_or(0, |f| f.followers.students());
+    let mut lines = vec![
+        Line::styled("Students join the class with", theme.title()),
+        Line::from(""),
+        Line::from(format!("  ssh -p {} {host}", address.port())),
+        Line::styled(format!("  (the server listens on {address})"), theme.dim()),
+        Line::from(""),
+        Line::styled(
+            "The server's host key (ssh shows it at the first login):",
+            theme.title(),
+        ),
+    ];
+    let fingerprint: Vec<char> = info.fingerprint.chars().collect();
+    for piece in fingerprint.chunks(width) {
+        lines.push(Line::from(format!(
+            "  {}",
+            piece.iter().collect::<String>()
+        )));
+    }
+    lines.push(Line::from(""));
+    lines.push(Line::styled("Logging in:", theme.title()));
+    lines.push(Line::from(format!("  {}", info.login)));
+    lines.push(Line::from(""));
+    lines.push(Line::from(format!(
+        "{students} student{} connected now · J shows this again · any key closes",
+        if students == 1 { "" } else { "s" }
+    )));
+    frame.render_widget(Clear, area);
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
 /// A student's closing screen: who ended the class, where their work went, and the scene as
@@ -190,7 +236,14 @@ pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area
     );
 }
 
-fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) {
+/// The preset picker; under a limit on the mesh (`max_elements`, a served session) a preset
+/// beyond it is marked with the reason, before its description.
+fn presets(
+    frame: &mut Frame,
+    theme: &Theme,
+    area: Rect,
+    (picker, max_elements): (&PresetPicker, Option<usize>),
+) {
     let layout = picker_layout(area);
     let infos = preset_infos();
     let matches = picker.matches();
@@ -220,8 +273,17 @@ fn presets(frame: &mut Frame, theme: &Theme, area: Rect, picker: &PresetPicker) 
             let info = &infos[preset];
             // The highlight is marked in the text too, for terminals without colours.
             let mark = if i == highlighted { "> " } else { "  " };
+            let beyond = match max_elements {
+                Some(max) if info.elements > max => {
+                    format!(
+                        "[n = {} is over this server's {max}: not here] ",
+                        info.elements
+                    )
+                }
+                _ => String::new(),
+            };
             let text = format!(
-                "{mark}{:<name_width$}{}",
+                "{mark}{:<name_width$}{beyond}{}",
                 info.name,
                 printable(&info.description)
             );

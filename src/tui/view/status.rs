@@ -252,6 +252,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
         Mode::ClassEnded { .. } => {
             "select the text with the mouse to copy it; any key leaves".into()
         }
+        Mode::Join => "any key closes; J shows it again".into(),
         Mode::Normal => fitted_hint_line(ascii, follow_keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);

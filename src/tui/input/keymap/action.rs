@@ -84,4 +84,6 @@ pub enum Action {
     Fork,
     /// Follow mode: follow the presenter again.
     Rejoin,
+    /// A lecturer's explorer: show how students join the class.
+    ShowJoin,
 }

@@ -15,7 +15,7 @@ pub use action::Action;
 pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
 pub use tables::{
     Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, NORMAL,
-    OVERWRITE_QUESTION, PICKER, PROMPT, SCROLLING,
+    OVERWRITE_QUESTION, PICKER, PRESENTING, PROMPT, SCROLLING,
 };
 
 use super::super::state::{App, Mode};
@@ -42,7 +42,7 @@ fn keys_of(mode: &Mode) -> (&'static [Binding], Otherwise) {
         Mode::ConfirmOverwrite { .. } => (OVERWRITE_QUESTION, Otherwise::Cancel),
         Mode::ConfirmDiscard { .. } => (DISCARD_QUESTION, Otherwise::Cancel),
         Mode::ConfirmEndClass => (END_CLASS_QUESTION, Otherwise::Cancel),
-        Mode::ClassEnded { .. } => (&[], Otherwise::Cancel),
+        Mode::ClassEnded { .. } | Mode::Join => (&[], Otherwise::Cancel),
     }
 }
 
@@ -75,6 +75,12 @@ pub fn follow_action(key: Key) -> Option<Action> {
     bound(FOLLOW, key)
 }
 
+/// The key of a lecturer's explorer `key` stands for, if any (taken before the mode's own
+/// keys, in normal mode).
+pub fn presenting_action(key: Key) -> Option<Action> {
+    bound(PRESENTING, key)
+}
+
 /// What a bracketed paste means in `mode`: its printable characters typed into a prompt
 /// (a pasted newline does not submit it), or, anywhere else, nothing but a note.
 pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
@@ -89,10 +95,12 @@ pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
 }
 
 /// The keys of follow mode this explorer has, for its help and hint line: those of
-/// [`FOLLOW`] for a student, none for a presenter or an explorer of its own.
+/// [`FOLLOW`] for a student, [`PRESENTING`] for the lecturer's explorer, none for a presenter
+/// session or an explorer of its own.
 pub fn follow_keys(app: &App) -> &'static [Binding] {
     match &app.follow {
         Some(follow) if follow.is_student() => FOLLOW,
+        Some(_) if app.join.is_some() => PRESENTING,
         _ => &[],
     }
 }
@@ -142,6 +150,7 @@ mod tests {
                 by: "the lecturer".into(),
                 saved: None,
             },
+            Mode::Join,
         ];
         for mode in &modes {
             assert_eq!(action_for(mode, Key::Ctrl('c')), Some(Action::Interrupt));

@@ -261,6 +261,16 @@ pub const FOLLOW: &[Binding] = &[
     ),
 ];
 
+/// The key of a lecturer's explorer that shows how students join (`beamfric present`), taken
+/// before [`NORMAL`] as [`FOLLOW`] is for a student.
+pub const PRESENTING: &[Binding] = &[bind!(
+    Key::Char('J'),
+    Action::ShowJoin,
+    "join: the address, the host key's fingerprint and how students log in",
+    "join",
+    1,
+)];
+
 /// Keys of every mode, looked up before the mode's own: Ctrl-C quits from anywhere (asking
 /// first when that loses changes; the help lists it on [`NORMAL`]'s quit line), Ctrl-Z
 /// suspends (the shell's `fg` resumes; a served session says it cannot).
