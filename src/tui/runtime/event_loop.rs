@@ -264,6 +264,8 @@ fn run_loop<S: Screen>(
                 return Ok(ending);
             }
         }
+        // The frame drawn next shows whatever a redraw was asked for until now.
+        events.signals.take_redraw();
         apply_inputs(screen, app, state, &events.signals)?;
         if let Some(ending) = app.ending {
             return Ok(ending);

@@ -61,12 +61,20 @@ pub struct Signals {
     hung_up: AtomicBool,
     /// The newest window size (columns << 16 | rows); 0: none reported since the last taken.
     newest_size: AtomicU32,
+    /// A redraw was asked for and not yet taken: more asks queue nothing (a student toggling
+    /// their unsaved work or their fork as fast as they can type cannot flood a presenter).
+    redraw_pending: AtomicBool,
 }
 
 impl Signals {
     /// Has the input hung up? The loop asks before every event and every key it applies.
     pub fn hung_up(&self) -> bool {
         self.hung_up.load(Ordering::Acquire)
+    }
+
+    /// The loop is about to draw: a redraw asked for from now on wakes it again.
+    pub fn take_redraw(&self) {
+        self.redraw_pending.store(false, Ordering::Release);
     }
 
     /// The newest window size reported since the last call, if any.
@@ -154,9 +162,12 @@ impl Feed {
         let _ = self.sender.send(Event::Class(news));
     }
 
-    /// Draw again (something the frame shows changed outside the explorer).
+    /// Draw again (something the frame shows changed outside the explorer); one wake-up until
+    /// the loop takes it, however many asks.
     pub fn redraw(&self) {
-        let _ = self.sender.send(Event::Redraw);
+        if !self.signals.redraw_pending.swap(true, Ordering::AcqRel) {
+            let _ = self.sender.send(Event::Redraw);
+        }
     }
 
     /// The client went away: the loop ends before it applies anything more.
@@ -189,6 +200,19 @@ mod tests {
         assert_eq!(events.signals.take_size(), Some((199, 40)));
         assert_eq!(events.signals.take_size(), None);
         feed.resize(90, 20);
+        assert_eq!(events.receiver.try_iter().count(), 1);
+    }
+
+    #[test]
+    fn redraws_coalesce_until_the_loop_takes_them() {
+        let (feed, events) = events();
+        for _ in 0..1000 {
+            feed.redraw();
+        }
+        assert_eq!(events.receiver.try_iter().count(), 1);
+        events.signals.take_redraw();
+        feed.redraw();
+        feed.redraw();
         assert_eq!(events.receiver.try_iter().count(), 1);
     }
 
