@@ -1043,3 +1043,47 @@ fn a_fork_beyond_the_servers_mesh_limit_starts_at_the_limit_with_a_note() {
             .any(|l| l.contains("benchmark-1 ") && l.contains("not here"))
     );
 }
+
+/// Issue 23 item 1, with files in the way: the closing save of a student's unsaved work never
+/// overwrites a file nor follows a link (even one to nothing); it takes the next free name.
+#[test]
+fn the_closing_save_takes_the_next_free_name() {
+    use beamfric::tui::state::follow::{ClassNews, Follow, Followers};
+    let dir = tempfile::tempdir().unwrap();
+    let taken = dir.path().join("bob-benchmark-1.toml");
+    std::fs::write(&taken, "someone else's").unwrap();
+    std::os::unix::fs::symlink(
+        dir.path().join("nowhere"),
+        dir.path().join("bob-benchmark-1-2.toml"),
+    )
+    .unwrap();
+    let options = Options {
+        save_policy: beamfric::tui::state::SavePolicy::Within(dir.path().to_path_buf()),
+        save_directory: Some(dir.path().to_path_buf()),
+        owner: Some("bob".into()),
+        follow: Some(Follow::student(&Followers::new(|| {}))),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    keys(&mut app, "f ]");
+    update(
+        &mut app,
+        Msg::Class(ClassNews::Ended {
+            by: "the lecturer".into(),
+        }),
+    );
+    assert_eq!(
+        app.mode,
+        Mode::ClassEnded {
+            by: "the lecturer".into(),
+            saved: Some("bob-benchmark-1-3.toml".into())
+        }
+    );
+    assert_eq!(std::fs::read_to_string(&taken).unwrap(), "someone else's");
+    assert!(!dir.path().join("nowhere").exists());
+    let saved = std::fs::read_to_string(dir.path().join("bob-benchmark-1-3.toml")).unwrap();
+    assert_eq!(
+        beamfric::scene::Scene::from_toml(&saved, "bob").unwrap(),
+        *app.scene()
+    );
+}

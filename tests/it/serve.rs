@@ -94,6 +94,19 @@ fn q_quits_and_closes_the_channel_with_status_zero() {
     eventually("the session ends", || test.server.sessions() == 0);
 }
 
+/// A 100×30 session drawn in ASCII (no box drawing) and without colours.
+fn assert_plain(explorer: &Explorer) {
+    let text = explorer.text();
+    assert!(!text.contains('┌') && !text.contains('│'), "{text}");
+    let screen = explorer.screen.screen();
+    for row in 0..30 {
+        for col in 0..100 {
+            let cell = screen.cell(row, col).unwrap();
+            assert_eq!(cell.fgcolor(), vt100::Color::Default, "({row}, {col})");
+        }
+    }
+}
+
 #[test]
 fn ascii_and_no_color_follow_the_clients_environment() {
     let test = open_server();
@@ -102,15 +115,7 @@ fn ascii_and_no_color_follow_the_clients_environment() {
         let mut plain =
             Explorer::open(&handle, (100, 30), &[("LANG", "C"), ("NO_COLOR", "1")]).await;
         plain.wait_for("Parameters").await;
-        let text = plain.text();
-        assert!(!text.contains('┌') && !text.contains('│'), "{text}");
-        let screen = plain.screen.screen();
-        for row in 0..30 {
-            for col in 0..100 {
-                let cell = screen.cell(row, col).unwrap();
-                assert_eq!(cell.fgcolor(), vt100::Color::Default, "({row}, {col})");
-            }
-        }
+        assert_plain(&plain);
 
         let handle = logged_in(test.server.address()).await;
         let mut fancy = Explorer::open(&handle, (100, 30), &[("LANG", "en_US.UTF-8")]).await;
@@ -130,15 +135,7 @@ fn ascii_and_no_color_follow_the_clients_environment() {
         let handle = logged_in(server.address()).await;
         let mut plain = Explorer::open(&handle, (100, 30), &[("LANG", "en_US.UTF-8")]).await;
         plain.wait_for("Parameters").await;
-        let text = plain.text();
-        assert!(!text.contains('┌') && !text.contains('│'), "{text}");
-        let screen = plain.screen.screen();
-        for row in 0..30 {
-            for col in 0..100 {
-                let cell = screen.cell(row, col).unwrap();
-                assert_eq!(cell.fgcolor(), vt100::Color::Default, "({row}, {col})");
-            }
-        }
+        assert_plain(&plain);
     });
 }
 

@@ -4,7 +4,7 @@
 //! session saves under `--save-dir` or shows the TOML to copy), and followed by what was
 //! waiting for it (a quit, a reset, a preset after "save, then …").
 
-use crate::scene::save_scene;
+use crate::scene::{SaveError, save_scene};
 use crate::tui::input::keymap::Action;
 use crate::tui::state::prompt::{Prompt, Typed};
 use crate::tui::state::{App, Discard, Mode, SavePolicy};
@@ -153,17 +153,18 @@ pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
             1 => format!("{stem}.toml"),
             n => format!("{stem}-{n}.toml"),
         };
-        let target = save_target(&app.save_policy, &name)?;
-        if std::fs::symlink_metadata(&target).is_ok() {
+        // Never over anything: a file, or a link (even to nothing, which has no target inside
+        // the directory), takes the next name.
+        let Some(target) = save_target(&app.save_policy, &name) else {
             continue;
-        }
+        };
         match save_scene(app.scene(), &target, false) {
             Ok(_) => {
                 app.save_path = name.clone();
                 app.saved = app.scene().clone();
                 return Some(name);
             }
-            Err(crate::scene::SaveError::Exists(_)) => continue,
+            Err(SaveError::Exists(_) | SaveError::DanglingLink(..)) => continue,
             Err(_) => return None,
         }
     }

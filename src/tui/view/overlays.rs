@@ -29,6 +29,12 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     }
 }
 
+/// The scene's TOML, a line per line, as the screen shows it to copy.
+fn scene_toml_lines(app: &App) -> Vec<Line<'static>> {
+    let toml = app.scene().to_toml();
+    toml.lines().map(|l| Line::from(l.to_string())).collect()
+}
+
 /// The scene as TOML, without side borders so that it can be copied from the screen as is.
 fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let mut lines = vec![
@@ -38,12 +44,7 @@ fn scene_text(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         ),
         Line::from(""),
     ];
-    lines.extend(
-        app.scene()
-            .to_toml()
-            .lines()
-            .map(|l| Line::from(l.to_string())),
-    );
+    lines.extend(scene_toml_lines(app));
     frame.render_widget(Clear, area);
     frame.render_widget(Paragraph::new(lines), area);
 }
@@ -122,12 +123,7 @@ fn class_ended(
         ),
         Line::from(""),
     ];
-    lines.extend(
-        app.scene()
-            .to_toml()
-            .lines()
-            .map(|l| Line::from(l.to_string())),
-    );
+    lines.extend(scene_toml_lines(app));
     frame.render_widget(Clear, area);
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
