@@ -55,8 +55,17 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
         }
         _ => {
             let text = error.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            say!("beamfric: {}", first.trim_start_matches("error: "));
+            // The first line, with what it lists on the lines under it (clap puts the missing
+            // arguments there: "the following required arguments were not provided:").
+            let mut lines = text.lines();
+            let mut message = lines.next().unwrap_or("invalid arguments").to_string();
+            if message.ends_with(':') {
+                for item in lines.take_while(|l| l.starts_with(' ')) {
+                    message.push(' ');
+                    message.push_str(item.trim());
+                }
+            }
+            say!("beamfric: {}", message.trim_start_matches("error: "));
             ExitCode::from(EXIT_BAD_INPUT)
         }
     }
@@ -73,7 +82,11 @@ pub fn dispatch(cli: Cli) -> ExitCode {
         Some(Command::Report(args)) => report_command(&args),
         Some(Command::Serve(args)) => serve_command(&args),
         Some(Command::Present(args)) => present_command(&args),
-        None => explore(cli.scene.as_deref().unwrap_or("benchmark-1"), &cli.display),
+        None => explore(
+            cli.scene.as_deref().unwrap_or("benchmark-1"),
+            &cli.lesson,
+            &cli.display,
+        ),
     };
     match result {
         Ok(code) => code,
@@ -129,7 +142,32 @@ fn local_look(display: &DisplayArgs) -> crate::plot::Look {
     }
 }
 
-fn explore(name: &str, display: &DisplayArgs) -> Result<ExitCode, CliError> {
+/// The scene to open and the lesson place, from a scene name or `--lesson FILE [--step K]`.
+fn open_scene(
+    name: &str,
+    lesson: &LessonArgs,
+) -> Result<(LoadedScene, Option<crate::tui::state::LessonPlace>), CliError> {
+    let Some(path) = &lesson.lesson else {
+        return Ok((scene::load(name)?, None));
+    };
+    let step = lesson.step.unwrap_or(1);
+    let lesson = crate::lesson::read_lesson(path)?;
+    let count = lesson.steps.len();
+    if step > count {
+        return Err(CliError::Argument(format!(
+            "--step {step}: {} has {count} step{} (from 1 to {count})",
+            path.display(),
+            if count == 1 { "" } else { "s" }
+        )));
+    }
+    let place = crate::tui::state::LessonPlace {
+        lesson: std::sync::Arc::new(lesson),
+        step: step - 1,
+    };
+    Ok((place.current().scene.clone(), Some(place)))
+}
+
+fn explore(name: &str, lesson: &LessonArgs, display: &DisplayArgs) -> Result<ExitCode, CliError> {
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() {
         return Err(CliError::NotATerminal(
@@ -137,11 +175,12 @@ fn explore(name: &str, display: &DisplayArgs) -> Result<ExitCode, CliError> {
              render` prints a frame as text",
         ));
     }
-    let loaded = scene::load(name)?;
+    let (loaded, lesson) = open_scene(name, lesson)?;
     let options = crate::tui::state::Options {
         palette: display.theme,
         mouse: !display.no_mouse,
         show_timings: true,
+        lesson,
         ..crate::tui::state::Options::new(local_look(display))
     };
     let ending = crate::tui::explore(loaded, options)?;
@@ -206,6 +245,7 @@ fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
         color: !args.display.no_color,
         palette: args.display.theme,
         scene: args.scene.clone(),
+        lesson: args.lesson.clone(),
         save_dir: args.save_dir.clone(),
     }
 }
@@ -218,8 +258,9 @@ fn serve_command(_args: &ServeArgs) -> Result<ExitCode, CliError> {
 fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
     let keys = crate::tui::input::keys::parse_keys(&args.keys)
         .map_err(|unknown| CliError::Argument(format!("--keys: {unknown}")))?;
-    let loaded = scene::load(&args.scene)?;
+    let (loaded, lesson) = open_scene(&args.scene, &args.lesson)?;
     let options = crate::tui::RenderOptions {
+        lesson,
         width: args.size.0,
         height: args.size.1,
         look: crate::plot::Look {

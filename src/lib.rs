@@ -4,6 +4,7 @@
 //! any mesh size.
 //!
 //! - [`scene`]: TOML scenes, validation, presets, atomic saving.
+//! - [`lesson`]: lesson files, a lecture's steps with their scenes and captions.
 //! - [`model`]: the validated physical problem.
 //! - [`fem`]: Hermite cubic mesh, assembly, evaluation.
 //! - [`linalg`]: the block-tridiagonal factorization, the box QP, condition numbers.
@@ -23,6 +24,7 @@ pub mod check;
 pub mod cli;
 pub mod fem;
 pub mod format;
+pub mod lesson;
 pub mod linalg;
 pub mod model;
 pub mod output;

@@ -62,9 +62,23 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
     /// Scene file or preset name to open (default: benchmark-1).
+    #[arg(conflicts_with = "lesson")]
     pub scene: Option<String>,
     #[command(flatten)]
+    pub lesson: LessonArgs,
+    #[command(flatten)]
     pub display: DisplayArgs,
+}
+
+/// A lesson to step through (Space / Backspace, `n` / `N`), and the step to start on.
+#[derive(Debug, Args)]
+pub struct LessonArgs {
+    /// A lesson file (TOML: steps with a scene, settings and a caption; see lessons/).
+    #[arg(long, value_name = "FILE")]
+    pub lesson: Option<std::path::PathBuf>,
+    /// The step to start on, counted from 1.
+    #[arg(long, value_name = "K", requires = "lesson", value_parser = count_up_to(crate::lesson::MAX_STEPS))]
+    pub step: Option<usize>,
 }
 
 /// How an explorer draws: the same options for `beamfric`, `serve` (the default of every
@@ -144,8 +158,12 @@ pub struct ServeArgs {
     #[arg(long, default_value_t = 1800, value_name = "SECS")]
     pub idle_timeout: u64,
     /// The scene every session starts with: a preset name or a scene file.
-    #[arg(long, default_value = "benchmark-1")]
+    #[arg(long, default_value = "benchmark-1", conflicts_with = "lesson")]
     pub scene: String,
+    /// A lesson: the presenter steps through it (Space / Backspace) and followers see each
+    /// step and its caption; without a presenter, every session steps on its own.
+    #[arg(long, value_name = "FILE")]
+    pub lesson: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub display: DisplayArgs,
     /// The only directory sessions may save scenes to (file names cannot leave it); without
@@ -263,8 +281,11 @@ pub struct ReportArgs {
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// Scene file or preset name.
-    #[arg(long, default_value = "benchmark-1")]
+    #[arg(long, default_value = "benchmark-1", conflicts_with = "lesson")]
     pub scene: String,
+    /// Render a step of this lesson (the step's scene, settings and caption).
+    #[command(flatten)]
+    pub lesson: LessonArgs,
     /// Frame size in cells, WIDTHxHEIGHT.
     #[arg(long, default_value = "120x40", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u16, u16),

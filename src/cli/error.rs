@@ -1,6 +1,7 @@
 //! Why a command failed before it could give its answer (exit status 2, one line on stderr):
 //! an argument, a scene, the terminal, the server or a report's destination.
 
+use crate::lesson::LessonError;
 use crate::report::ReportError;
 use crate::scene::SceneError;
 #[cfg(unix)]
@@ -14,6 +15,8 @@ pub enum CliError {
     Argument(String),
     /// A scene could not be loaded or is not valid.
     Scene(SceneError),
+    /// A lesson could not be read or is not valid.
+    Lesson(LessonError),
     /// The command draws on a terminal, and standard output is not one (the text says what
     /// to use instead).
     NotATerminal(&'static str),
@@ -33,6 +36,7 @@ impl std::fmt::Display for CliError {
         match self {
             CliError::Argument(text) => f.write_str(text),
             CliError::Scene(e) => e.fmt(f),
+            CliError::Lesson(e) => e.fmt(f),
             CliError::NotATerminal(text) | CliError::Unsupported(text) => f.write_str(text),
             #[cfg(unix)]
             CliError::Serve(e) => e.fmt(f),
@@ -43,6 +47,12 @@ impl std::fmt::Display for CliError {
 }
 
 impl std::error::Error for CliError {}
+
+impl From<LessonError> for CliError {
+    fn from(e: LessonError) -> Self {
+        CliError::Lesson(e)
+    }
+}
 
 impl From<SceneError> for CliError {
     fn from(e: SceneError) -> Self {

@@ -1,5 +1,6 @@
 //! Why `beamfric serve` or `beamfric present` could not start, or a session could not.
 
+use crate::lesson::LessonError;
 use crate::scene::SceneError;
 use crate::tui::TerminalError;
 
@@ -10,6 +11,8 @@ pub enum ServeError {
     Option(String),
     /// The scene every session starts with could not be loaded.
     Scene(SceneError),
+    /// The lesson (`--lesson`) could not be read or is not valid.
+    Lesson(LessonError),
     /// A host key, authorized-keys or password file is missing, unreadable, malformed or
     /// readable by others (the text names the file).
     Secret(String),
@@ -31,6 +34,7 @@ impl std::fmt::Display for ServeError {
                 f.write_str(text)
             }
             ServeError::Scene(e) => e.fmt(f),
+            ServeError::Lesson(e) => e.fmt(f),
             ServeError::Listen { address, source } => {
                 write!(f, "cannot listen on {address}: {source}")
             }
@@ -40,6 +44,12 @@ impl std::fmt::Display for ServeError {
 }
 
 impl std::error::Error for ServeError {}
+
+impl From<LessonError> for ServeError {
+    fn from(e: LessonError) -> Self {
+        ServeError::Lesson(e)
+    }
+}
 
 impl From<SceneError> for ServeError {
     fn from(e: SceneError) -> Self {

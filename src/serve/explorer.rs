@@ -40,6 +40,8 @@ pub const ENV_COUNT_LIMIT: usize = 16;
 #[derive(Debug, Clone)]
 pub struct ExplorerSettings {
     pub scene: LoadedScene,
+    /// The lesson every session starts on (its first step is `scene`).
+    pub lesson: Option<crate::tui::state::LessonPlace>,
     pub max_elements: usize,
     pub idle_timeout: Option<Duration>,
     /// Ask the client's terminal for mouse reports.
@@ -188,6 +190,7 @@ pub(crate) fn start(
         follow,
         owner: user.map(str::to_string),
         palette: settings.palette,
+        lesson: settings.lesson.clone(),
         ..Options::new(Look {
             ascii: client.look().ascii || settings.ascii,
             color: client.look().color && settings.color,

@@ -83,6 +83,9 @@ pub struct ServeOptions {
     pub idle_timeout: Option<Duration>,
     /// The scene every session starts with (a preset name or the lecturer's file).
     pub scene: String,
+    /// A lesson (`--lesson`): its first step's scene replaces `scene`; the presenter steps
+    /// through it, and sessions without a presenter step on their own.
+    pub lesson: Option<PathBuf>,
     /// Sessions ask the client's terminal for mouse reports (`--no-mouse`: they do not).
     pub mouse: bool,
     /// Every session draws in ASCII (`--ascii`), whatever its client's locale.
@@ -109,6 +112,7 @@ impl Default for ServeOptions {
             max_elements: DEFAULT_MAX_ELEMENTS,
             idle_timeout: Some(DEFAULT_IDLE_TIMEOUT),
             scene: "benchmark-1".into(),
+            lesson: None,
             mouse: true,
             ascii: false,
             color: true,
@@ -222,7 +226,16 @@ impl Server {
                 options.listen
             ));
         }
-        let scene = crate::scene::load(&options.scene)?;
+        let (scene, lesson) = match &options.lesson {
+            Some(path) => {
+                let place = crate::tui::state::LessonPlace {
+                    lesson: Arc::new(crate::lesson::read_lesson(path)?),
+                    step: 0,
+                };
+                (place.current().scene.clone(), Some(place))
+            }
+            None => (crate::scene::load(&options.scene)?, None),
+        };
         if scene.scene.mesh.elements > options.max_elements {
             return Err(ServeError::Option(format!(
                 "the scene has {} elements, more than --max-elements {}",
@@ -253,6 +266,7 @@ impl Server {
             access,
             explorer: ExplorerSettings {
                 scene,
+                lesson,
                 max_elements: options.max_elements,
                 idle_timeout: options.idle_timeout,
                 mouse: options.mouse,

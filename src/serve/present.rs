@@ -40,6 +40,7 @@ pub fn present(
         mouse: options.mouse,
         palette: options.palette,
         follow: Some(Follow::presenter(&hub.followers, true)),
+        lesson: shared.explorer.lesson.clone(),
         greeting: Some(format!(
             "presenting: students connect with ssh -p {} HOST (J: how they join)",
             server.address().port(),

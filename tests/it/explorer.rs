@@ -23,6 +23,7 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         timings: false,
         palette: Default::default(),
         allow_save: None,
+        lesson: None,
     };
     let buffer = render(loaded_preset(name), &parse_keys(keys).unwrap(), options).unwrap();
     buffer_to_text(&buffer, false)

@@ -313,6 +313,7 @@ fn ready_app() -> &'static App {
                 timings: false,
                 palette: Default::default(),
                 allow_save: None,
+                lesson: None,
             },
         )
         .unwrap()

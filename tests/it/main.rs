@@ -18,6 +18,7 @@ mod escaping;
 mod explorer;
 mod fuzz;
 mod headless;
+mod lessons;
 mod mouse;
 mod numerics;
 mod presets;

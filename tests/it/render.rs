@@ -25,6 +25,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
         palette: Default::default(),
         timings: false,
         allow_save: None,
+        lesson: None,
     }
 }
 

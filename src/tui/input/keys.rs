@@ -61,6 +61,7 @@ impl Key {
             (Key::ShiftLeft, true) => "Shift+Left".into(),
             (Key::ShiftRight, true) => "Shift+Right".into(),
             (Key::Ctrl(c), _) => format!("Ctrl-{}", c.to_ascii_uppercase()),
+            (Key::Char(' '), _) => "Space".into(),
             (Key::Char(c), _) => c.to_string(),
             (key, _) => key.name().unwrap_or_default().to_string(),
         }

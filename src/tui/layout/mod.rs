@@ -10,6 +10,6 @@ pub mod picker;
 pub mod screen;
 
 pub use screen::{
-    DESCRIPTION_MIN_HEIGHT, FULL_SIZE, MIN_SIZE, Region, ScreenLayout, parameter_rows_shown,
-    screen_layout, visible_panels,
+    DESCRIPTION_MIN_HEIGHT, FULL_SIZE, MIN_SIZE, Region, ScreenLayout, caption_strip_height,
+    caption_width, parameter_rows_shown, screen_layout, visible_panels,
 };

@@ -24,8 +24,11 @@ pub const DESCRIPTION_MIN_HEIGHT: u16 = 30;
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ScreenLayout {
     pub title: Rect,
-    /// The scene's description, one line, when it has one and there is room.
+    /// The scene's description, one line, when it has one and there is room (not with a
+    /// lesson: its caption strip says more).
     pub description: Option<Rect>,
+    /// A lesson's strip: the step line, then the caption (see [`caption_strip_height`]).
+    pub caption: Option<Rect>,
     /// The parameters box (borders included).
     pub parameters: Rect,
     /// The results box, when there is room for it.
@@ -49,17 +52,21 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
     if !fits(area) {
         return None;
     }
-    let described =
-        area.height >= DESCRIPTION_MIN_HEIGHT && !app.scene().description.trim().is_empty();
-    let [title, description, body, status, hints] = Layout::vertical([
+    let strip = caption_strip_height(app, area);
+    let described = strip == 0
+        && area.height >= DESCRIPTION_MIN_HEIGHT
+        && !app.scene().description.trim().is_empty();
+    let [title, description, caption, body, status, hints] = Layout::vertical([
         Constraint::Length(1),
         Constraint::Length(u16::from(described)),
+        Constraint::Length(strip),
         Constraint::Min(8),
         Constraint::Length(3),
         Constraint::Length(1),
     ])
     .areas(area);
     let description = described.then_some(description);
+    let caption = (strip > 0).then_some(caption);
     let full = area.width >= FULL_SIZE.0 && area.height >= FULL_SIZE.1;
     let panels = app.exploration.panels();
     let focused = (!panels.is_empty()).then(|| panels[app.exploration.focus % panels.len()]);
@@ -67,6 +74,7 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
         return Some(ScreenLayout {
             title,
             description,
+            caption,
             parameters: Rect::new(body.x, body.y, 0, 0),
             results: None,
             panels: vec![(panel, body)],
@@ -87,6 +95,7 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
     Some(ScreenLayout {
         title,
         description,
+        caption,
         parameters,
         results,
         panels,
@@ -94,6 +103,25 @@ pub fn screen_layout(app: &App, area: Rect) -> Option<ScreenLayout> {
         status,
         hints,
     })
+}
+
+/// Rows of a lesson's caption strip in a frame of `area` (0 without a lesson): the step line
+/// and the caption wrapped to the width less a column each side, as many lines as it needs
+/// (a lesson's captions fit 3 at 80 columns) while the body keeps its rows; a caption cut
+/// short of that ends in `…`.
+pub fn caption_strip_height(app: &App, area: Rect) -> u16 {
+    let Some(place) = &app.exploration.lesson else {
+        return 0;
+    };
+    let needed = crate::lesson::wrap(&place.current().caption, caption_width(area)).len();
+    // Title, body (8), status (3) and hints keep theirs; the step line is always there.
+    let room = usize::from(area.height.saturating_sub(1 + 8 + 3 + 1 + 1));
+    1 + needed.min(room.max(1)) as u16
+}
+
+/// The caption's text width in a frame of `area`.
+pub fn caption_width(area: Rect) -> usize {
+    usize::from(area.width.saturating_sub(2)).max(1)
 }
 
 /// Parameters on top, results below: the parameters get their rows (up to about 60 % of the
@@ -166,7 +194,10 @@ impl ScreenLayout {
     pub fn region_at(&self, x: u16, y: u16) -> Option<Region> {
         let position = ratatui::layout::Position { x, y };
         let inside = |r: Rect| r.contains(position);
-        if inside(self.title) || self.description.is_some_and(inside) {
+        if inside(self.title)
+            || self.description.is_some_and(inside)
+            || self.caption.is_some_and(inside)
+        {
             Some(Region::Title)
         } else if inside(self.parameters) {
             Some(Region::Parameters)

@@ -15,7 +15,7 @@ use crate::tui::update::{Msg, update};
 use crate::tui::view;
 
 /// What a headless render needs besides the scene.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RenderOptions {
     pub width: u16,
     pub height: u16,
@@ -26,6 +26,8 @@ pub struct RenderOptions {
     pub timings: bool,
     /// The only directory a save in the keys may write to; `None`: saves are only simulated.
     pub allow_save: Option<std::path::PathBuf>,
+    /// The lesson and step the scene is (`render --lesson FILE --step K`).
+    pub lesson: Option<crate::tui::state::LessonPlace>,
 }
 
 /// Solves the current state on the spot if it needs a solve (the interactive explorer solves
@@ -80,6 +82,7 @@ pub fn prepare(
         show_timings: options.timings,
         save_policy,
         save_directory,
+        lesson: options.lesson,
         ..Options::new(options.look)
     };
     let mut app = settled(App::new(loaded, app_options)?);

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use crate::scene::{LoadedScene, Scene, SceneSource};
 
-use super::exploration::Exploration;
+use super::exploration::{Exploration, LessonPlace};
 use super::follow::Follow;
 use super::history::History;
 use super::params::Row;
@@ -115,6 +115,9 @@ pub struct Options {
     pub owner: Option<String>,
     /// How students join this lecturer's class (`beamfric present`): shown at start and on `J`.
     pub join: Option<JoinInfo>,
+    /// The lesson and the step to start on (`--lesson`); the scene given to [`App::new`] is
+    /// that step's.
+    pub lesson: Option<LessonPlace>,
 }
 
 /// How students reach a class: what the join screen shows.
@@ -143,6 +146,7 @@ impl Options {
             greeting: None,
             owner: None,
             join: None,
+            lesson: None,
         }
     }
 }
@@ -201,6 +205,16 @@ pub struct App {
     pub max_elements: Option<usize>,
     /// Follow mode (served sessions with a presenter); `None`: an explorer of its own.
     pub follow: Option<Follow>,
+    /// A lesson's steps left with changes, by step: the scene as changed and as last saved,
+    /// given back on return to the step (stepping on loses nothing).
+    pub step_edits: std::collections::BTreeMap<usize, StepEdits>,
+}
+
+/// What a lesson's step was left with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepEdits {
+    pub scene: Scene,
+    pub saved: Scene,
 }
 
 impl App {
@@ -215,9 +229,14 @@ impl App {
             options.owner.as_deref(),
             &loaded.source,
         );
+        let mut exploration = Exploration::new(loaded);
+        if let Some(place) = options.lesson {
+            exploration.focus = place.current().focus;
+            exploration.lesson = Some(place);
+        }
         Ok(App {
-            saved: loaded.scene.clone(),
-            exploration: Exploration::new(loaded),
+            saved: exploration.scene.clone(),
+            exploration,
             history: History::default(),
             save_policy: options.save_policy,
             after_save: None,
@@ -246,6 +265,7 @@ impl App {
             suspend_requested: false,
             max_elements: options.max_elements,
             follow: options.follow,
+            step_edits: Default::default(),
         })
     }
 
@@ -275,6 +295,11 @@ impl App {
     /// Does the scene differ from the one last loaded or saved?
     pub fn modified(&self) -> bool {
         self.exploration.scene != self.saved
+    }
+
+    /// Is any work unsaved: this scene's, or a lesson step's left with changes?
+    pub fn has_unsaved_work(&self) -> bool {
+        self.modified() || self.step_edits.values().any(|e| e.scene != e.saved)
     }
 
     /// Is this a served student following the presenter (who may not change the scene)?

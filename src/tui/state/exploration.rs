@@ -4,6 +4,9 @@
 //! of this value (`tui::update::follow`); everything else of the explorer's state is one
 //! screen's own.
 
+use std::sync::Arc;
+
+use crate::lesson::{Lesson, Step};
 use crate::model::Problem;
 use crate::scene::{LoadedScene, Panel, Scene, SceneSource, Settings};
 use crate::solve::{Solution, SolveError};
@@ -46,6 +49,29 @@ pub struct Exploration {
     pub focus: usize,
     /// Index into [`Exploration::rows`].
     pub selected: usize,
+    /// The lesson and its step shown (`--lesson`): followers see it, a fork keeps it.
+    pub lesson: Option<LessonPlace>,
+}
+
+/// Where a lesson stands: the lesson, and the step shown (counted from 0).
+#[derive(Debug, Clone)]
+pub struct LessonPlace {
+    pub lesson: Arc<Lesson>,
+    pub step: usize,
+}
+
+impl PartialEq for LessonPlace {
+    fn eq(&self, other: &LessonPlace) -> bool {
+        self.step == other.step
+            && (Arc::ptr_eq(&self.lesson, &other.lesson) || self.lesson == other.lesson)
+    }
+}
+
+impl LessonPlace {
+    /// The step shown.
+    pub fn current(&self) -> &Step {
+        self.lesson.step(self.step)
+    }
 }
 
 impl Exploration {
@@ -64,6 +90,7 @@ impl Exploration {
             diagram: Diagram::Deflection,
             focus: 0,
             selected: 0,
+            lesson: None,
         }
     }
 

@@ -15,6 +15,8 @@ pub mod picker;
 pub mod prompt;
 pub mod sweeps;
 
-pub use app::{App, Discard, Drag, Ending, JoinInfo, Look, Mode, Options, Palette, SavePolicy};
-pub use exploration::{Diagram, Exploration};
+pub use app::{
+    App, Discard, Drag, Ending, JoinInfo, Look, Mode, Options, Palette, SavePolicy, StepEdits,
+};
+pub use exploration::{Diagram, Exploration, LessonPlace};
 pub use history::{History, UNDO_BYTES, UNDO_LIMIT};

@@ -27,7 +27,12 @@ pub(super) fn confirm_end_class(app: &mut App, action: Action) {
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 pub(super) fn unless_unsaved(app: &mut App, then: Discard) {
-    if app.modified() {
+    // Quitting loses the lesson steps left with changes too.
+    let unsaved = match then {
+        Discard::Quit => app.has_unsaved_work(),
+        _ => app.modified(),
+    };
+    if unsaved {
         app.mode = Mode::ConfirmDiscard { then };
     } else {
         discard_and(app, then);

@@ -233,7 +233,7 @@ pub(super) fn delete_obstacle(app: &mut App) {
 
 /// Replaces the scene by a newly loaded one (a preset), and re-solves. Undo starts afresh,
 /// and nothing of the last scene's view carries over.
-fn load(app: &mut App, loaded: LoadedScene) {
+pub(super) fn load(app: &mut App, loaded: LoadedScene) {
     let Ok(loaded) = sorted(loaded) else { return };
     let (problem, settings) = (loaded.problem.clone(), loaded.settings);
     app.saved = loaded.scene.clone();

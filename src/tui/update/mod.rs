@@ -9,11 +9,13 @@
 //! obstacles, methods, undo and redo, presets), [`discard`] (what would lose unsaved changes
 //! asks first), [`prompts`] (typing a value, the preset picker, the scrolled views) and the
 //! editing keys of every prompt ([`typing`]), [`save`], [`pointer`] (the mouse), [`follow`]
-//! (forks, rejoins, the presenter's states) and [`results`] (solves and sweeps arriving).
+//! (forks, rejoins, the presenter's states), [`lesson`] (a lesson's steps) and [`results`]
+//! (solves and sweeps arriving).
 
 mod discard;
 mod edit;
 mod follow;
+mod lesson;
 mod normal;
 mod pointer;
 mod prompts;
@@ -25,7 +27,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::tui::input::decode::{DroppedPaste, PASTE_LIMIT};
-use crate::tui::input::keymap::{Action, Key, action_for, paste_actions};
+use crate::tui::input::keymap::{Action, Key, action_for, lesson_action, paste_actions};
 use crate::tui::input::pointer::Pointer;
 use crate::tui::jobs::solve::Solved;
 use crate::tui::jobs::sweeps::{SWEEPS, SweepContext, SweepResult};
@@ -86,9 +88,13 @@ pub enum Suspension {
 pub fn update(app: &mut App, msg: Msg) {
     match msg {
         Msg::Key(key) => {
-            if !follow::intercept(app, key)
-                && let Some(action) = action_for(&app.mode, key)
+            if follow::intercept(app, key) {
+                // Taken by follow mode.
+            } else if let Some(action) = lesson_action(key)
+                .filter(|_| app.mode == Mode::Normal && app.exploration.lesson.is_some())
             {
+                act(app, action);
+            } else if let Some(action) = action_for(&app.mode, key) {
                 act(app, action);
             }
         }
@@ -183,7 +189,7 @@ fn apply(app: &mut App, action: Action) {
             let class = app.follow.as_ref().and_then(|f| f.class_to_end());
             if class.is_some() && !asked {
                 app.mode = Mode::ConfirmEndClass;
-            } else if asked || !app.modified() {
+            } else if asked || !app.has_unsaved_work() {
                 app.ending = Some(Ending::Quit);
             } else {
                 app.mode = Mode::ConfirmDiscard {
@@ -199,6 +205,8 @@ fn apply(app: &mut App, action: Action) {
             }
         }
         Action::Rejoin => follow::rejoin(app),
+        Action::NextStep => lesson::step(app, true),
+        Action::PreviousStep => lesson::step(app, false),
         Action::PasteIgnored => {
             app.message =
                 Some("a paste is typed only into a prompt (Enter opens one); ignored".into());

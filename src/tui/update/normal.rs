@@ -92,7 +92,9 @@ pub(super) fn apply(app: &mut App, action: Action) {
         | Action::PasteIgnored
         | Action::Fork
         | Action::Rejoin
-        | Action::ShowJoin => {}
+        | Action::ShowJoin
+        | Action::NextStep
+        | Action::PreviousStep => {}
     }
 }
 

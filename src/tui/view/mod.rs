@@ -7,6 +7,7 @@
 
 mod charts;
 pub mod fit;
+mod lesson;
 mod overlays;
 mod results;
 mod status;
@@ -35,6 +36,9 @@ pub fn draw(frame: &mut Frame, app: &App) {
             draw_title(frame, app, &theme, layout.title);
             if let Some(area) = layout.description {
                 overlays::description_line(frame, app, &theme, area);
+            }
+            if let Some(area) = layout.caption {
+                lesson::draw_caption_strip(frame, app, &theme, area);
             }
             if layout.parameters.area() > 0 {
                 draw_parameters(frame, app, &theme, layout.parameters);

@@ -8,7 +8,7 @@ use ratatui::layout::Rect;
 use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph, Wrap};
 
-use super::super::input::keymap::{follow_keys, help_lines_with, up_down};
+use super::super::input::keymap::{extra_keys, help_lines_with, up_down};
 use super::super::layout::picker::{centered, picker_layout};
 use super::super::state::picker::{PresetPicker, preset_infos};
 use super::super::state::{App, Mode};
@@ -160,7 +160,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     use super::fit::wrap_words;
     let width = 84u16.min(area.width);
     let inner = width.saturating_sub(2).max(1) as usize;
-    let bindings = help_lines_with(app.look.ascii, follow_keys(app));
+    let bindings = help_lines_with(app.look.ascii, &extra_keys(app));
     let key_width = bindings
         .iter()
         .map(|(keys, _)| keys.chars().count())

@@ -16,7 +16,7 @@ use crate::solve::{Reference, Solution};
 use crate::tui::input::keymap::help::{
     discard_hints, end_class_question, overwrite_question, picker_hints, prompt_keys, scroll_keys,
 };
-use crate::tui::input::keymap::{fitted_hint_line, follow_keys};
+use crate::tui::input::keymap::{extra_keys, fitted_hint_line};
 use crate::tui::state::prompt::Prompt;
 use crate::tui::state::{App, Discard, Mode};
 
@@ -230,8 +230,19 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
         }
         Mode::ConfirmOverwrite { path } => overwrite_question(path, ascii),
         Mode::ConfirmDiscard { then } => {
+            let changed_steps: Vec<String> = app
+                .step_edits
+                .iter()
+                .filter(|(_, e)| e.scene != e.saved)
+                .map(|(step, _)| (step + 1).to_string())
+                .collect();
+            let quit_too = if changed_steps.is_empty() {
+                "quit".to_string()
+            } else {
+                format!("quit (step {} changed too)", changed_steps.join(", "))
+            };
             let what = match then {
-                Discard::Quit => "quit",
+                Discard::Quit => quit_too.as_str(),
                 Discard::Reset => "reset to the scene as loaded",
                 Discard::Preset(_) => "load the preset",
             };
@@ -253,7 +264,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             "select the text with the mouse to copy it; any key leaves".into()
         }
         Mode::Join => "any key closes; J shows it again".into(),
-        Mode::Normal => fitted_hint_line(ascii, follow_keys(app), width),
+        Mode::Normal => fitted_hint_line(ascii, &extra_keys(app), width),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }

@@ -86,4 +86,8 @@ pub enum Action {
     Rejoin,
     /// A lecturer's explorer: show how students join the class.
     ShowJoin,
+    /// The lesson's next step (Space, `n`).
+    NextStep,
+    /// The lesson's step before (Backspace, `N`).
+    PreviousStep,
 }

@@ -54,11 +54,11 @@ pub fn help_lines(ascii: bool) -> Vec<(String, &'static str)> {
 
 /// The help's lines of [`NORMAL`], of [`GLOBAL`] (those not listed there already) and then of
 /// `extra` (e.g. [`FOLLOW`]).
-pub fn help_lines_with(ascii: bool, extra: &[Binding]) -> Vec<(String, &'static str)> {
+pub fn help_lines_with(ascii: bool, extra: &[&[Binding]]) -> Vec<(String, &'static str)> {
     NORMAL
         .iter()
         .chain(GLOBAL.iter().filter(|b| !b.help.is_empty()))
-        .chain(extra)
+        .chain(extra.iter().flat_map(|table| table.iter()))
         .map(|b| {
             let keys: Vec<Key> = b.keys.iter().map(|(k, _)| *k).collect();
             (help_label(&keys, ascii), b.help)
@@ -78,13 +78,13 @@ pub fn hint_line(ascii: bool) -> String {
 }
 
 /// The hint line of [`NORMAL`] and `extra` (e.g. [`FOLLOW`]) together, in the hints' order.
-pub fn hint_line_with(ascii: bool, extra: &[Binding]) -> String {
+pub fn hint_line_with(ascii: bool, extra: &[&[Binding]]) -> String {
     hint_items(ascii, extra).join(" ")
 }
 
 /// The hint line of [`NORMAL`] and `extra` cut to `width` columns: the most useful hints
 /// that fit, whole, in their order (`?:help` first, so the rest is always one key away).
-pub fn fitted_hint_line(ascii: bool, extra: &[Binding], width: usize) -> String {
+pub fn fitted_hint_line(ascii: bool, extra: &[&[Binding]], width: usize) -> String {
     let mut line = String::new();
     for item in hint_items(ascii, extra) {
         let needed = if line.is_empty() { 0 } else { 1 } + item.chars().count();
@@ -100,10 +100,10 @@ pub fn fitted_hint_line(ascii: bool, extra: &[Binding], width: usize) -> String 
 }
 
 /// The hints of [`NORMAL`] and `extra`, most useful first, each `key:word`.
-fn hint_items(ascii: bool, extra: &[Binding]) -> Vec<String> {
+fn hint_items(ascii: bool, extra: &[&[Binding]]) -> Vec<String> {
     let mut hints: Vec<&Hint> = NORMAL
         .iter()
-        .chain(extra)
+        .chain(extra.iter().flat_map(|table| table.iter()))
         .filter_map(|b| b.hint.as_ref())
         .collect();
     hints.sort_by_key(|h| h.order);

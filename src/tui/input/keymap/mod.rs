@@ -14,7 +14,7 @@ pub use super::keys::{Key, parse_keys};
 pub use action::Action;
 pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
 pub use tables::{
-    Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, NORMAL,
+    Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, LESSON, NORMAL,
     OVERWRITE_QUESTION, PICKER, PRESENTING, PROMPT, SCROLLING,
 };
 
@@ -94,15 +94,27 @@ pub fn paste_actions(mode: &Mode, text: &str) -> Vec<Action> {
     }
 }
 
-/// The keys of follow mode this explorer has, for its help and hint line: those of
-/// [`FOLLOW`] for a student, [`PRESENTING`] for the lecturer's explorer, none for a presenter
-/// session or an explorer of its own.
-pub fn follow_keys(app: &App) -> &'static [Binding] {
-    match &app.follow {
-        Some(follow) if follow.is_student() => FOLLOW,
-        Some(_) if app.join.is_some() => PRESENTING,
-        _ => &[],
+/// The key of a lesson `key` stands for, if any (taken before the mode's own keys in normal
+/// mode, when the explorer has a lesson).
+pub fn lesson_action(key: Key) -> Option<Action> {
+    bound(LESSON, key)
+}
+
+/// The keys beyond [`NORMAL`] this explorer has, for its help and hint line: [`FOLLOW`] for a
+/// student, [`PRESENTING`] for the lecturer's explorer, [`LESSON`] where a lesson is open and
+/// this explorer may step it (not a student's).
+pub fn extra_keys(app: &App) -> Vec<&'static [Binding]> {
+    let student = app.follow.as_ref().is_some_and(|f| f.is_student());
+    let mut tables: Vec<&'static [Binding]> = Vec::new();
+    if app.exploration.lesson.is_some() && !student {
+        tables.push(LESSON);
     }
+    match &app.follow {
+        Some(_) if student => tables.push(FOLLOW),
+        Some(_) if app.join.is_some() => tables.push(PRESENTING),
+        _ => {}
+    }
+    tables
 }
 
 /// The action of a key in normal mode, from [`NORMAL`].
@@ -283,11 +295,11 @@ mod tests {
     fn the_follow_keys_are_listed_only_where_asked_and_bound_nowhere_else() {
         assert!(!hint_line(false).contains("fork"));
         assert!(
-            hint_line_with(false, FOLLOW).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
+            hint_line_with(false, &[FOLLOW]).starts_with("?:help q:quit f:fork F:rejoin ↑↓:select"),
             "{}",
-            hint_line_with(false, FOLLOW)
+            hint_line_with(false, &[FOLLOW])
         );
-        let help = help_lines_with(true, FOLLOW);
+        let help = help_lines_with(true, &[FOLLOW]);
         let own = help_lines(true).len();
         assert_eq!(help.len(), own + 2);
         assert_eq!(help[own].0, "f");

@@ -271,6 +271,37 @@ pub const PRESENTING: &[Binding] = &[bind!(
     1,
 )];
 
+/// The keys of an explorer with a lesson (`--lesson FILE`), taken before [`NORMAL`] in normal
+/// mode: the next and the previous step.
+pub const LESSON: &[Binding] = &[
+    Binding {
+        keys: &[
+            (Key::Char(' '), Action::NextStep),
+            (Key::Char('n'), Action::NextStep),
+        ],
+        aliases: &[],
+        help: "lesson: the next step",
+        hint: Some(Hint {
+            keys: &[Key::Char(' ')],
+            word: "next",
+            order: 1,
+        }),
+    },
+    Binding {
+        keys: &[
+            (Key::Backspace, Action::PreviousStep),
+            (Key::Char('N'), Action::PreviousStep),
+        ],
+        aliases: &[],
+        help: "lesson: the step before (your changes to a step are kept for when you come back)",
+        hint: Some(Hint {
+            keys: &[Key::Char('N')],
+            word: "back",
+            order: 2,
+        }),
+    },
+];
+
 /// Keys of every mode, looked up before the mode's own: Ctrl-C quits from anywhere (asking
 /// first when that loses changes; the help lists it on [`NORMAL`]'s quit line), Ctrl-Z
 /// suspends (the shell's `fg` resumes; a served session says it cannot).

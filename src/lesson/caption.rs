@@ -1,0 +1,102 @@
+//! A step's caption as the explorer shows it: paragraphs of plain text (a single newline in
+//! the file is a space, a blank line starts a new paragraph), word-wrapped greedily to the
+//! caption strip's width. The lesson's rules and the strip use this one wrapping, so a caption
+//! accepted as fitting [`CAPTION_LINES`] lines at 80 columns is never cut there.
+
+/// Most lines a caption may take at [`CAPTION_WIDTH`] columns: the strip at 80×24 has room for
+/// these under its step line.
+pub const CAPTION_LINES: usize = 3;
+/// The caption strip's text width on an 80-column terminal (one column of margin each side).
+pub const CAPTION_WIDTH: usize = 78;
+
+/// The paragraphs of a caption as written: blank lines separate them; inside one, any run of
+/// whitespace is one space.
+pub fn paragraphs(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut current: Vec<&str> = Vec::new();
+    for line in text.lines() {
+        if line.trim().is_empty() {
+            if !current.is_empty() {
+                out.push(current.join(" "));
+                current.clear();
+            }
+        } else {
+            current.extend(line.split_whitespace());
+        }
+    }
+    if !current.is_empty() {
+        out.push(current.join(" "));
+    }
+    out
+}
+
+/// The paragraphs wrapped to `width` columns (at least 1): greedy, at spaces; a word longer
+/// than the width is cut into pieces of the width. Width is counted in characters (captions
+/// are plain text: letters, digits, ε and the like each take one column).
+pub fn wrap(paragraphs: &[String], width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut lines = Vec::new();
+    for paragraph in paragraphs {
+        let mut line = String::new();
+        let mut used = 0usize;
+        for word in paragraph.split(' ').filter(|w| !w.is_empty()) {
+            let mut chars: Vec<char> = word.chars().collect();
+            // A word wider than a line: full-width pieces first.
+            while chars.len() > width {
+                if used > 0 {
+                    lines.push(std::mem::take(&mut line));
+                    used = 0;
+                }
+                lines.push(chars.drain(..width).collect());
+            }
+            let length = chars.len();
+            if used > 0 && used + 1 + length > width {
+                lines.push(std::mem::take(&mut line));
+                used = 0;
+            }
+            if used > 0 {
+                line.push(' ');
+                used += 1;
+            }
+            line.extend(chars);
+            used += length;
+        }
+        if used > 0 {
+            lines.push(line);
+        }
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paragraphs_join_lines_and_split_at_blank_ones() {
+        let text = "  One line\nand the next.\n\n\nA second   paragraph.\n";
+        assert_eq!(
+            paragraphs(text),
+            vec!["One line and the next.", "A second paragraph."]
+        );
+        assert!(paragraphs(" \n\t\n").is_empty());
+    }
+
+    #[test]
+    fn wrapping_is_greedy_never_exceeds_the_width_and_keeps_every_word() {
+        let text = vec!["aa bb cc dd ee".to_string(), "ffffffffff g".to_string()];
+        let lines = wrap(&text, 5);
+        assert_eq!(lines, vec!["aa bb", "cc dd", "ee", "fffff", "fffff", "g"]);
+        for width in 1..20 {
+            let lines = wrap(&text, width);
+            assert!(
+                lines.iter().all(|l| l.chars().count() <= width),
+                "{lines:?}"
+            );
+            let words: String = lines.concat().split_whitespace().collect();
+            assert_eq!(words, "aabbccddeeffffffffffg");
+        }
+        // ε and the like take one column each.
+        assert_eq!(wrap(&["ε = 1e-2 ε".to_string()], 8), vec!["ε = 1e-2", "ε"]);
+    }
+}
