@@ -169,7 +169,7 @@ pub(crate) fn start(
                 }
             }));
         } else {
-            follow = Some(Follow::student(&hub.followers));
+            follow = Some(Follow::student(&hub.followers, user.unwrap_or("(no name)")));
             let (id, newest) = hub.join(feed.clone());
             hub_id = Some(id);
             latest = newest;

@@ -17,7 +17,7 @@ type Feeds = Mutex<Vec<(u64, Feed)>>;
 
 /// The students' and presenters' feeds and the presenter's newest state.
 pub struct Hub {
-    students: Feeds,
+    students: Arc<Feeds>,
     presenters: Arc<Feeds>,
     latest: Mutex<Option<Arc<Exploration>>>,
     next_id: AtomicU64,
@@ -28,17 +28,22 @@ pub struct Hub {
 impl Default for Hub {
     fn default() -> Hub {
         let presenters: Arc<Feeds> = Arc::default();
+        let students: Arc<Feeds> = Arc::default();
         let told = Arc::clone(&presenters);
+        let followers = Followers::new(move || {
+            for (_, feed) in lock(&told).iter() {
+                feed.redraw();
+            }
+        });
+        // A presenter's word (bring everyone back, a broadcast line) goes to every student.
+        let class = Arc::clone(&students);
+        followers.set_announce(move |news| tell(&class, news));
         Hub {
-            students: Mutex::default(),
+            students,
             presenters,
             latest: Mutex::default(),
             next_id: AtomicU64::new(0),
-            followers: Followers::new(move || {
-                for (_, feed) in lock(&told).iter() {
-                    feed.redraw();
-                }
-            }),
+            followers,
         }
     }
 }
@@ -89,11 +94,7 @@ impl Hub {
     }
 
     fn tell_students(&self, news: ClassNews) -> usize {
-        let students = lock(&self.students);
-        for (_, feed) in students.iter() {
-            feed.class_news(news.clone());
-        }
-        students.len()
+        tell(&self.students, news)
     }
 
     /// A presenter drew a frame: its state goes to every student.
@@ -104,6 +105,15 @@ impl Hub {
             feed.follow(Arc::clone(&snapshot));
         }
     }
+}
+
+/// Tells every student's feed `news`; returns how many.
+fn tell(students: &Feeds, news: ClassNews) -> usize {
+    let students = lock(students);
+    for (_, feed) in students.iter() {
+        feed.class_news(news.clone());
+    }
+    students.len()
 }
 
 fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {

@@ -778,7 +778,7 @@ fn the_diagram_key_shows_what_it_changes() {
 fn student() -> App {
     use beamfric::tui::state::follow::{Follow, Followers};
     let options = Options {
-        follow: Some(Follow::student(&Followers::new(|| {}))),
+        follow: Some(Follow::student(&Followers::new(|| {}), "student")),
         ..Options::new(PLAIN)
     };
     app_with("benchmark-1", options)
@@ -910,7 +910,7 @@ fn the_lecturers_quit_asks_with_the_students_unsaved_work() {
     assert_eq!(presenter.ending, Some(beamfric::tui::state::Ending::Quit));
     let mut presenter = lecturer(&followers);
     let student_options = || Options {
-        follow: Some(Follow::student(&followers)),
+        follow: Some(Follow::student(&followers, "student")),
         ..Options::new(PLAIN)
     };
     let mut alice = app_with("benchmark-1", student_options());
@@ -998,7 +998,7 @@ fn a_fork_beyond_the_servers_mesh_limit_starts_at_the_limit_with_a_note() {
     use beamfric::tui::state::follow::{Follow, Followers};
     let followers = Followers::new(|| {});
     let options = Options {
-        follow: Some(Follow::student(&followers)),
+        follow: Some(Follow::student(&followers, "student")),
         max_elements: Some(100_000),
         ..Options::new(PLAIN)
     };
@@ -1062,7 +1062,7 @@ fn the_closing_save_takes_the_next_free_name() {
         save_policy: beamfric::tui::state::SavePolicy::Within(dir.path().to_path_buf()),
         save_directory: Some(dir.path().to_path_buf()),
         owner: Some("bob".into()),
-        follow: Some(Follow::student(&Followers::new(|| {}))),
+        follow: Some(Follow::student(&Followers::new(|| {}), "student")),
         ..Options::new(PLAIN)
     };
     let mut app = app_with("benchmark-1", options);

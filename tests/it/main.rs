@@ -12,6 +12,8 @@ mod reference;
 mod architecture;
 mod cancel;
 mod certificate;
+#[cfg(unix)]
+mod class_controls;
 mod cli_solve;
 mod condensed;
 mod escaping;

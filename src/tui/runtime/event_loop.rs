@@ -27,7 +27,7 @@ use crate::tui::input::decode::{Decoder, ESC_TIMEOUT, Input};
 use crate::tui::input::pointer::ClickTracker;
 use crate::tui::jobs::solve::SolveRequest;
 use crate::tui::jobs::sweeps::{SWEEPS, SweepRequest};
-use crate::tui::state::{App, Ending};
+use crate::tui::state::{App, Ending, Mode};
 use crate::tui::update::{Msg, Suspension, update};
 use crate::tui::view;
 
@@ -43,6 +43,8 @@ pub const INJECT_PANIC: &str = "BEAMFRIC_INJECT_PANIC";
 
 /// How often the frame is redrawn while work is in flight (for the elapsed time).
 const TICK: Duration = Duration::from_millis(250);
+/// How often the presenter's list of students is redrawn while open (its idle times).
+const STUDENTS_TICK: Duration = Duration::from_secs(1);
 /// Longest a served session waits for its cancelled workers to end before it lets them go.
 const WORKER_GRACE: Duration = Duration::from_millis(500);
 /// Most events taken from the queue before a frame is drawn.
@@ -364,6 +366,9 @@ fn wait(app: &mut App, events: &Events, options: &LoopOptions, state: &LoopState
         Some(ESC_TIMEOUT.saturating_sub(state.last_bytes.elapsed()))
     } else if !app.exploration.is_current() && app.show_timings {
         Some(TICK)
+    } else if app.mode == Mode::Students {
+        // The list's idle times move on.
+        Some(STUDENTS_TICK)
     } else {
         None
     };

@@ -42,6 +42,10 @@ pub enum Mode {
     ConfirmEndClass,
     /// How students join the class (the lecturer's explorer: `J`, and at start).
     Join,
+    /// The presenter's list of students (`S`).
+    Students,
+    /// Typing a line for every student (from the list of students).
+    Broadcast { prompt: Prompt },
     /// A student's closing screen: the class was ended by `by`; the scene was saved as
     /// `saved` (under `--save-dir`), and is shown as TOML to copy. Any key leaves.
     ClassEnded { by: String, saved: Option<String> },

@@ -6,8 +6,9 @@
 //! follows is decided by the server (`crate::serve`); what arrives and what the keys do is
 //! `tui::update::follow`.
 
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, Weak};
+use std::time::{Duration, Instant};
 
 use super::exploration::Exploration;
 
@@ -19,7 +20,24 @@ pub struct Followers {
     /// Students connected (following or not), and how many of them hold unsaved work.
     students: AtomicUsize,
     unsaved: AtomicUsize,
-    on_change: std::sync::Mutex<Option<Box<dyn Fn() + Send + Sync>>>,
+    on_change: Mutex<Option<Box<dyn Fn() + Send + Sync>>>,
+    /// Every student's seat, for the presenter's list of students.
+    seats: Mutex<Vec<Weak<Seat>>>,
+    /// How a presenter's word reaches every student (set by the server's hub).
+    announce: Mutex<Option<Announce>>,
+}
+
+/// Tells every student of the class some news; returns how many were told.
+type Announce = Box<dyn Fn(ClassNews) -> usize + Send + Sync>;
+
+/// One student as the presenter's list shows them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct StudentView {
+    pub user: String,
+    pub following: bool,
+    pub unsaved: bool,
+    /// Since their last key, click or paste.
+    pub idle: Duration,
 }
 
 impl std::fmt::Debug for Followers {
@@ -35,8 +53,36 @@ impl Followers {
             count: AtomicUsize::new(0),
             students: AtomicUsize::new(0),
             unsaved: AtomicUsize::new(0),
-            on_change: std::sync::Mutex::new(Some(Box::new(on_change))),
+            on_change: Mutex::new(Some(Box::new(on_change))),
+            seats: Mutex::default(),
+            announce: Mutex::default(),
         })
+    }
+
+    /// How a presenter's news reaches every student (the server's hub sets it once).
+    pub fn set_announce(&self, announce: impl Fn(ClassNews) -> usize + Send + Sync + 'static) {
+        *lock(&self.announce) = Some(Box::new(announce));
+    }
+
+    /// Tells every student `news`; returns how many were told (none without a hub).
+    pub fn announce(&self, news: ClassNews) -> usize {
+        lock(&self.announce).as_ref().map_or(0, |announce| announce(news))
+    }
+
+    /// The students connected now, in the order they came, as of `now`.
+    pub fn roster(&self, now: Instant) -> Vec<StudentView> {
+        let mut seats = lock(&self.seats);
+        seats.retain(|seat| seat.strong_count() > 0);
+        seats
+            .iter()
+            .filter_map(Weak::upgrade)
+            .map(|seat| StudentView {
+                user: seat.user.clone(),
+                following: seat.following.load(Ordering::Acquire),
+                unsaved: seat.unsaved.load(Ordering::Acquire),
+                idle: now.saturating_duration_since(*lock(&seat.last_input)),
+            })
+            .collect()
     }
 
     pub fn count(&self) -> usize {
@@ -54,7 +100,7 @@ impl Followers {
     }
 
     fn changed(&self) {
-        let on_change = self.on_change.lock().unwrap_or_else(|e| e.into_inner());
+        let on_change = lock(&self.on_change);
         if let Some(on_change) = on_change.as_ref() {
             on_change();
         }
@@ -66,18 +112,31 @@ impl Followers {
 #[derive(Debug)]
 pub struct Seat {
     followers: Arc<Followers>,
+    /// The student's user name.
+    user: String,
     unsaved: AtomicBool,
+    following: AtomicBool,
+    last_input: Mutex<Instant>,
 }
 
 impl Seat {
-    fn new(followers: &Arc<Followers>) -> Arc<Seat> {
+    fn new(followers: &Arc<Followers>, user: &str) -> Arc<Seat> {
         followers.students.fetch_add(1, Ordering::AcqRel);
-        followers.changed();
-        Arc::new(Seat {
+        let seat = Arc::new(Seat {
             followers: Arc::clone(followers),
+            user: user.to_string(),
             unsaved: AtomicBool::new(false),
-        })
+            following: AtomicBool::new(true),
+            last_input: Mutex::new(Instant::now()),
+        });
+        lock(&followers.seats).push(Arc::downgrade(&seat));
+        followers.changed();
+        seat
     }
+}
+
+fn lock<T>(mutex: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl Drop for Seat {
@@ -99,6 +158,10 @@ pub enum ClassNews {
     /// The class was ended, by `by`: the explorer shows its closing screen (the scene saved
     /// or as text to copy) until a key closes it or the server does.
     Ended { by: String },
+    /// The presenter brings everyone back to follow (a fork with unsaved work is only asked).
+    Rejoin,
+    /// A line from the presenter to every student.
+    Broadcast { text: String },
 }
 
 /// An explorer's part in follow mode.
@@ -148,13 +211,13 @@ impl Drop for Following {
 }
 
 impl Follow {
-    /// A student who follows from the start.
-    pub fn student(followers: &Arc<Followers>) -> Follow {
+    /// A student, `user`, who follows from the start.
+    pub fn student(followers: &Arc<Followers>, user: &str) -> Follow {
         Follow {
             role: Role::Student(Some(Following::new(followers))),
             followers: Arc::clone(followers),
             latest: None,
-            seat: Some(Seat::new(followers)),
+            seat: Some(Seat::new(followers, user)),
             ends_class: false,
         }
     }
@@ -170,12 +233,23 @@ impl Follow {
         }
     }
 
-    /// A student's unsaved work, counted for the presenter's question (`update` tells it
-    /// after every message).
-    pub fn note_unsaved(&self, unsaved: bool) {
+    /// A student's key, click or paste: their idle time starts again.
+    pub fn note_input(&self, now: Instant) {
+        if let Some(seat) = &self.seat {
+            *lock(&seat.last_input) = now;
+        }
+    }
+
+    /// A student's unsaved work and whether they follow, for the presenter's question and
+    /// list (`update` tells it after every message).
+    pub fn note_state(&self, unsaved: bool) {
         let Some(seat) = &self.seat else {
             return;
         };
+        let following = self.is_following();
+        if seat.following.swap(following, Ordering::AcqRel) != following {
+            seat.followers.changed();
+        }
         if seat.unsaved.swap(unsaved, Ordering::AcqRel) != unsaved {
             if unsaved {
                 seat.followers.unsaved.fetch_add(1, Ordering::AcqRel);

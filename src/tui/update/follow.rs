@@ -3,10 +3,12 @@
 //! done once and shared), `f` forking into the student's own exploration, `F` rejoining, and
 //! the keys a following student may not use (they would change the presenter's scene), and the
 //! news of the class: the presenter leaving frees a follower, the class ending shows a
-//! student's closing screen with their work saved or shown to copy.
+//! student's closing screen with their work saved or shown to copy, the presenter bringing
+//! everyone back (a fork with unsaved work is only asked) and the presenter's messages.
 
 use std::sync::Arc;
 
+use crate::format::printable;
 use crate::tui::input::keymap::{Action, Key, action_for, follow_action, presenting_action};
 use crate::tui::state::follow::{ClassNews, Following, Role};
 use crate::tui::state::{App, Exploration, Mode};
@@ -98,6 +100,10 @@ pub(super) fn class_news(app: &mut App, news: ClassNews) {
             let saved = save_at_closing(app);
             app.mode = Mode::ClassEnded { by, saved };
         }
+        ClassNews::Rejoin => asked_to_rejoin(app),
+        ClassNews::Broadcast { text } => {
+            app.message = Some(format!("from the presenter: {}", printable(&text)));
+        }
     }
 }
 
@@ -131,8 +137,8 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
         return false;
     }
     if !follow.is_student() {
-        // The lecturer's own key: the join screen.
-        let action = presenting_action(key).filter(|_| app.join.is_some());
+        // A presenter's own keys: the join screen, the list of students.
+        let action = presenting_action(key);
         if let Some(action) = action {
             act(app, action);
         }
@@ -165,4 +171,20 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
         app.message = Some("following the presenter: f to explore on your own".into());
     }
     !passes
+}
+
+/// The presenter asks everyone to follow again: a student following already stays; one
+/// exploring on their own follows unless that would lose unsaved work (then only asked).
+fn asked_to_rejoin(app: &mut App) {
+    if app.is_following() {
+        return;
+    }
+    if app.modified() {
+        // One status line at 80 columns.
+        app.message =
+            Some("the presenter asks everyone to follow: F follows (unsaved: s saves first)".into());
+        return;
+    }
+    rejoin(app);
+    app.message = Some("the presenter brought everyone back: following again".into());
 }

@@ -21,6 +21,7 @@ mod pointer;
 mod prompts;
 mod results;
 mod save;
+mod students;
 mod typing;
 
 use std::sync::Arc;
@@ -86,6 +87,12 @@ pub enum Suspension {
 
 /// Applies `msg` to the state.
 pub fn update(app: &mut App, msg: Msg) {
+    if matches!(msg, Msg::Key(_) | Msg::Paste(_) | Msg::Pointer(_))
+        && let Some(follow) = &app.follow
+    {
+        // A student's idle time, for the presenter's list.
+        follow.note_input(Instant::now());
+    }
     match msg {
         Msg::Key(key) => {
             if follow::intercept(app, key) {
@@ -134,9 +141,10 @@ pub fn update(app: &mut App, msg: Msg) {
             app.ending.get_or_insert(ending);
         }
     }
-    // A student's unsaved work is counted for the lecturer's "end the class?".
+    // A student's unsaved work is counted for the lecturer's "end the class?", and whether
+    // they follow is shown in the lecturer's list.
     if let Some(follow) = &app.follow {
-        follow.note_unsaved(app.modified());
+        follow.note_state(app.modified());
     }
 }
 
@@ -202,8 +210,11 @@ fn apply(app: &mut App, action: Action) {
         Action::ShowJoin => {
             if app.join.is_some() {
                 app.mode = Mode::Join;
+            } else {
+                app.message = Some("the join screen is the lecturer's (beamfric present)".into());
             }
         }
+        Action::ShowStudents => students::show(app),
         Action::Rejoin => follow::rejoin(app),
         Action::NextStep => lesson::step(app, true),
         Action::PreviousStep => lesson::step(app, false),
@@ -240,6 +251,8 @@ fn apply(app: &mut App, action: Action) {
             }
             Mode::ConfirmDiscard { then } => discard::confirm_discard(app, action, then),
             Mode::ConfirmEndClass => discard::confirm_end_class(app, action),
+            Mode::Students => students::in_list(app, action),
+            Mode::Broadcast { prompt } => students::broadcast_prompt(app, action, prompt),
             // Any key leaves the closing screen (its work is saved or was shown).
             Mode::ClassEnded { .. } => app.ending = Some(Ending::Quit),
         },

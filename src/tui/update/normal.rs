@@ -94,7 +94,10 @@ pub(super) fn apply(app: &mut App, action: Action) {
         | Action::Rejoin
         | Action::ShowJoin
         | Action::NextStep
-        | Action::PreviousStep => {}
+        | Action::PreviousStep
+        | Action::ShowStudents
+        | Action::BringEveryoneBack
+        | Action::WriteBroadcast => {}
     }
 }
 

@@ -11,6 +11,7 @@ mod lesson;
 mod overlays;
 mod results;
 mod status;
+mod students;
 pub mod warnings;
 
 use ratatui::Frame;

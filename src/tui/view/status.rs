@@ -228,6 +228,13 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             let keys = prompt_keys("saves", ascii);
             return draw_prompt(frame, theme, area, "save the scene to: ", prompt, &keys);
         }
+        Mode::Broadcast { prompt } => {
+            let keys = prompt_keys("sends", ascii);
+            return draw_prompt(frame, theme, area, "to every student: ", prompt, &keys);
+        }
+        Mode::Students => {
+            "b: bring everyone back to follow · m: a message to all · any other key closes".into()
+        }
         Mode::ConfirmOverwrite { path } => overwrite_question(path, ascii),
         Mode::ConfirmDiscard { then } => {
             let changed_steps: Vec<String> = app

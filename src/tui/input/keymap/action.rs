@@ -86,6 +86,12 @@ pub enum Action {
     Rejoin,
     /// A lecturer's explorer: show how students join the class.
     ShowJoin,
+    /// The presenter's list of students (`S`).
+    ShowStudents,
+    /// Every student follows the presenter again (a fork with unsaved work is asked).
+    BringEveryoneBack,
+    /// Type a line for every student.
+    WriteBroadcast,
     /// The lesson's next step (Space, `n`).
     NextStep,
     /// The lesson's step before (Backspace, `N`).

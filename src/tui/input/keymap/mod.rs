@@ -15,7 +15,7 @@ pub use action::Action;
 pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
 pub use tables::{
     Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, LESSON, NORMAL,
-    OVERWRITE_QUESTION, PICKER, PRESENTING, PROMPT, SCROLLING,
+    OVERWRITE_QUESTION, PICKER, PRESENTING, PROMPT, SCROLLING, STUDENTS,
 };
 
 use super::super::state::{App, Mode};
@@ -37,7 +37,10 @@ fn keys_of(mode: &Mode) -> (&'static [Binding], Otherwise) {
         Mode::Normal => (NORMAL, Otherwise::Unbound),
         Mode::SceneText => (&[], Otherwise::Cancel),
         Mode::Help { .. } | Mode::Warnings { .. } => (SCROLLING, Otherwise::Cancel),
-        Mode::Editing { .. } | Mode::Save { .. } => (PROMPT, Otherwise::Type),
+        Mode::Editing { .. } | Mode::Save { .. } | Mode::Broadcast { .. } => {
+            (PROMPT, Otherwise::Type)
+        }
+        Mode::Students => (STUDENTS, Otherwise::Cancel),
         Mode::Presets(_) => (PICKER, Otherwise::Type),
         Mode::ConfirmOverwrite { .. } => (OVERWRITE_QUESTION, Otherwise::Cancel),
         Mode::ConfirmDiscard { .. } => (DISCARD_QUESTION, Otherwise::Cancel),
@@ -111,7 +114,7 @@ pub fn extra_keys(app: &App) -> Vec<&'static [Binding]> {
     }
     match &app.follow {
         Some(_) if student => tables.push(FOLLOW),
-        Some(_) if app.join.is_some() => tables.push(PRESENTING),
+        Some(_) => tables.push(PRESENTING),
         _ => {}
     }
     tables
@@ -158,6 +161,10 @@ mod tests {
                 then: crate::tui::state::Discard::Quit,
             },
             Mode::ConfirmEndClass,
+            Mode::Students,
+            Mode::Broadcast {
+                prompt: crate::tui::state::prompt::Prompt::new("", false),
+            },
             Mode::ClassEnded {
                 by: "the lecturer".into(),
                 saved: None,

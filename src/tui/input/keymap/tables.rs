@@ -261,15 +261,24 @@ pub const FOLLOW: &[Binding] = &[
     ),
 ];
 
-/// The key of a lecturer's explorer that shows how students join (`beamfric present`), taken
-/// before [`NORMAL`] as [`FOLLOW`] is for a student.
-pub const PRESENTING: &[Binding] = &[bind!(
-    Key::Char('J'),
-    Action::ShowJoin,
-    "join: the address, the host key's fingerprint and how students log in",
-    "join",
-    1,
-)];
+/// The keys of a presenter's explorer, taken before [`NORMAL`] as [`FOLLOW`] is for a
+/// student: how students join (`beamfric present`) and the list of students.
+pub const PRESENTING: &[Binding] = &[
+    bind!(
+        Key::Char('J'),
+        Action::ShowJoin,
+        "join: the address, the host key's fingerprint and how students log in",
+        "join",
+        1,
+    ),
+    bind!(
+        Key::Char('S'),
+        Action::ShowStudents,
+        "students: who follows, who explores, idle, unsaved; bring everyone back; a message to all",
+        "students",
+        2,
+    ),
+];
 
 /// The keys of an explorer with a lesson (`--lesson FILE`), taken before [`NORMAL`] in normal
 /// mode: the next and the previous step.
@@ -386,4 +395,11 @@ pub const DISCARD_QUESTION: &[Binding] = &[keys![
     Key::Char('y') => Action::Confirm,
     Key::Char('Y') => Action::Confirm,
     Key::Char('s') => Action::Save,
+]];
+
+/// The list of students: `b` brings everyone back to follow, `m` writes a line to all; any
+/// other key closes it.
+pub const STUDENTS: &[Binding] = &[keys![
+    Key::Char('b') => Action::BringEveryoneBack,
+    Key::Char('m') => Action::WriteBroadcast,
 ]];

@@ -1,0 +1,105 @@
+//! The lecturer's class controls over real SSH (issue 23): the list of students (user,
+//! following or exploring, idle time, unsaved work), bringing everyone back to follow — a
+//! student whose own exploration holds unsaved work is asked, not pulled away from it — and
+//! a one-line message to every student.
+
+#![cfg(unix)]
+
+use crate::harness::pty::PtyProcess;
+use crate::harness::serve_process::port_in;
+use crate::harness::ssh::{Explorer, logged_in_as, runtime};
+
+#[test]
+fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
+    let dir = tempfile::tempdir().unwrap();
+    let host_key = dir.path().join("host_key");
+    let mut lecturer = PtyProcess::start(
+        &[
+            "present",
+            "--open",
+            "--listen",
+            "127.0.0.1:0",
+            "--host-key",
+            host_key.to_str().unwrap(),
+        ],
+        &[],
+        (100, 30),
+    );
+    lecturer.wait_for_screen("Students join the class with");
+    let port = port_in(&lecturer.screen());
+    lecturer.type_bytes(b"x");
+    lecturer.wait_for_screen("Parameters");
+    let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
+    runtime().block_on(async {
+        let (alice, bob, carol) = (
+            logged_in_as(address, "alice").await,
+            logged_in_as(address, "bob").await,
+            logged_in_as(address, "carol").await,
+        );
+        let mut follower = Explorer::open(&alice, (80, 24), &[]).await;
+        let mut changer = Explorer::open(&bob, (80, 24), &[]).await;
+        let mut wanderer = Explorer::open(&carol, (80, 24), &[]).await;
+        for student in [&mut follower, &mut changer, &mut wanderer] {
+            student.wait_for("following the presenter").await;
+        }
+        // Bob forks and changes the load; Carol forks and changes nothing.
+        changer.send(b"f").await;
+        changer.wait_for("own exploration").await;
+        changer.send(b"]").await;
+        changer.wait_for("5.0e5").await;
+        wanderer.send(b"f").await;
+        wanderer.wait_for("own exploration").await;
+
+        // The list: who follows, who explores, who holds unsaved work.
+        lecturer.wait_for_screen("3 students");
+        lecturer.type_bytes(b"S");
+        lecturer.wait_for_screen("Students: 3 connected · 1 following · 1 with unsaved work");
+        let screen = lecturer.screen();
+        let line = |user: &str| {
+            screen
+                .lines()
+                .find(|l| l.contains(user))
+                .unwrap_or_else(|| panic!("{user} not listed:\n{screen}"))
+                .to_string()
+        };
+        assert!(line("alice").contains("following"), "{screen}");
+        assert!(line("bob").contains("own exploration"), "{screen}");
+        assert!(line("bob").contains("unsaved"), "{screen}");
+        assert!(line("carol").contains("own exploration"), "{screen}");
+        assert!(!line("carol").contains("unsaved"), "{screen}");
+        assert!(line("alice").contains("idle "), "{screen}");
+
+        // b: everyone back. Carol follows again; Bob keeps his work and is asked.
+        lecturer.type_bytes(b"b");
+        lecturer.wait_for_screen("asked 3 students to follow again");
+        wanderer
+            .wait_for("the presenter brought everyone back")
+            .await;
+        wanderer.wait_for("following the presenter").await;
+        changer
+            .wait_for("the presenter asks everyone to follow: F follows (unsaved: s saves first)")
+            .await;
+        assert!(changer.text().contains("own exploration"), "{}", changer.text());
+        assert!(changer.text().contains("5.0e5"), "{}", changer.text());
+        lecturer.type_bytes(b"S");
+        lecturer.wait_for_screen("Students: 3 connected · 2 following · 1 with unsaved work");
+        lecturer.type_bytes(b"x");
+
+        // A message to all: S, m, the line, Enter.
+        lecturer.type_bytes(b"S");
+        lecturer.wait_for_screen("Students: 3 connected");
+        lecturer.type_bytes(b"m");
+        lecturer.wait_for_screen("to every student:");
+        lecturer.type_bytes(b"look at the error curve\r");
+        lecturer.wait_for_screen("sent to 3 students: look at the error curve");
+        for student in [&mut follower, &mut changer, &mut wanderer] {
+            student
+                .wait_for("from the presenter: look at the error curve")
+                .await;
+        }
+    });
+    lecturer.type_bytes(b"q");
+    lecturer.wait_for_screen("end the class?");
+    lecturer.type_bytes(b"y");
+    assert_eq!(lecturer.exit().code(), Some(0));
+}
