@@ -218,6 +218,7 @@ fn present_command(args: &PresentArgs) -> Result<ExitCode, CliError> {
     Ok(exit_code(crate::serve::present(
         &serve_options(&args.serve),
         local_look(&args.serve.display),
+        args.record.as_deref(),
     )?))
 }
 

@@ -175,6 +175,10 @@ pub struct ServeArgs {
 /// `beamfric present`.
 #[derive(Debug, Args)]
 pub struct PresentArgs {
+    /// Record your screen as an asciinema v2 cast (`asciinema play FILE` replays it), with a
+    /// marker at each lesson step; never replaces a file, and at most 2 s are lost in a crash.
+    #[arg(long, value_name = "FILE.cast")]
+    pub record: Option<std::path::PathBuf>,
     /// The options of `serve`; the display options are also your own explorer's.
     #[command(flatten)]
     pub serve: ServeArgs,

@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use super::{Log, ServeError, ServeOptions, Server, lock, log};
+use crate::tui::runtime::record::{RecordTap, Recording};
 
 /// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer
 /// in this terminal, which presents — its scene and view go to every following session, as a
@@ -14,6 +15,7 @@ use super::{Log, ServeError, ServeOptions, Server, lock, log};
 pub fn present(
     options: &ServeOptions,
     look: crate::plot::Look,
+    record: Option<&std::path::Path>,
 ) -> Result<crate::tui::Ending, ServeError> {
     use crate::tui::runtime::local::run_local;
     use crate::tui::state::follow::Follow;
@@ -53,25 +55,59 @@ pub fn present(
         ..Options::new(look)
     };
     let app = App::new(shared.explorer.scene.clone(), options)?;
+    let recording = match record {
+        Some(path) => Some(start_recording(path)?),
+        None => None,
+    };
+    let tap = recording.as_ref().map(Recording::tap);
     let publishing = Arc::clone(&shared);
     let mut presenter_id = None;
-    let ending = run_local(app, |feed| {
-        presenter_id = Some(hub.join_presenter(feed));
-        Some(Box::new(move |app: &App| {
-            if let Some(hub) = &publishing.hub {
-                hub.publish(&app.exploration);
-            }
-        }))
-    })
+    let mut marks = tap.clone().map(Marks::new);
+    let ending = run_local(
+        app,
+        |feed| {
+            presenter_id = Some(hub.join_presenter(feed));
+            Some(Box::new(move |app: &App| {
+                if let Some(hub) = &publishing.hub {
+                    hub.publish(&app.exploration);
+                }
+                if let Some(marks) = &mut marks {
+                    marks.after_frame(app);
+                }
+            }))
+        },
+        tap,
+    )
     .map_err(ServeError::Terminal);
+    if let Some(recording) = recording {
+        match recording.finish() {
+            Ok(summary) => log(&format!(
+                "recording saved: {} ({:.0} s, {} bytes{}); asciinema play {} replays it",
+                summary.path.display(),
+                summary.seconds,
+                summary.bytes,
+                if summary.truncated {
+                    ", cut at the size limit"
+                } else {
+                    ""
+                },
+                summary.path.display()
+            )),
+            Err(e) => log(&format!("the recording could not be finished: {e}")),
+        }
+    }
     // The class ends: every student sees their closing screen (their scene saved under
     // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
     let told = hub.end_class("the lecturer");
     if told > 0 {
         log(&format!(
-            "the class is over: {told} student{} see their closing screen; waiting up to {} s \
-             for them to leave (Ctrl-C stops now)",
-            if told == 1 { "" } else { "s" },
+            "the class is over: {told} {} their closing screen; waiting up to {} s for them to \
+             leave (Ctrl-C stops now)",
+            if told == 1 {
+                "student sees"
+            } else {
+                "students see"
+            },
             CLOSING_GRACE.as_secs()
         ));
         wait_for_students(&server);
@@ -88,6 +124,49 @@ pub fn present(
     }
     log("stopped");
     ending
+}
+
+/// Starts `--record FILE`: the terminal's size now, written at once (a file there is refused).
+fn start_recording(path: &std::path::Path) -> Result<Recording, ServeError> {
+    let size = crossterm::terminal::size().unwrap_or((80, 24));
+    Recording::start(path, size, "beamfric present")
+        .map_err(|e| ServeError::Option(format!("--record {}: {e}", path.display())))
+}
+
+/// What the recording marks after each frame: a lesson's step when it changes (an asciinema
+/// marker, `step 2/7: title`), and the terminal's new size.
+struct Marks {
+    tap: RecordTap,
+    step: Option<usize>,
+    size: Option<(u16, u16)>,
+}
+
+impl Marks {
+    fn new(tap: RecordTap) -> Marks {
+        Marks {
+            tap,
+            step: None,
+            size: None,
+        }
+    }
+
+    fn after_frame(&mut self, app: &crate::tui::state::App) {
+        if self.size.is_some_and(|size| size != app.size) {
+            self.tap.resize(app.size.0, app.size.1);
+        }
+        self.size = Some(app.size);
+        if let Some(place) = &app.exploration.lesson
+            && self.step != Some(place.step)
+        {
+            self.step = Some(place.step);
+            self.tap.marker(&format!(
+                "step {}/{}: {}",
+                place.step + 1,
+                place.lesson.steps.len(),
+                place.current().title
+            ));
+        }
+    }
 }
 
 /// How students log in to a server started with `options`, in words for the join screen.

@@ -41,7 +41,7 @@ use state::{App, Options};
 /// do (the mouse, run times, saving).
 pub fn explore(loaded: LoadedScene, options: Options) -> Result<Ending, ExploreError> {
     let app = App::new(loaded, options)?;
-    Ok(runtime::local::run_local(app, |_| None)?)
+    Ok(runtime::local::run_local(app, |_| None, None)?)
 }
 
 /// Why the local explorer could not run.

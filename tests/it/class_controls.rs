@@ -79,7 +79,11 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
         changer
             .wait_for("the presenter asks everyone to follow: F follows (unsaved: s saves first)")
             .await;
-        assert!(changer.text().contains("own exploration"), "{}", changer.text());
+        assert!(
+            changer.text().contains("own exploration"),
+            "{}",
+            changer.text()
+        );
         assert!(changer.text().contains("5.0e5"), "{}", changer.text());
         lecturer.type_bytes(b"S");
         lecturer.wait_for_screen("Students: 3 connected · 2 following · 1 with unsaved work");
@@ -97,9 +101,13 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
                 .wait_for("from the presenter: look at the error curve")
                 .await;
         }
+        // The class ends while they are connected: the question counts Bob's unsaved work.
+        lecturer.type_bytes(b"q");
+        lecturer.wait_for_screen("3 students (1 with unsaved work): end the class?");
+        lecturer.type_bytes(b"y");
+        changer
+            .wait_for("The class was ended by the lecturer")
+            .await;
     });
-    lecturer.type_bytes(b"q");
-    lecturer.wait_for_screen("end the class?");
-    lecturer.type_bytes(b"y");
     assert_eq!(lecturer.exit().code(), Some(0));
 }

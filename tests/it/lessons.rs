@@ -406,7 +406,9 @@ fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
         lecturer.type_bytes(b" ");
         lecturer.wait_for_screen(&format!("step 3/{count}:"));
         student.send(b"n").await;
-        student.wait_for("the presenter steps through the lesson").await;
+        student
+            .wait_for("the presenter steps through the lesson")
+            .await;
         let screen = student.text();
         assert!(screen.contains(&format!("step 2/{count}:")), "{screen}");
         assert!(screen.contains(&caption_line(1)), "{screen}");
@@ -415,9 +417,13 @@ fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
         student.send(b"F").await;
         student.wait_for(&format!("step 3/{count}:")).await;
         student.wait_for(&caption_line(2)).await;
+        // The class ends while the student is connected.
+        lecturer.type_bytes(b"q");
+        lecturer.wait_for_screen("1 student: end the class?");
+        lecturer.type_bytes(b"y");
+        student
+            .wait_for("The class was ended by the lecturer")
+            .await;
     });
-    lecturer.type_bytes(b"q");
-    lecturer.wait_for_screen("end the class?");
-    lecturer.type_bytes(b"y");
     assert_eq!(lecturer.exit().code(), Some(0));
 }

@@ -25,6 +25,8 @@ mod mouse;
 mod numerics;
 mod presets;
 mod properties;
+#[cfg(unix)]
+mod record;
 mod reference_check;
 mod render;
 mod report_atomic;

@@ -9,6 +9,7 @@ use crate::tui::state::{App, Ending};
 
 use super::event_loop::{AfterFrame, Event, INJECT_PANIC, LoopOptions, event_loop};
 use super::feed::{Feed, events};
+use super::record::RecordTap;
 use super::terminal::{SIGNALS, Session};
 
 /// Why the local explorer could not run (or stopped on a terminal error).
@@ -45,12 +46,13 @@ impl std::error::Error for TerminalError {}
 pub fn run_local(
     mut app: App,
     attach: impl FnOnce(Feed) -> Option<AfterFrame>,
+    record: Option<RecordTap>,
 ) -> Result<Ending, TerminalError> {
     let (feed, events) = events();
     let sender = events.sender.clone();
     start_signal_thread(sender.clone()).map_err(TerminalError::Signals)?;
     let after_frame = attach(feed);
-    let mut session = Session::start().map_err(TerminalError::Open)?;
+    let mut session = Session::start(record).map_err(TerminalError::Open)?;
     start_input_thread(sender.clone()).map_err(TerminalError::Read)?;
     let options = LoopOptions {
         idle_timeout: None,

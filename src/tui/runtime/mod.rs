@@ -11,6 +11,7 @@ pub mod event_loop;
 pub mod feed;
 pub mod headless;
 pub mod local;
+pub mod record;
 pub mod remote;
 pub mod screen;
 pub mod terminal;

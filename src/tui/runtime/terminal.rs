@@ -7,7 +7,7 @@
 //! here too.
 //! A panic on another thread (a worker) does not touch the terminal: the worker catches it.
 
-use std::io::{self, Stdout, stdout};
+use std::io::{self, stdout};
 
 use crossterm::cursor::Show;
 use crossterm::event::{DisableBracketedPaste, EnableBracketedPaste};
@@ -18,6 +18,7 @@ use crossterm::terminal::{
 use ratatui::Terminal;
 use ratatui::backend::CrosstermBackend;
 
+use super::record::{Output, RecordTap};
 use super::screen::{MOUSE_OFF, Screen};
 
 /// The signals the explorer handles: the three that end it, the window size, and job control.
@@ -55,15 +56,16 @@ pub struct Session {
     /// Never dropped: ratatui's `Drop` shows the cursor and, when that fails because the
     /// terminal is gone, prints with `eprintln!` — which panics on a closed terminal.
     /// [`restore`] shows the cursor instead, ignoring failures.
-    pub terminal: std::mem::ManuallyDrop<Terminal<CrosstermBackend<Stdout>>>,
+    pub terminal: std::mem::ManuallyDrop<Terminal<CrosstermBackend<Output>>>,
 }
 
 impl Session {
-    /// Enters raw mode and the alternate screen, and arms the panic hook.
-    pub fn start() -> io::Result<Session> {
+    /// Enters raw mode and the alternate screen, and arms the panic hook; what is drawn also
+    /// goes to `record` when a recording is made.
+    pub fn start(record: Option<RecordTap>) -> io::Result<Session> {
         install_panic_hook();
         enter()?;
-        match Terminal::new(CrosstermBackend::new(stdout())) {
+        match Terminal::new(CrosstermBackend::new(Output::new(record))) {
             Ok(terminal) => Ok(Session {
                 terminal: std::mem::ManuallyDrop::new(terminal),
             }),
@@ -96,9 +98,9 @@ impl Session {
 }
 
 impl Screen for Session {
-    type Out = Stdout;
+    type Out = Output;
 
-    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Stdout>> {
+    fn terminal(&mut self) -> &mut Terminal<CrosstermBackend<Output>> {
         &mut self.terminal
     }
 

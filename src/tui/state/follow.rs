@@ -66,7 +66,9 @@ impl Followers {
 
     /// Tells every student `news`; returns how many were told (none without a hub).
     pub fn announce(&self, news: ClassNews) -> usize {
-        lock(&self.announce).as_ref().map_or(0, |announce| announce(news))
+        lock(&self.announce)
+            .as_ref()
+            .map_or(0, |announce| announce(news))
     }
 
     /// The students connected now, in the order they came, as of `now`.

@@ -181,8 +181,9 @@ fn asked_to_rejoin(app: &mut App) {
     }
     if app.modified() {
         // One status line at 80 columns.
-        app.message =
-            Some("the presenter asks everyone to follow: F follows (unsaved: s saves first)".into());
+        app.message = Some(
+            "the presenter asks everyone to follow: F follows (unsaved: s saves first)".into(),
+        );
         return;
     }
     rejoin(app);

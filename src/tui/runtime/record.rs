@@ -1,0 +1,352 @@
+//! Recording the local explorer's screen as an asciinema v2 cast (`beamfric present --record
+//! FILE.cast`): a JSON header line, then one JSON array per event — `[t, "o", text]` for what
+//! was written to the terminal, `[t, "m", label]` for a marker (a lesson's step), `[t, "r",
+//! "WxH"]` for a new size — with `t` in seconds since the start.
+//!
+//! The UI thread never waits for the disk: [`Output`] hands each frame's bytes (at its flush)
+//! to a recorder thread over a channel. That thread keeps the recording and writes it whole
+//! to a temporary file beside FILE, renamed over it ([`FLUSH_EVERY`] after a change, and at
+//! the end with fsync), so FILE is always a complete cast: a crash, even SIGKILL, loses at most
+//! the last [`FLUSH_EVERY`]. A recording over [`MAX_CAST_BYTES`] stops growing, with a note.
+
+use std::io::{self, Stdout, Write};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime};
+
+use super::screen::{MOUSE_OFF, MOUSE_ON};
+
+/// At most this much of the recording is lost if the process dies.
+pub const FLUSH_EVERY: Duration = Duration::from_secs(2);
+/// Largest recording kept (events beyond it are dropped, and the end says so).
+pub const MAX_CAST_BYTES: usize = 256 << 20;
+
+/// What the recorder thread is told.
+enum Record {
+    Output(f64, Vec<u8>),
+    Marker(f64, String),
+    Resize(f64, u16, u16),
+    Finish,
+}
+
+/// What the UI thread holds of a recording: where to send events, and the start.
+#[derive(Clone)]
+pub struct RecordTap {
+    sender: Sender<Record>,
+    start: Instant,
+}
+
+impl RecordTap {
+    fn now(&self) -> f64 {
+        self.start.elapsed().as_secs_f64()
+    }
+
+    /// A marker (`[t, "m", label]`): where a lesson's step begins.
+    pub fn marker(&self, label: &str) {
+        let _ = self
+            .sender
+            .send(Record::Marker(self.now(), label.to_string()));
+    }
+
+    /// The terminal has a new size.
+    pub fn resize(&self, width: u16, height: u16) {
+        let _ = self.sender.send(Record::Resize(self.now(), width, height));
+    }
+}
+
+/// A recording under way: its thread, and the tap events go in by.
+pub struct Recording {
+    tap: RecordTap,
+    thread: Option<JoinHandle<io::Result<Summary>>>,
+}
+
+/// How a recording ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Summary {
+    pub path: PathBuf,
+    pub seconds: f64,
+    pub bytes: usize,
+    /// Events dropped beyond [`MAX_CAST_BYTES`].
+    pub truncated: bool,
+}
+
+impl Recording {
+    /// Starts recording a terminal of `size` (columns, rows) to `path`, written at once with
+    /// its header. A file already there is refused (a recording never replaces one).
+    pub fn start(path: &Path, size: (u16, u16), title: &str) -> io::Result<Recording> {
+        if std::fs::symlink_metadata(path).is_ok() {
+            return Err(io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                "it exists already (a recording never replaces a file: choose another name)",
+            ));
+        }
+        let header = header(size, title);
+        let cast = Cast {
+            path: path.to_path_buf(),
+            header,
+            events: Vec::new(),
+            utf8_tail: Vec::new(),
+            truncated: false,
+            last_time: 0.0,
+        };
+        cast.persist(false)?;
+        let (sender, receiver) = channel();
+        let start = Instant::now();
+        let thread = std::thread::Builder::new()
+            .name("record".into())
+            .spawn(move || cast.run(&receiver))?;
+        Ok(Recording {
+            tap: RecordTap { sender, start },
+            thread: Some(thread),
+        })
+    }
+
+    /// The tap for the UI thread.
+    pub fn tap(&self) -> RecordTap {
+        self.tap.clone()
+    }
+
+    /// Ends the recording: written whole, synced, and renamed over the file.
+    pub fn finish(mut self) -> io::Result<Summary> {
+        let _ = self.tap.sender.send(Record::Finish);
+        match self.thread.take().map(JoinHandle::join) {
+            Some(Ok(result)) => result,
+            _ => Err(io::Error::other("the recorder thread failed")),
+        }
+    }
+}
+
+/// The cast's header line: version 2, the size, when, and the terminal's type.
+fn header(size: (u16, u16), title: &str) -> String {
+    let timestamp = SystemTime::now()
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let term = std::env::var("TERM").unwrap_or_else(|_| "xterm-256color".into());
+    serde_json::json!({
+        "version": 2,
+        "width": size.0,
+        "height": size.1,
+        "timestamp": timestamp,
+        "title": title,
+        "env": { "TERM": term },
+    })
+    .to_string()
+}
+
+/// The recording, on the recorder thread.
+struct Cast {
+    path: PathBuf,
+    header: String,
+    /// Event lines, each ending in a newline.
+    events: Vec<u8>,
+    /// The start of a UTF-8 character cut at the end of the last output.
+    utf8_tail: Vec<u8>,
+    truncated: bool,
+    last_time: f64,
+}
+
+impl Cast {
+    fn run(mut self, receiver: &Receiver<Record>) -> io::Result<Summary> {
+        let mut changed_at: Option<Instant> = None;
+        loop {
+            let wait = changed_at.map(|at| FLUSH_EVERY.saturating_sub(at.elapsed()));
+            let received = match wait {
+                Some(wait) => receiver.recv_timeout(wait),
+                None => receiver.recv().map_err(|_| RecvTimeoutError::Disconnected),
+            };
+            match received {
+                Ok(Record::Finish) | Err(RecvTimeoutError::Disconnected) => break,
+                Ok(record) => {
+                    self.add(record);
+                    changed_at.get_or_insert_with(Instant::now);
+                }
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            if changed_at.is_some_and(|at| at.elapsed() >= FLUSH_EVERY) {
+                // A failed periodic write is tried again at the next change and at the end.
+                let _ = self.persist(false);
+                changed_at = None;
+            }
+        }
+        self.persist(true)?;
+        Ok(Summary {
+            path: self.path.clone(),
+            seconds: self.last_time,
+            bytes: self.header.len() + 1 + self.events.len(),
+            truncated: self.truncated,
+        })
+    }
+
+    /// Appends one event line.
+    fn add(&mut self, record: Record) {
+        let time = match &record {
+            Record::Output(time, _) | Record::Marker(time, _) | Record::Resize(time, ..) => *time,
+            Record::Finish => return,
+        };
+        // Times never go back.
+        let time = self.last_time.max(time);
+        let line = match record {
+            Record::Output(_, bytes) => {
+                let mut bytes = std::mem::take(&mut self.utf8_tail)
+                    .into_iter()
+                    .chain(bytes)
+                    .collect::<Vec<u8>>();
+                // Keep an incomplete character for the next output.
+                let text = match std::str::from_utf8(&bytes) {
+                    Ok(text) => text.to_string(),
+                    Err(e) if e.error_len().is_none() => {
+                        self.utf8_tail = bytes.split_off(e.valid_up_to());
+                        String::from_utf8_lossy(&bytes).into_owned()
+                    }
+                    Err(_) => String::from_utf8_lossy(&bytes).into_owned(),
+                };
+                // The viewer's terminal is not asked for mouse reports on replay.
+                let text = text.replace(MOUSE_ON, "").replace(MOUSE_OFF, "");
+                if text.is_empty() {
+                    return;
+                }
+                serde_json::json!([round(time), "o", text])
+            }
+            Record::Marker(_, label) => serde_json::json!([round(time), "m", label]),
+            Record::Resize(_, width, height) => {
+                serde_json::json!([round(time), "r", format!("{width}x{height}")])
+            }
+            Record::Finish => return,
+        };
+        let line = line.to_string();
+        if self.events.len() + line.len() + 1 > MAX_CAST_BYTES {
+            self.truncated = true;
+            return;
+        }
+        self.last_time = time;
+        self.events.extend_from_slice(line.as_bytes());
+        self.events.push(b'\n');
+    }
+
+    /// Writes the whole cast to a temporary file beside the target and renames it over it
+    /// (synced first when `sync`).
+    fn persist(&self, sync: bool) -> io::Result<()> {
+        let folder = match self.path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let mut file = tempfile::NamedTempFile::new_in(folder)?;
+        file.write_all(self.header.as_bytes())?;
+        file.write_all(b"\n")?;
+        file.write_all(&self.events)?;
+        file.flush()?;
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            file.as_file()
+                .set_permissions(std::fs::Permissions::from_mode(0o644))?;
+        }
+        if sync {
+            file.as_file().sync_all()?;
+        }
+        file.persist(&self.path).map_err(|e| e.error)?;
+        Ok(())
+    }
+}
+
+/// Times in microseconds, as asciinema writes them.
+fn round(time: f64) -> f64 {
+    (time * 1e6).round() / 1e6
+}
+
+/// The local terminal's output: standard output, and a recording of it when one is made
+/// (each flush — a frame — is one output event).
+pub struct Output {
+    out: Stdout,
+    tap: Option<RecordTap>,
+    pending: Vec<u8>,
+}
+
+impl Output {
+    pub fn new(tap: Option<RecordTap>) -> Output {
+        Output {
+            out: io::stdout(),
+            tap,
+            pending: Vec::new(),
+        }
+    }
+}
+
+impl Write for Output {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let written = self.out.write(buf)?;
+        if self.tap.is_some() {
+            self.pending.extend_from_slice(&buf[..written]);
+        }
+        Ok(written)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        let flushed = self.out.flush();
+        if let Some(tap) = &self.tap
+            && !self.pending.is_empty()
+        {
+            let bytes = std::mem::take(&mut self.pending);
+            let _ = tap.sender.send(Record::Output(tap.now(), bytes));
+        }
+        flushed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lines(path: &Path) -> Vec<serde_json::Value> {
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn a_recording_is_a_cast_from_the_start_with_every_event_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("class.cast");
+        let recording = Recording::start(&path, (80, 24), "class").unwrap();
+        // The header is there at once.
+        let header = &lines(&path)[0];
+        assert_eq!(header["version"], 2);
+        assert_eq!(header["width"], 80);
+        assert_eq!(header["height"], 24);
+        let tap = recording.tap();
+        let mut output = Output {
+            out: io::stdout(),
+            tap: Some(tap.clone()),
+            pending: Vec::new(),
+        };
+        // A character cut between two frames arrives whole.
+        let text = "ε = 1e-2 ⠤".as_bytes();
+        output.pending.extend_from_slice(MOUSE_ON.as_bytes());
+        output.pending.extend_from_slice(&text[..1]);
+        output.flush().unwrap();
+        output.pending.extend_from_slice(&text[1..]);
+        output.flush().unwrap();
+        tap.marker("step 2/7: ε");
+        tap.resize(100, 30);
+        let summary = recording.finish().unwrap();
+        assert!(!summary.truncated);
+        let all = lines(&path);
+        assert_eq!(all.len(), 4, "{all:?}");
+        assert_eq!(all[1][1], "o");
+        assert_eq!(all[1][2], "ε = 1e-2 ⠤");
+        assert_eq!(all[2][1], "m");
+        assert_eq!(all[2][2], "step 2/7: ε");
+        assert_eq!(all[3][2], "100x30");
+        let times: Vec<f64> = all[1..].iter().map(|e| e[0].as_f64().unwrap()).collect();
+        assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+        // A file there already is never replaced.
+        let again = Recording::start(&path, (80, 24), "class");
+        assert_eq!(
+            again.err().map(|e| e.kind()),
+            Some(io::ErrorKind::AlreadyExists)
+        );
+    }
+}

@@ -1,0 +1,151 @@
+//! `present --record FILE.cast` (issue 23): the lecturer's screen as an asciinema v2 cast,
+//! parsed back — the header, every event line, times that never go back, a marker per lesson
+//! step, and the last frame equal to the lecturer's screen — and a presenter killed with
+//! SIGKILL leaves a cast that still parses.
+
+#![cfg(unix)]
+
+use std::path::Path;
+
+use nix::sys::signal::Signal;
+
+use crate::harness::pty::PtyProcess;
+use crate::harness::wait::eventually;
+
+/// A cast parsed: the header, and each event as (time, kind, data).
+struct Cast {
+    header: serde_json::Value,
+    events: Vec<(f64, String, String)>,
+}
+
+/// Parses `path` as asciinema v2: a header object, then one `[time, kind, data]` per line.
+fn parse(path: &Path) -> Result<Cast, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    let mut lines = text.lines();
+    let header: serde_json::Value =
+        serde_json::from_str(lines.next().ok_or("empty")?).map_err(|e| e.to_string())?;
+    let mut events = Vec::new();
+    for line in lines {
+        let event: (f64, String, String) =
+            serde_json::from_str(line).map_err(|e| format!("{e}: {line:?}"))?;
+        events.push(event);
+    }
+    Ok(Cast { header, events })
+}
+
+/// What a player shows at the end: every output event fed to a terminal of the header's size
+/// (resized where the cast says so).
+fn last_screen(cast: &Cast) -> String {
+    let width = cast.header["width"].as_u64().unwrap() as u16;
+    let height = cast.header["height"].as_u64().unwrap() as u16;
+    let mut terminal = vt100::Parser::new(height, width, 0);
+    for (_, kind, data) in &cast.events {
+        match kind.as_str() {
+            "o" => terminal.process(data.as_bytes()),
+            "r" => {
+                let (w, h) = data.split_once('x').unwrap();
+                terminal
+                    .screen_mut()
+                    .set_size(h.parse().unwrap(), w.parse().unwrap());
+            }
+            _ => {}
+        }
+    }
+    terminal.screen().contents()
+}
+
+fn presenting(dir: &Path, cast: &Path) -> PtyProcess {
+    let host_key = dir.join("host_key");
+    PtyProcess::start(
+        &[
+            "present",
+            "--open",
+            "--listen",
+            "127.0.0.1:0",
+            "--host-key",
+            host_key.to_str().unwrap(),
+            "--lesson",
+            "lessons/regularisation.toml",
+            "--record",
+            cast.to_str().unwrap(),
+        ],
+        &[],
+        (80, 24),
+    )
+}
+
+#[test]
+fn a_recording_plays_back_to_the_lecturers_screen_with_a_marker_per_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("class.cast");
+    let mut lecturer = presenting(dir.path(), &path);
+    lecturer.wait_for_screen("Students join the class with");
+    lecturer.type_bytes(b"x");
+    lecturer.wait_for_screen("step 1/7:");
+    lecturer.type_bytes(b" ");
+    lecturer.wait_for_screen("step 2/7:");
+    lecturer.type_bytes(b" ");
+    lecturer.wait_for_screen("step 3/7:");
+    lecturer.wait_for_screen("error 8.5e-5");
+    lecturer.type_bytes(b"q");
+    assert_eq!(lecturer.exit().code(), Some(0));
+    assert!(
+        lecturer.text().contains("recording saved: "),
+        "{}",
+        lecturer.text()
+    );
+
+    let cast = parse(&path).unwrap();
+    assert_eq!(cast.header["version"], 2);
+    assert_eq!(cast.header["width"], 80);
+    assert_eq!(cast.header["height"], 24);
+    let times: Vec<f64> = cast.events.iter().map(|e| e.0).collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+    assert!(times.iter().all(|t| t.is_finite() && *t >= 0.0));
+    let markers: Vec<&str> = cast
+        .events
+        .iter()
+        .filter(|e| e.1 == "m")
+        .map(|e| e.2.as_str())
+        .collect();
+    assert_eq!(markers.len(), 3, "{markers:?}");
+    for (i, marker) in markers.iter().enumerate() {
+        assert!(
+            marker.starts_with(&format!("step {}/7: ", i + 1)),
+            "{marker}"
+        );
+    }
+    // The last frame a player shows is the lecturer's last screen.
+    assert_eq!(last_screen(&cast), lecturer.last_frame());
+    // A second recording to the same file is refused before anything starts.
+    let mut again = presenting(dir.path(), &path);
+    let status = again.exit();
+    assert_eq!(status.code(), Some(2));
+    assert!(again.text().contains("exists already"), "{}", again.text());
+}
+
+#[test]
+fn a_presenter_killed_with_sigkill_leaves_a_cast_that_parses() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("killed.cast");
+    let mut lecturer = presenting(dir.path(), &path);
+    lecturer.wait_for_screen("Students join the class with");
+    lecturer.type_bytes(b"x");
+    lecturer.wait_for_screen("step 1/7:");
+    lecturer.type_bytes(b" ");
+    lecturer.wait_for_screen("step 2/7:");
+    // Within the flush period the step's marker is on disk.
+    eventually("the cast holds step 2's marker", || {
+        parse(&path).is_ok_and(|cast| {
+            cast.events
+                .iter()
+                .any(|e| e.1 == "m" && e.2.starts_with("step 2/7"))
+        })
+    });
+    lecturer.signal(Signal::SIGKILL);
+    lecturer.exit();
+    let cast = parse(&path).unwrap();
+    assert_eq!(cast.header["version"], 2);
+    assert!(cast.events.iter().any(|e| e.1 == "o"));
+    assert!(last_screen(&cast).contains("step 2/7:"));
+}
