@@ -7,7 +7,9 @@
 //! to a recorder thread over a channel. That thread keeps the recording and writes it whole
 //! to a temporary file beside FILE, renamed over it ([`FLUSH_EVERY`] after a change, and at
 //! the end with fsync), so FILE is always a complete cast: a crash, even SIGKILL, loses at most
-//! the last [`FLUSH_EVERY`]. A recording over [`MAX_CAST_BYTES`] stops growing, with a note.
+//! the last [`FLUSH_EVERY`] — longer only for a cast so large that writing it takes over a
+//! fifth of that (tens of MB: `cargo bench --bench record`), when the period stretches to four
+//! times the write. A recording over [`MAX_CAST_BYTES`] stops growing, with a note.
 
 use std::io::{self, Stdout, Write};
 use std::path::{Path, PathBuf};
@@ -149,8 +151,11 @@ struct Cast {
 impl Cast {
     fn run(mut self, receiver: &Receiver<Record>) -> io::Result<Summary> {
         let mut changed_at: Option<Instant> = None;
+        // A long recording takes longer to write: the period stretches so that writing never
+        // takes more than a fifth of this thread's time.
+        let mut period = FLUSH_EVERY;
         loop {
-            let wait = changed_at.map(|at| FLUSH_EVERY.saturating_sub(at.elapsed()));
+            let wait = changed_at.map(|at| period.saturating_sub(at.elapsed()));
             let received = match wait {
                 Some(wait) => receiver.recv_timeout(wait),
                 None => receiver.recv().map_err(|_| RecvTimeoutError::Disconnected),
@@ -163,9 +168,11 @@ impl Cast {
                 }
                 Err(RecvTimeoutError::Timeout) => {}
             }
-            if changed_at.is_some_and(|at| at.elapsed() >= FLUSH_EVERY) {
+            if changed_at.is_some_and(|at| at.elapsed() >= period) {
                 // A failed periodic write is tried again at the next change and at the end.
+                let started = Instant::now();
                 let _ = self.persist(false);
+                period = FLUSH_EVERY.max(started.elapsed() * 4);
                 changed_at = None;
             }
         }
@@ -258,7 +265,8 @@ fn round(time: f64) -> f64 {
 /// The local terminal's output: standard output, and a recording of it when one is made
 /// (each flush — a frame — is one output event).
 pub struct Output {
-    out: Stdout,
+    /// Standard output, or nothing (`Output::sink`: a benchmark of the recording alone).
+    out: Option<Stdout>,
     tap: Option<RecordTap>,
     pending: Vec<u8>,
 }
@@ -266,7 +274,16 @@ pub struct Output {
 impl Output {
     pub fn new(tap: Option<RecordTap>) -> Output {
         Output {
-            out: io::stdout(),
+            out: Some(io::stdout()),
+            tap,
+            pending: Vec::new(),
+        }
+    }
+
+    /// An output that only records (benchmarks).
+    pub fn sink(tap: Option<RecordTap>) -> Output {
+        Output {
+            out: None,
             tap,
             pending: Vec::new(),
         }
@@ -275,7 +292,10 @@ impl Output {
 
 impl Write for Output {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        let written = self.out.write(buf)?;
+        let written = match &mut self.out {
+            Some(out) => out.write(buf)?,
+            None => buf.len(),
+        };
         if self.tap.is_some() {
             self.pending.extend_from_slice(&buf[..written]);
         }
@@ -283,7 +303,7 @@ impl Write for Output {
     }
 
     fn flush(&mut self) -> io::Result<()> {
-        let flushed = self.out.flush();
+        let flushed = self.out.as_mut().map_or(Ok(()), Write::flush);
         if let Some(tap) = &self.tap
             && !self.pending.is_empty()
         {
@@ -317,11 +337,7 @@ mod tests {
         assert_eq!(header["width"], 80);
         assert_eq!(header["height"], 24);
         let tap = recording.tap();
-        let mut output = Output {
-            out: io::stdout(),
-            tap: Some(tap.clone()),
-            pending: Vec::new(),
-        };
+        let mut output = Output::sink(Some(tap.clone()));
         // A character cut between two frames arrives whole.
         let text = "ε = 1e-2 ⠤".as_bytes();
         output.pending.extend_from_slice(MOUSE_ON.as_bytes());
