@@ -32,7 +32,11 @@ fn main() {
             sent.as_secs_f64() * 1e6 / frames as f64,
             finished.as_secs_f64() * 1e3,
             summary.bytes as f64 / 1e6,
-            if summary.truncated { " (cut at the limit)" } else { "" }
+            if summary.truncated {
+                " (cut at the limit)"
+            } else {
+                ""
+            }
         );
     }
 }

@@ -427,3 +427,47 @@ fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
     });
     assert_eq!(lecturer.exit().code(), Some(0));
 }
+
+#[test]
+fn a_served_session_steps_its_own_lesson_capped_at_the_servers_mesh_limit() {
+    use beamfric::tui::state::{App, Options};
+    use beamfric::tui::update::{Msg, update};
+
+    let lesson = shipped("lessons/dual-and-fine-meshes.toml");
+    let place = LessonPlace {
+        lesson: Arc::clone(&lesson),
+        step: 1,
+    };
+    let options = Options {
+        max_elements: Some(100_000),
+        lesson: Some(place.clone()),
+        ..Options::new(Look {
+            ascii: false,
+            color: false,
+        })
+    };
+    let mut app = App::new(place.current().scene.clone(), options).unwrap();
+    // Step 3 asks for 2·10⁵ elements: shown at the limit, with a note, and usable.
+    update(
+        &mut app,
+        Msg::Key(beamfric::tui::input::keys::Key::Char(' ')),
+    );
+    assert_eq!(app.exploration.lesson.as_ref().map(|p| p.step), Some(2));
+    assert_eq!(app.scene().mesh.elements, 100_000);
+    let note = app.message.clone().unwrap_or_default();
+    assert!(
+        note.contains("asks for n = 200000") && note.contains("100000"),
+        "{note}"
+    );
+    assert!(
+        !app.modified(),
+        "the capped step is the step as shown, nothing to lose"
+    );
+    // Back and on again: nothing was changed, so nothing is kept for the step.
+    update(
+        &mut app,
+        Msg::Key(beamfric::tui::input::keys::Key::Backspace),
+    );
+    assert_eq!(app.exploration.lesson.as_ref().map(|p| p.step), Some(1));
+    assert!(app.step_edits.is_empty(), "{:?}", app.step_edits.keys());
+}

@@ -38,8 +38,8 @@ pub(super) fn step(app: &mut App, forward: bool) {
 
 /// Shows step `target` of the lesson, keeping the changes made to the step shown now.
 pub(super) fn go_to_step(app: &mut App, place: LessonPlace, target: usize) {
-    let left = place.current();
-    if app.exploration.scene != left.scene.scene || app.modified() {
+    // Changed from the step as shown (its scene as written, or capped at this server's limit).
+    if app.exploration.scene != app.exploration.loaded || app.modified() {
         app.step_edits.insert(
             place.step,
             StepEdits {
@@ -88,8 +88,14 @@ fn cap_elements(app: &mut App, target: usize) {
     }
     let mut capped = app.scene().clone();
     capped.mesh.elements = max;
+    let Ok(validated) = capped.validate(&app.exploration.source.to_string()) else {
+        return;
+    };
     if try_apply_keeping_undo(app, capped, false) {
+        // The step as shown here: `r` comes back to it, and nothing of it is unsaved.
         app.saved = app.exploration.scene.clone();
+        app.exploration.loaded = app.exploration.scene.clone();
+        app.exploration.loaded_problem = validated;
         app.message = Some(format!(
             "step {} asks for n = {asked}: shown at n = {max}, this server's limit",
             target + 1
