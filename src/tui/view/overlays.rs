@@ -196,6 +196,32 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
             theme.plain(),
         );
     }
+    if let Some(place) = &app.exploration.lesson {
+        let lesson = &place.lesson;
+        let steps: Vec<String> = lesson
+            .steps
+            .iter()
+            .enumerate()
+            .map(|(i, step)| {
+                let here = if i == place.step { " (here)" } else { "" };
+                format!("{}. {}{here}", i + 1, printable(&step.title))
+            })
+            .collect();
+        paragraph(
+            &format!(
+                "This lesson: {}{}{} Its steps: {}.",
+                printable(&lesson.title),
+                if lesson.description.is_empty() {
+                    "."
+                } else {
+                    ": "
+                },
+                printable(&lesson.description),
+                steps.join("; ")
+            ),
+            theme.plain(),
+        );
+    }
     let height = (lines.len() as u16 + 2).min(area.height);
     let rect = centered(area, width, height);
     let visible = rect.height.saturating_sub(2);
