@@ -153,10 +153,10 @@ fn open_scene(
     let step = lesson.step.unwrap_or(1);
     let lesson = crate::lesson::read_lesson(path)?;
     let count = lesson.steps.len();
-    if step > count {
+    if step == 0 || step > count {
         return Err(CliError::Argument(format!(
-            "--step {step}: {} has {count} step{} (from 1 to {count})",
-            path.display(),
+            "--step {step}: {} has {count} step{}, counted from 1 (from 1 to {count})",
+            crate::format::printable(&path.display().to_string()),
             if count == 1 { "" } else { "s" }
         )));
     }

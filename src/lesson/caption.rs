@@ -1,6 +1,6 @@
 //! A step's caption as the explorer shows it: paragraphs of plain text (a single newline in
 //! the file is a space, a blank line starts a new paragraph), word-wrapped greedily to the
-//! caption strip's width. The lesson's rules and the strip use this one wrapping, so a caption
+//! caption strip's width in terminal columns. The lesson's rules and the strip use this one wrapping, so a caption
 //! accepted as fitting [`CAPTION_LINES`] lines at 80 columns is never cut there.
 
 /// Most lines a caption may take at [`CAPTION_WIDTH`] columns: the strip at 80×24 has room for
@@ -30,9 +30,18 @@ pub fn paragraphs(text: &str) -> Vec<String> {
     out
 }
 
-/// The paragraphs wrapped to `width` columns (at least 1): greedy, at spaces; a word longer
-/// than the width is cut into pieces of the width. Width is counted in characters (captions
-/// are plain text: letters, digits, ε and the like each take one column).
+/// The columns `text` takes on a terminal: a CJK character two, a combining mark none.
+pub fn columns(text: &str) -> usize {
+    unicode_width::UnicodeWidthStr::width(text)
+}
+
+fn char_columns(c: char) -> usize {
+    unicode_width::UnicodeWidthChar::width(c).unwrap_or(0)
+}
+
+/// The paragraphs wrapped to `width` columns (at least 1): greedy, at spaces; a word wider
+/// than the line is cut into pieces that fit (at least a character each). Widths are terminal
+/// columns: a CJK character takes two, a combining mark none.
 pub fn wrap(paragraphs: &[String], width: usize) -> Vec<String> {
     let width = width.max(1);
     let mut lines = Vec::new();
@@ -40,16 +49,18 @@ pub fn wrap(paragraphs: &[String], width: usize) -> Vec<String> {
         let mut line = String::new();
         let mut used = 0usize;
         for word in paragraph.split(' ').filter(|w| !w.is_empty()) {
-            let mut chars: Vec<char> = word.chars().collect();
-            // A word wider than a line: full-width pieces first.
-            while chars.len() > width {
+            let mut word = word.to_string();
+            // A word wider than a line: pieces that fill lines first.
+            while columns(&word) > width {
                 if used > 0 {
                     lines.push(std::mem::take(&mut line));
                     used = 0;
                 }
-                lines.push(chars.drain(..width).collect());
+                let (piece, rest) = split_at_columns(&word, width);
+                lines.push(piece);
+                word = rest;
             }
-            let length = chars.len();
+            let length = columns(&word);
             if used > 0 && used + 1 + length > width {
                 lines.push(std::mem::take(&mut line));
                 used = 0;
@@ -58,7 +69,7 @@ pub fn wrap(paragraphs: &[String], width: usize) -> Vec<String> {
                 line.push(' ');
                 used += 1;
             }
-            line.extend(chars);
+            line.push_str(&word);
             used += length;
         }
         if used > 0 {
@@ -66,6 +77,22 @@ pub fn wrap(paragraphs: &[String], width: usize) -> Vec<String> {
         }
     }
     lines
+}
+
+/// The longest start of `word` that fits `width` columns (at least one character), and the
+/// rest.
+fn split_at_columns(word: &str, width: usize) -> (String, String) {
+    let mut used = 0;
+    let mut end = 0;
+    for (i, c) in word.char_indices() {
+        let w = char_columns(c);
+        if used + w > width && end > 0 {
+            break;
+        }
+        used += w;
+        end = i + c.len_utf8();
+    }
+    (word[..end].to_string(), word[end..].to_string())
 }
 
 #[cfg(test)]
@@ -96,7 +123,20 @@ mod tests {
             let words: String = lines.concat().split_whitespace().collect();
             assert_eq!(words, "aabbccddeeffffffffffg");
         }
-        // ε and the like take one column each.
+        // ε and the like take one column each, a CJK character two, a combining mark none.
         assert_eq!(wrap(&["ε = 1e-2 ε".to_string()], 8), vec!["ε = 1e-2", "ε"]);
+        assert_eq!(wrap(&["梁梁梁 梁".to_string()], 6), vec!["梁梁梁", "梁"]);
+        assert_eq!(wrap(&["梁梁梁梁".to_string()], 5), vec!["梁梁", "梁梁"]);
+        assert_eq!(wrap(&["梁".to_string()], 1), vec!["梁"]);
+        let accented = "e\u{301}".repeat(10);
+        assert_eq!(
+            wrap(std::slice::from_ref(&accented), 10),
+            vec![accented.clone()]
+        );
+        for width in 1..12 {
+            for line in wrap(&["梁a梁 bb 梁梁梁梁梁 c".to_string()], width) {
+                assert!(columns(&line) <= width.max(2), "{line:?} at {width}");
+            }
+        }
     }
 }

@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 use crate::scene::LoadedScene;
 
-pub use caption::{CAPTION_LINES, CAPTION_WIDTH, paragraphs, wrap};
+pub use caption::{CAPTION_LINES, CAPTION_WIDTH, columns, paragraphs, wrap};
 pub use read::{MAX_STEP_TITLE, MAX_STEPS, MAX_TITLE, read_lesson};
 
 /// A lesson, every step of it loaded and valid.
@@ -59,7 +59,7 @@ pub struct LessonError {
 
 impl fmt::Display for LessonError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: ", self.file)?;
+        write!(f, "{}: ", crate::format::printable(&self.file))?;
         if let Some(step) = self.step {
             write!(f, "step {step}: ")?;
         }

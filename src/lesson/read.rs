@@ -7,8 +7,9 @@ use std::path::Path;
 
 use serde::Deserialize;
 
-use super::caption::{CAPTION_LINES, CAPTION_WIDTH, paragraphs, wrap};
+use super::caption::{CAPTION_LINES, CAPTION_WIDTH, columns, paragraphs, wrap};
 use super::{Lesson, LessonError, Step};
+use crate::format::printable;
 use crate::model::Method;
 use crate::scene::{
     LoadedScene, PRESETS, Panel, Scene, SceneError, SceneSource, check_elements, check_epsilon,
@@ -17,10 +18,12 @@ use crate::scene::{
 
 /// Most steps in a lesson.
 pub const MAX_STEPS: usize = 200;
-/// Most characters in a lesson's title.
+/// Most columns of a lesson's title.
 pub const MAX_TITLE: usize = 60;
-/// Most characters in a step's title (it shares the strip's first line with the lesson's).
+/// Most columns of a step's title (it shares the strip's first line with the lesson's).
 pub const MAX_STEP_TITLE: usize = 50;
+/// Most characters in a lesson's description (shown in the help).
+pub const MAX_DESCRIPTION: usize = 1000;
 
 /// A lesson file as written.
 #[derive(Debug, Deserialize)]
@@ -55,7 +58,10 @@ pub fn read_lesson(path: &Path) -> Result<Lesson, LessonError> {
         file: file.clone(),
         step: None,
         field: String::new(),
-        rule: e.rule.replace("a scene file", "a lesson file"),
+        rule: e
+            .rule
+            .replace("a scene file", "a lesson file")
+            .replace("a scene is read", "a lesson is read"),
     })?;
     let parsed: LessonFile = toml::from_str(&text).map_err(|e| syntax_error(&text, &file, &e))?;
     let error = |step: Option<usize>, field: &str, rule: String| LessonError {
@@ -65,6 +71,18 @@ pub fn read_lesson(path: &Path) -> Result<Lesson, LessonError> {
         rule,
     };
     check_title(&parsed.title, MAX_TITLE).map_err(|rule| error(None, "title", rule))?;
+    if parsed.description.chars().count() > MAX_DESCRIPTION
+        || parsed
+            .description
+            .chars()
+            .any(|c| c.is_control() && c != '\n')
+    {
+        return Err(error(
+            None,
+            "description",
+            format!("must be plain text of at most {MAX_DESCRIPTION} characters"),
+        ));
+    }
     if parsed.steps.is_empty() {
         return Err(error(
             None,
@@ -208,17 +226,17 @@ fn scene_rule(e: SceneError) -> (String, String) {
     (field, format!("{} (in {})", e.rule, e.source))
 }
 
-/// A title: not empty, one line, at most `max` characters.
+/// A title: not empty, one line, at most `max` columns (a CJK character takes two).
 fn check_title(title: &str, max: usize) -> Result<(), String> {
     let title = title.trim();
-    let count = title.chars().count();
+    let width = columns(title);
     if title.is_empty() {
         Err("must not be empty".into())
     } else if title.chars().any(char::is_control) {
         Err("must be one line of plain text (no control characters)".into())
-    } else if count > max {
+    } else if width > max {
         Err(format!(
-            "is {count} characters long: at most {max} fit the caption strip"
+            "takes {width} columns: at most {max} fit the caption strip"
         ))
     } else {
         Ok(())
@@ -250,7 +268,8 @@ fn check_caption(text: &str) -> Result<Vec<String>, String> {
 /// A TOML error located: the step it is in (by the `[[step]]` headers before it), the line
 /// and column, and the key on that line.
 fn syntax_error(text: &str, file: &str, error: &toml::de::Error) -> LessonError {
-    let rule = error.message().trim().to_string();
+    // Quoted names from the file may hold control characters: escaped, one line.
+    let rule = printable(error.message().trim()).into_owned();
     let Some(span) = error.span() else {
         return LessonError {
             file: file.into(),
@@ -269,7 +288,8 @@ fn syntax_error(text: &str, file: &str, error: &toml::de::Error) -> LessonError 
         .filter(|l| l.trim_start().starts_with("[[step]]"))
         .count();
     let line = before.matches('\n').count() + 1;
-    let column = start - line_start + 1;
+    // Columns count characters, not bytes (ε is two bytes).
+    let column = text[line_start..start].chars().count() + 1;
     let this_line = text[line_start..].lines().next().unwrap_or("");
     let key = this_line
         .split_once('=')

@@ -293,7 +293,8 @@ impl Scene {
 }
 
 fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError {
-    let message = error.message().trim().to_string();
+    // Quoted names from the file may hold control characters: escaped, one line.
+    let message = crate::format::printable(error.message().trim()).into_owned();
     let Some(span) = error.span() else {
         return SceneError {
             source: source.to_string(),
@@ -303,7 +304,11 @@ fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError 
     };
     let before = &text[..span.start.min(text.len())];
     let line = before.matches('\n').count() + 1;
-    let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+    // Columns count characters, not bytes (ε is two bytes).
+    let column = before[before.rfind('\n').map_or(0, |i| i + 1)..]
+        .chars()
+        .count()
+        + 1;
     // The table the error sits in, so the message names the field's place, not just a line.
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let on_header = text[line_start..].trim_start().starts_with('[');

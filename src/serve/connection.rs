@@ -73,13 +73,7 @@ impl Connection {
     }
 
     fn accepted(&mut self, user: &str, key: Option<&PublicKey>) -> Auth {
-        // Logged: no control characters, no endless names.
-        self.user = Some(
-            user.chars()
-                .take(64)
-                .flat_map(char::escape_default)
-                .collect(),
-        );
+        self.user = Some(shown_user(user));
         self.key = key.map(fingerprint);
         self.shared.admission.logged_in(&self.gate);
         Auth::Accept
@@ -454,5 +448,42 @@ fn full_message(shared: &Shared) -> String {
             "beamfric: the server is full ({running} explorers running); please try again in a \
              moment.\r\n"
         )
+    }
+}
+
+/// A user name as the log and the lecturer's list show it: at most 64 characters; letters
+/// (any script), digits, ASCII punctuation and spaces as they are, anything else — control
+/// and format characters that could move the cursor or turn text around — escaped (`\u{1b}`);
+/// an empty name as `(no name)`.
+fn shown_user(user: &str) -> String {
+    if user.is_empty() {
+        return "(no name)".into();
+    }
+    user.chars()
+        .take(64)
+        .flat_map(|c| {
+            let kept = c.is_alphanumeric() || c.is_ascii_punctuation() || c == ' ';
+            let escaped: Vec<char> = if kept {
+                vec![c]
+            } else {
+                c.escape_default().collect()
+            };
+            escaped
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod user_name_tests {
+    use super::shown_user;
+
+    #[test]
+    fn user_names_keep_their_letters_and_lose_what_moves_the_cursor() {
+        assert_eq!(shown_user("José"), "José");
+        assert_eq!(shown_user("漢字"), "漢字");
+        assert_eq!(shown_user("a\u{1b}[2J"), "a\\u{1b}[2J");
+        assert_eq!(shown_user("evil\u{202e}txt"), "evil\\u{202e}txt");
+        assert_eq!(shown_user(""), "(no name)");
+        assert_eq!(shown_user(&"x".repeat(100)).len(), 64);
     }
 }

@@ -237,9 +237,18 @@ impl Server {
             None => (crate::scene::load(&options.scene)?, None),
         };
         if scene.scene.mesh.elements > options.max_elements {
+            let what = match &options.lesson {
+                Some(path) => format!(
+                    "{}: step 1: elements = {}",
+                    crate::format::printable(&path.display().to_string()),
+                    scene.scene.mesh.elements
+                ),
+                None => format!("the scene has {} elements", scene.scene.mesh.elements),
+            };
             return Err(ServeError::Option(format!(
-                "the scene has {} elements, more than --max-elements {}",
-                scene.scene.mesh.elements, options.max_elements
+                "{what}: more than --max-elements {} (every session starts there; a later step \
+                 beyond it is shown at the limit)",
+                options.max_elements
             )));
         }
         let cores = Cores::of_this_machine();

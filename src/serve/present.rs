@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use super::{Log, ServeError, ServeOptions, Server, lock, log};
-use crate::tui::runtime::record::{RecordTap, Recording};
+use crate::tui::runtime::record::{RecordTap, Recording, check_target};
 
 /// `beamfric present`: the server of [`serve_until_stopped`], and the lecturer's own explorer
 /// in this terminal, which presents — its scene and view go to every following session, as a
@@ -20,6 +20,11 @@ pub fn present(
     use crate::tui::runtime::local::run_local;
     use crate::tui::state::follow::Follow;
     use crate::tui::state::{App, JoinInfo, Options};
+    // A recording that cannot be made is said before anything starts (no host key written,
+    // no port opened).
+    if let Some(path) = record {
+        check_target(path).map_err(|e| record_error(path, &e))?;
+    }
     let server = Server::start_as(options, true)?;
     let listening = format!(
         "listening on {} (host key {}); students connect with: ssh -p {} HOST",
@@ -80,21 +85,7 @@ pub fn present(
     )
     .map_err(ServeError::Terminal);
     if let Some(recording) = recording {
-        match recording.finish() {
-            Ok(summary) => log(&format!(
-                "recording saved: {} ({:.0} s, {} bytes{}); asciinema play {} replays it",
-                summary.path.display(),
-                summary.seconds,
-                summary.bytes,
-                if summary.truncated {
-                    ", cut at the size limit"
-                } else {
-                    ""
-                },
-                summary.path.display()
-            )),
-            Err(e) => log(&format!("the recording could not be finished: {e}")),
-        }
+        finish_recording(recording);
     }
     // The class ends: every student sees their closing screen (their scene saved under
     // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
@@ -126,11 +117,43 @@ pub fn present(
     ending
 }
 
+/// Ends the recording and says where it went (or why it could not be finished).
+fn finish_recording(recording: Recording) {
+    match recording.finish() {
+        Ok(summary) => log(&format!(
+            "recording saved: {}{} ({:.0} s, {} bytes{}); asciinema play {} replays it",
+            crate::format::printable(&summary.path.display().to_string()),
+            summary
+                .moved_from
+                .as_ref()
+                .map_or_else(String::new, |asked| format!(
+                    " (not {}: something else was put there meanwhile)",
+                    crate::format::printable(&asked.display().to_string())
+                )),
+            summary.seconds,
+            summary.bytes,
+            if summary.truncated {
+                ", cut at the size limit"
+            } else {
+                ""
+            },
+            crate::format::printable(&summary.path.display().to_string())
+        )),
+        Err(e) => log(&format!("the recording could not be finished: {e}")),
+    }
+}
+
 /// Starts `--record FILE`: the terminal's size now, written at once (a file there is refused).
 fn start_recording(path: &std::path::Path) -> Result<Recording, ServeError> {
     let size = crossterm::terminal::size().unwrap_or((80, 24));
-    Recording::start(path, size, "beamfric present")
-        .map_err(|e| ServeError::Option(format!("--record {}: {e}", path.display())))
+    Recording::start(path, size, "beamfric present").map_err(|e| record_error(path, &e))
+}
+
+fn record_error(path: &std::path::Path, e: &std::io::Error) -> ServeError {
+    ServeError::Option(format!(
+        "--record {}: {e}",
+        crate::format::printable(&path.display().to_string())
+    ))
 }
 
 /// What the recording marks after each frame: a lesson's step when it changes (an asciinema

@@ -71,7 +71,7 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
 
         // b: everyone back. Carol follows again; Bob keeps his work and is asked.
         lecturer.type_bytes(b"b");
-        lecturer.wait_for_screen("asked 3 students to follow again");
+        lecturer.wait_for_screen("asked the 2 students exploring on their own to follow again");
         wanderer
             .wait_for("the presenter brought everyone back")
             .await;
@@ -110,4 +110,62 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
             .await;
     });
     assert_eq!(lecturer.exit().code(), Some(0));
+}
+
+#[test]
+fn forty_students_scroll_in_the_lecturers_list_at_80x24_and_wide_names_keep_their_columns() {
+    use beamfric::plot::{Look, buffer_to_text};
+    use beamfric::tui::draw_to_buffer;
+    use beamfric::tui::input::keys::parse_keys;
+    use beamfric::tui::state::follow::{Follow, Followers};
+    use beamfric::tui::state::{App, Options};
+    use beamfric::tui::update::{Msg, update};
+
+    let followers = Followers::new(|| {});
+    let mut names: Vec<String> = (1..=39).map(|i| format!("student{i:02}")).collect();
+    names.insert(0, "梁梁梁梁梁梁梁梁梁梁".into());
+    let seats: Vec<Follow> = names
+        .iter()
+        .map(|name| Follow::student(&followers, name))
+        .collect();
+    let options = Options {
+        follow: Some(Follow::presenter(&followers, true)),
+        ..Options::new(Look {
+            ascii: false,
+            color: false,
+        })
+    };
+    let loaded = crate::harness::scenes::loaded_preset("benchmark-1");
+    let mut app = App::new(loaded, options).unwrap();
+    update(&mut app, Msg::Resize(80, 24));
+    let press = |app: &mut App, keys: &str| {
+        for key in parse_keys(keys).unwrap() {
+            update(app, Msg::Key(key));
+        }
+        buffer_to_text(&draw_to_buffer(app, 80, 24), false)
+    };
+    let first = press(&mut app, "S");
+    assert!(
+        first.contains("Students: 40 connected · 40 following"),
+        "{first}"
+    );
+    // The wide name: 16 columns with its cut, the next column where ASCII names have it.
+    let wide = first.lines().find(|l| l.contains('梁')).unwrap();
+    let ascii = first.lines().find(|l| l.contains("student01")).unwrap();
+    // (A wide character is one cell of text and its second column a blank cell.)
+    let column = |line: &str| line.find("following").map(|b| line[..b].chars().count());
+    assert_eq!(column(wide), column(ascii), "{wide}\n{ascii}");
+    assert!(first.contains("more (↓ scrolls)"), "{first}");
+    assert!(!first.contains("student39"), "{first}");
+    // Down to the end: the last student shows, and the list stays open.
+    let last = press(&mut app, "PgDn PgDn PgDn PgDn j j");
+    assert!(last.contains("student39"), "{last}");
+    assert!(!last.contains("more (↓ scrolls)"), "{last}");
+    assert!(last.contains("Students: 40 connected"));
+    // Any other key closes it.
+    let closed = press(&mut app, "x");
+    assert!(!closed.contains("Students: 40 connected"), "{closed}");
+    drop(seats);
+    let none = press(&mut app, "S");
+    assert!(none.contains("no student is connected"), "{none}");
 }

@@ -1043,6 +1043,18 @@ fn a_fork_beyond_the_servers_mesh_limit_starts_at_the_limit_with_a_note() {
             .lines()
             .any(|l| l.contains("benchmark-1 ") && l.contains("not here"))
     );
+    // Neither undo nor a reset goes past the limit (a hostile pass found both did).
+    keys(&mut app, "Esc u");
+    assert!(app.scene().mesh.elements <= 100_000);
+    keys(&mut app, "u");
+    assert_eq!(app.scene().mesh.elements, 100_000);
+    let note = app.message.clone().unwrap_or_default();
+    assert!(
+        note == "nothing to undo" || note.contains("at most 100000"),
+        "{note}"
+    );
+    keys(&mut app, "] r y");
+    assert_eq!(app.scene().mesh.elements, 100_000, "{:?}", app.message);
 }
 
 /// Issue 23 item 1, with files in the way: the closing save of a student's unsaved work never

@@ -298,6 +298,13 @@ fn render_takes_a_lesson_step_and_refuses_a_bad_one_by_name() {
         stderr.contains("--step 99: lessons/regularisation.toml has"),
         "{stderr}"
     );
+    let out = beamfric(&["render", "--lesson", SHIPPED[0], "--step", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--step 0: ") && stderr.contains("counted from 1"),
+        "{stderr}"
+    );
     let out = beamfric(&["render", "--step", "2"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--lesson"));
@@ -470,4 +477,51 @@ fn a_served_session_steps_its_own_lesson_capped_at_the_servers_mesh_limit() {
     );
     assert_eq!(app.exploration.lesson.as_ref().map(|p| p.step), Some(1));
     assert!(app.step_edits.is_empty(), "{:?}", app.step_edits.keys());
+}
+
+#[test]
+fn a_lessons_errors_are_one_escaped_line_with_columns_in_characters() {
+    let dir = tempfile::tempdir().unwrap();
+    // A field name with an escape sequence and a newline in it: quoted escaped, one line.
+    let path = dir.path().join("escape.toml");
+    std::fs::write(
+        &path,
+        format!("{STEP_ONE}\"\\u001b]0;PWNED\\u0007\\u001b[2J\\nx\" = 1\n"),
+    )
+    .unwrap();
+    let message = read_lesson(&path).unwrap_err().to_string();
+    assert!(!message.contains(|c: char| c.is_control()), "{message:?}");
+    assert!(message.contains("\\u{1b}"), "{message}");
+    // A column after ε counts characters (ε is two bytes).
+    let path = dir.path().join("column.toml");
+    std::fs::write(
+        &path,
+        "title = \"L\"\n[[step]]\ntitle = \"ε ε ε\"\npreset = \"benchmark-1\"\ncaption = \"ε ε ε ε ε ε \\q\"\n",
+    )
+    .unwrap();
+    let error = read_lesson(&path).unwrap_err();
+    assert!(error.field.contains("line 5, column 25"), "{error}"); // 31 in bytes
+    // Titles and captions are measured in columns: 26 wide characters are 52.
+    let path = dir.path().join("wide.toml");
+    let wide = "字".repeat(26);
+    std::fs::write(
+        &path,
+        format!("title = \"L\"\n[[step]]\ntitle = \"{wide}\"\npreset = \"benchmark-1\"\ncaption = \"x\"\n"),
+    )
+    .unwrap();
+    let error = read_lesson(&path).unwrap_err();
+    assert!(error.rule.contains("takes 52 columns"), "{error}");
+    // CLI: exit status 2, one line.
+    let out = beamfric(&[
+        "render",
+        "--lesson",
+        dir.path().join("escape.toml").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(stderr.lines().count(), 1, "{stderr:?}");
+    assert!(
+        !stderr.trim_end().contains(|c: char| c.is_control()),
+        "{stderr:?}"
+    );
 }

@@ -117,11 +117,22 @@ fn a_recording_plays_back_to_the_lecturers_screen_with_a_marker_per_step() {
     }
     // The last frame a player shows is the lecturer's last screen.
     assert_eq!(last_screen(&cast), lecturer.last_frame());
-    // A second recording to the same file is refused before anything starts.
-    let mut again = presenting(dir.path(), &path);
-    let status = again.exit();
-    assert_eq!(status.code(), Some(2));
-    assert!(again.text().contains("exists already"), "{}", again.text());
+    // A second recording to the same file, or into a folder that does not exist, is refused
+    // before anything starts: no host key is written, no port opened.
+    let fresh = dir.path().join("fresh");
+    std::fs::create_dir(&fresh).unwrap();
+    for (target, words) in [
+        (path.clone(), "exists already"),
+        (dir.path().join("nowhere/class.cast"), "cannot be used"),
+    ] {
+        let mut again = presenting(&fresh, &target);
+        let status = again.exit();
+        assert_eq!(status.code(), Some(2));
+        let text = again.text();
+        assert!(text.contains(words), "{text}");
+        assert!(!text.contains("listening on"), "{text}");
+        assert!(!fresh.join("host_key").exists());
+    }
 }
 
 #[test]

@@ -366,7 +366,7 @@ fn wait(app: &mut App, events: &Events, options: &LoopOptions, state: &LoopState
         Some(ESC_TIMEOUT.saturating_sub(state.last_bytes.elapsed()))
     } else if !app.exploration.is_current() && app.show_timings {
         Some(TICK)
-    } else if app.mode == Mode::Students {
+    } else if matches!(app.mode, Mode::Students { .. }) {
         // The list's idle times move on.
         Some(STUDENTS_TICK)
     } else {

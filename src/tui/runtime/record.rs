@@ -71,26 +71,25 @@ pub struct Summary {
     pub bytes: usize,
     /// Events dropped beyond [`MAX_CAST_BYTES`].
     pub truncated: bool,
+    /// The name asked for, when something else took it during the recording.
+    pub moved_from: Option<PathBuf>,
 }
 
 impl Recording {
     /// Starts recording a terminal of `size` (columns, rows) to `path`, written at once with
     /// its header. A file already there is refused (a recording never replaces one).
     pub fn start(path: &Path, size: (u16, u16), title: &str) -> io::Result<Recording> {
-        if std::fs::symlink_metadata(path).is_ok() {
-            return Err(io::Error::new(
-                io::ErrorKind::AlreadyExists,
-                "it exists already (a recording never replaces a file: choose another name)",
-            ));
-        }
+        check_target(path)?;
         let header = header(size, title);
-        let cast = Cast {
+        let mut cast = Cast {
             path: path.to_path_buf(),
             header,
             events: Vec::new(),
             utf8_tail: Vec::new(),
             truncated: false,
             last_time: 0.0,
+            written: None,
+            moved_from: None,
         };
         cast.persist(false)?;
         let (sender, receiver) = channel();
@@ -116,6 +115,53 @@ impl Recording {
             Some(Ok(result)) => result,
             _ => Err(io::Error::other("the recorder thread failed")),
         }
+    }
+}
+
+/// Can a recording be made at `path`? Not over anything there (a recording never replaces a
+/// file), and only in a folder that exists and can be written to; the errors say which.
+pub fn check_target(path: &Path) -> io::Result<()> {
+    if std::fs::symlink_metadata(path).is_ok() {
+        return Err(io::Error::new(
+            io::ErrorKind::AlreadyExists,
+            "it exists already (a recording never replaces a file: choose another name)",
+        ));
+    }
+    let folder = folder_of(path);
+    match std::fs::metadata(folder) {
+        Ok(meta) if meta.is_dir() => {}
+        Ok(_) => {
+            return Err(io::Error::other(format!(
+                "{} is not a folder",
+                folder.display()
+            )));
+        }
+        Err(e) => {
+            return Err(io::Error::new(
+                e.kind(),
+                format!(
+                    "its folder {} cannot be used: {}",
+                    folder.display(),
+                    e.kind()
+                ),
+            ));
+        }
+    }
+    tempfile::NamedTempFile::new_in(folder)
+        .map(drop)
+        .map_err(|e| {
+            io::Error::new(
+                e.kind(),
+                format!("cannot write in {}: {}", folder.display(), e.kind()),
+            )
+        })
+}
+
+/// The folder a file goes in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
     }
 }
 
@@ -146,6 +192,11 @@ struct Cast {
     utf8_tail: Vec<u8>,
     truncated: bool,
     last_time: f64,
+    /// The file last written (device and inode): a different one at the path later is not
+    /// ours, and is never written over.
+    written: Option<Identity>,
+    /// Where the recording was meant to go, when something else took that name meanwhile.
+    moved_from: Option<PathBuf>,
 }
 
 impl Cast {
@@ -178,6 +229,7 @@ impl Cast {
         }
         self.persist(true)?;
         Ok(Summary {
+            moved_from: self.moved_from.clone(),
             path: self.path.clone(),
             seconds: self.last_time,
             bytes: self.header.len() + 1 + self.events.len(),
@@ -233,12 +285,18 @@ impl Cast {
 
     /// Writes the whole cast to a temporary file beside the target and renames it over it
     /// (synced first when `sync`).
-    fn persist(&self, sync: bool) -> io::Result<()> {
-        let folder = match self.path.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let mut file = tempfile::NamedTempFile::new_in(folder)?;
+    fn persist(&mut self, sync: bool) -> io::Result<()> {
+        self.keep_off_others();
+        let name = self
+            .path
+            .file_name()
+            .map_or_else(|| "cast".into(), |n| n.to_string_lossy().into_owned());
+        // A write cut short (the process killed) leaves a `.NAME.…part` beside it, never a
+        // broken cast.
+        let mut file = tempfile::Builder::new()
+            .prefix(&format!(".{name}."))
+            .suffix(".part")
+            .tempfile_in(folder_of(&self.path))?;
         file.write_all(self.header.as_bytes())?;
         file.write_all(b"\n")?;
         file.write_all(&self.events)?;
@@ -253,9 +311,64 @@ impl Cast {
             file.as_file().sync_all()?;
         }
         file.persist(&self.path).map_err(|e| e.error)?;
+        self.written = identity(&self.path);
         Ok(())
     }
+
+    /// If something other than the last cast written now sits at the path (a file put there
+    /// meanwhile, a folder), the recording goes on under the next free name (`NAME-2.cast`…).
+    fn keep_off_others(&mut self) {
+        let ours = |cast: &Cast| match identity(&cast.path) {
+            None => std::fs::symlink_metadata(&cast.path).is_err(),
+            found => found == cast.written,
+        };
+        if ours(self) {
+            return;
+        }
+        let original = self
+            .moved_from
+            .get_or_insert_with(|| self.path.clone())
+            .clone();
+        let stem = original
+            .file_stem()
+            .map_or_else(String::new, |s| s.to_string_lossy().into_owned());
+        let extension = original
+            .extension()
+            .map_or_else(String::new, |e| format!(".{}", e.to_string_lossy()));
+        for number in 2.. {
+            let candidate = original.with_file_name(format!("{stem}-{number}{extension}"));
+            if std::fs::symlink_metadata(&candidate).is_err() {
+                self.path = candidate;
+                self.written = None;
+                return;
+            }
+        }
+    }
 }
+
+/// What tells the file at `path` from another put there later (not following a link): its
+/// device, inode, size and change time — an inode number freed and reused still differs in
+/// the rest.
+fn identity(path: &Path) -> Option<Identity> {
+    let meta = std::fs::symlink_metadata(path).ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        Some([
+            meta.dev(),
+            meta.ino(),
+            meta.len(),
+            meta.ctime() as u64,
+            meta.ctime_nsec() as u64,
+        ])
+    }
+    #[cfg(not(unix))]
+    {
+        Some([meta.len(), 0, 0, 0, 0])
+    }
+}
+
+type Identity = [u64; 5];
 
 /// Times in microseconds, as asciinema writes them.
 fn round(time: f64) -> f64 {
@@ -358,6 +471,32 @@ mod tests {
         assert_eq!(all[3][2], "100x30");
         let times: Vec<f64> = all[1..].iter().map(|e| e[0].as_f64().unwrap()).collect();
         assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+        // A file put at its name meanwhile is never written over: it goes on next to it.
+        let replaced = dir.path().join("replaced.cast");
+        let recording = Recording::start(&replaced, (80, 24), "class").unwrap();
+        std::fs::remove_file(&replaced).unwrap();
+        std::fs::write(&replaced, "precious notes").unwrap();
+        recording.tap().marker("after");
+        let summary = recording.finish().unwrap();
+        assert_eq!(
+            std::fs::read_to_string(&replaced).unwrap(),
+            "precious notes"
+        );
+        assert_eq!(summary.path, dir.path().join("replaced-2.cast"));
+        assert_eq!(summary.moved_from.as_deref(), Some(replaced.as_path()));
+        assert_eq!(lines(&summary.path).len(), 2);
+        // No part file is left behind.
+        let parts = std::fs::read_dir(dir.path())
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .ends_with(".part")
+            })
+            .count();
+        assert_eq!(parts, 0);
         // A file there already is never replaced.
         let again = Recording::start(&path, (80, 24), "class");
         assert_eq!(

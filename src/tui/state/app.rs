@@ -42,8 +42,8 @@ pub enum Mode {
     ConfirmEndClass,
     /// How students join the class (the lecturer's explorer: `J`, and at start).
     Join,
-    /// The presenter's list of students (`S`).
-    Students,
+    /// The presenter's list of students (`S`), scrolled down by `offset` rows.
+    Students { offset: u16 },
     /// Typing a line for every student (from the list of students).
     Broadcast { prompt: Prompt },
     /// A student's closing screen: the class was ended by `by`; the scene was saved as

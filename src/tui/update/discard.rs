@@ -4,7 +4,7 @@
 use crate::tui::input::keymap::Action;
 use crate::tui::state::{App, Discard, Ending, Mode};
 
-use super::edit::{clamp_selection, load_preset, remember, request_solve};
+use super::edit::{cap_at_limit, clamp_selection, load_preset, remember, request_solve};
 use super::save::start_save;
 
 /// `q`: the lecturer's quit asks first while students are connected (it ends their class),
@@ -52,6 +52,14 @@ pub(super) fn discard_and(app: &mut App, then: Discard) {
             clamp_selection(app);
             request_solve(app, problem, settings);
             app.message = Some("reset to the scene as loaded (u undoes)".into());
+            // A scene loaded beyond a served session's limit (the presenter's, forked) is
+            // shown at the limit.
+            if let (Some(asked), Some(max)) = (cap_at_limit(app), app.max_elements) {
+                app.message = Some(format!(
+                    "reset to the scene as loaded, at n = {max}: its n = {asked} is beyond this \
+                     server's limit (u undoes)"
+                ));
+            }
         }
         Discard::Preset(index) => load_preset(app, index),
     }

@@ -40,6 +40,13 @@ pub(super) fn undo_redo(app: &mut App, undo: bool) {
         app.message = Some(format!("nothing to {}", if undo { "undo" } else { "redo" }));
         return;
     };
+    // A scene from before a cap (a fork or a lesson step beyond a served session's limit)
+    // stays out of reach.
+    if let Some(message) = beyond_limits(app, &scene) {
+        app.history.push(undo, scene);
+        app.message = Some(message);
+        return;
+    }
     match scene.validate(&app.exploration.source.to_string()) {
         Ok((problem, settings)) => {
             let current = std::mem::replace(&mut app.exploration.scene, scene);
@@ -58,7 +65,7 @@ pub(super) fn undo_redo(app: &mut App, undo: bool) {
 }
 
 /// The reason `scene` is beyond this explorer's limits (a served session's element cap).
-fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
+pub(super) fn beyond_limits(app: &App, scene: &Scene) -> Option<String> {
     let max = app.max_elements?;
     (scene.mesh.elements > max).then(|| {
         format!(
@@ -248,6 +255,27 @@ pub(super) fn load(app: &mut App, loaded: LoadedScene) {
         ..Exploration::new(loaded)
     };
     request_solve(app, problem, settings);
+}
+
+/// Shows the scene at this explorer's element limit when it asks for more (a fork of the
+/// presenter's finer mesh, a lesson's step), as the scene loaded: `r` comes back to it, undo
+/// does not go past it, and nothing of it is unsaved. Returns the n asked for when it capped.
+pub(super) fn cap_at_limit(app: &mut App) -> Option<usize> {
+    let max = app.max_elements?;
+    let asked = app.scene().mesh.elements;
+    if asked <= max {
+        return None;
+    }
+    let mut capped = app.scene().clone();
+    capped.mesh.elements = max;
+    let validated = capped.validate(&app.exploration.source.to_string()).ok()?;
+    if !try_apply_keeping_undo(app, capped, false) {
+        return None;
+    }
+    app.saved = app.exploration.scene.clone();
+    app.exploration.loaded = app.exploration.scene.clone();
+    app.exploration.loaded_problem = validated;
+    Some(asked)
 }
 
 /// Loads the preset with this index into [`PRESETS`], unless it is beyond this explorer's

@@ -13,7 +13,7 @@ use crate::tui::input::keymap::{Action, Key, action_for, follow_action, presenti
 use crate::tui::state::follow::{ClassNews, Following, Role};
 use crate::tui::state::{App, Exploration, Mode};
 
-use super::edit::try_apply;
+use super::edit::cap_at_limit;
 use super::save::save_at_closing;
 use super::{act, refresh_sweeps};
 
@@ -57,18 +57,10 @@ pub(super) fn fork(app: &mut App) {
 }
 
 /// A fork of the presenter's scene beyond this server's `--max-elements` starts at the limit,
-/// with a note, so that the student's explorer is usable at once (issue 23 item 5).
+/// with a note, so that the student's explorer is usable at once (issue 23 item 5); `r` and
+/// undo stay at the limit.
 fn cap_elements(app: &mut App) {
-    let Some(max) = app.max_elements else {
-        return;
-    };
-    let asked = app.scene().mesh.elements;
-    if asked <= max {
-        return;
-    }
-    let mut capped = app.scene().clone();
-    capped.mesh.elements = max;
-    if try_apply(app, capped) {
+    if let (Some(asked), Some(max)) = (cap_at_limit(app), app.max_elements) {
         app.message = Some(format!(
             "your own exploration from here, at n = {max}: the presenter's n = {asked} is beyond \
              this server's limit for students (F follows the presenter again)"

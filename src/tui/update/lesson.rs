@@ -6,7 +6,7 @@
 
 use crate::tui::state::{App, LessonPlace, StepEdits};
 
-use super::edit::{load, try_apply_keeping_undo};
+use super::edit::{cap_at_limit, load, try_apply_keeping_undo};
 
 /// [`Action::NextStep`](crate::tui::input::keymap::Action::NextStep) (`forward`) or
 /// [`Action::PreviousStep`](crate::tui::input::keymap::Action::PreviousStep).
@@ -79,23 +79,7 @@ pub(super) fn go_to_step(app: &mut App, place: LessonPlace, target: usize) {
 /// A step beyond this explorer's element limit (a served session) is shown at the limit,
 /// with a note.
 fn cap_elements(app: &mut App, target: usize) {
-    let Some(max) = app.max_elements else {
-        return;
-    };
-    let asked = app.scene().mesh.elements;
-    if asked <= max {
-        return;
-    }
-    let mut capped = app.scene().clone();
-    capped.mesh.elements = max;
-    let Ok(validated) = capped.validate(&app.exploration.source.to_string()) else {
-        return;
-    };
-    if try_apply_keeping_undo(app, capped, false) {
-        // The step as shown here: `r` comes back to it, and nothing of it is unsaved.
-        app.saved = app.exploration.scene.clone();
-        app.exploration.loaded = app.exploration.scene.clone();
-        app.exploration.loaded_problem = validated;
+    if let (Some(asked), Some(max)) = (cap_at_limit(app), app.max_elements) {
         app.message = Some(format!(
             "step {} asks for n = {asked}: shown at n = {max}, this server's limit",
             target + 1

@@ -251,7 +251,7 @@ fn apply(app: &mut App, action: Action) {
             }
             Mode::ConfirmDiscard { then } => discard::confirm_discard(app, action, then),
             Mode::ConfirmEndClass => discard::confirm_end_class(app, action),
-            Mode::Students => students::in_list(app, action),
+            Mode::Students { offset } => students::in_list(app, action, offset),
             Mode::Broadcast { prompt } => students::broadcast_prompt(app, action, prompt),
             // Any key leaves the closing screen (its work is saved or was shown).
             Mode::ClassEnded { .. } => app.ending = Some(Ending::Quit),

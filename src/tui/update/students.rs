@@ -18,24 +18,46 @@ pub const BROADCAST_LIMIT: usize = 58;
 /// `S`: the list of students (a presenter's explorer only).
 pub(super) fn show(app: &mut App) {
     match &app.follow {
-        Some(follow) if !follow.is_student() => app.mode = Mode::Students,
+        Some(follow) if !follow.is_student() => app.mode = Mode::Students { offset: 0 },
         _ => {}
     }
 }
 
-/// A key in the list of students.
-pub(super) fn in_list(app: &mut App, action: Action) {
-    app.mode = Mode::Normal;
+/// A key in the list of students: scrolling keeps it open (the drawing stops at the last
+/// row), `b` and `m` act, anything else closes it.
+pub(super) fn in_list(app: &mut App, action: Action, offset: u16) {
+    const PAGE: u16 = 10;
+    let scrolled = match action {
+        Action::SelectPrevious => Some(offset.saturating_sub(1)),
+        Action::SelectNext => Some(offset.saturating_add(1)),
+        Action::PageUp => Some(offset.saturating_sub(PAGE)),
+        Action::PageDown => Some(offset.saturating_add(PAGE)),
+        _ => None,
+    };
     let Some(follow) = &app.follow else {
+        app.mode = Mode::Normal;
         return;
     };
+    // No further than the list is long.
+    let last = u16::try_from(follow.followers.students()).unwrap_or(u16::MAX);
+    if let Some(offset) = scrolled {
+        app.mode = Mode::Students {
+            offset: offset.min(last.saturating_sub(1)),
+        };
+        return;
+    }
+    app.mode = Mode::Normal;
     match action {
         Action::BringEveryoneBack => {
-            let told = follow.followers.announce(ClassNews::Rejoin);
+            let exploring = follow
+                .followers
+                .students()
+                .saturating_sub(follow.followers.count());
+            follow.followers.announce(ClassNews::Rejoin);
             app.message = Some(format!(
-                "asked {told} student{} to follow again (a student with unsaved work is asked \
-                 first)",
-                if told == 1 { "" } else { "s" }
+                "asked the {exploring} student{} exploring on their own to follow again (one with \
+                 unsaved work is only asked)",
+                if exploring == 1 { "" } else { "s" }
             ));
         }
         Action::WriteBroadcast => {
@@ -59,6 +81,15 @@ pub(super) fn broadcast_prompt(app: &mut App, action: Action, mut prompt: Prompt
             let text = printable(prompt.text.trim()).into_owned();
             if text.is_empty() {
                 app.message = Some("nothing sent: the message was empty".into());
+                return;
+            }
+            let width = crate::lesson::columns(&text);
+            if width > BROADCAST_LIMIT {
+                // Kept to shorten: wide characters take two columns.
+                app.message = Some(format!(
+                    "{width} columns: at most {BROADCAST_LIMIT} fit a student's status line"
+                ));
+                app.mode = Mode::Broadcast { prompt };
                 return;
             }
             let Some(follow) = &app.follow else {

@@ -8,7 +8,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::format::printable;
-use crate::lesson::wrap;
+use crate::lesson::{columns, wrap};
 use crate::plot::Theme;
 use crate::tui::layout::caption_width;
 use crate::tui::state::App;
@@ -27,7 +27,7 @@ pub(super) fn draw_caption_strip(frame: &mut Frame, app: &App, theme: &Theme, ar
     );
     let lesson_line = format!(" {separator} {}", printable(&place.lesson.title));
     // The lesson's title only where it fits whole: the step's comes first.
-    let fits = step_line.chars().count() + lesson_line.chars().count() <= usize::from(area.width);
+    let fits = columns(&step_line) + columns(&lesson_line) <= usize::from(area.width);
     let mut first = vec![Span::styled(step_line, theme.selected())];
     if fits {
         first.push(Span::styled(lesson_line, theme.dim()));
@@ -39,7 +39,14 @@ pub(super) fn draw_caption_strip(frame: &mut Frame, app: &App, theme: &Theme, ar
         caption.truncate(room);
         if let Some(last) = caption.last_mut() {
             let keep = caption_width(area).saturating_sub(1);
-            *last = last.chars().take(keep).collect::<String>() + "…";
+            let mut cut = String::new();
+            for c in last.chars() {
+                if columns(&cut) + columns(c.encode_utf8(&mut [0; 4])) > keep {
+                    break;
+                }
+                cut.push(c);
+            }
+            *last = cut + "…";
         }
     }
     lines.extend(

@@ -20,7 +20,9 @@ pub(super) fn draw(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
         Mode::Help { offset } => help(frame, app, theme, area, *offset),
         Mode::SceneText => scene_text(frame, app, theme, area),
         Mode::Join => join(frame, app, theme, area),
-        Mode::Students => super::students::draw_students(frame, app, theme, area),
+        Mode::Students { offset } => {
+            super::students::draw_students(frame, app, theme, area, *offset)
+        }
         Mode::ClassEnded { by, saved } => {
             class_ended(frame, app, theme, area, by, saved.as_deref())
         }

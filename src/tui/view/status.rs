@@ -16,7 +16,7 @@ use crate::solve::{Reference, Solution};
 use crate::tui::input::keymap::help::{
     discard_hints, end_class_question, overwrite_question, picker_hints, prompt_keys, scroll_keys,
 };
-use crate::tui::input::keymap::{extra_keys, fitted_hint_line};
+use crate::tui::input::keymap::{extra_keys, fitted_hint_line, up_down};
 use crate::tui::state::prompt::Prompt;
 use crate::tui::state::{App, Discard, Mode};
 
@@ -232,9 +232,10 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             let keys = prompt_keys("sends", ascii);
             return draw_prompt(frame, theme, area, "to every student: ", prompt, &keys);
         }
-        Mode::Students => {
-            "b: bring everyone back to follow · m: a message to all · any other key closes".into()
-        }
+        Mode::Students { .. } => format!(
+            "{} scroll · b: bring everyone back · m: a message to all · any other key closes",
+            up_down(ascii)
+        ),
         Mode::ConfirmOverwrite { path } => overwrite_question(path, ascii),
         Mode::ConfirmDiscard { then } => {
             let changed_steps: Vec<String> = app

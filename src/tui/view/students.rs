@@ -11,6 +11,7 @@ use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph};
 
 use crate::format::printable;
+use crate::lesson::columns;
 use crate::plot::Theme;
 use crate::tui::state::App;
 use crate::tui::state::follow::StudentView;
@@ -18,7 +19,7 @@ use crate::tui::state::follow::StudentView;
 /// Longest user name shown (longer ones end in `…`).
 const USER_WIDTH: usize = 16;
 
-pub(super) fn draw_students(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
+pub(super) fn draw_students(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     let Some(follow) = &app.follow else {
         return;
     };
@@ -43,17 +44,21 @@ pub(super) fn draw_students(frame: &mut Frame, app: &App, theme: &Theme, area: R
     if roster.is_empty() {
         lines.push(Line::styled("no student is connected", theme.dim()));
     }
-    let shown = if roster.len() > rows {
+    // Scrolled (↑ ↓, PgUp PgDn), never past the last screenful.
+    let first = usize::from(offset).min(roster.len().saturating_sub(rows.max(1)));
+    let below = roster.len().saturating_sub(first + rows);
+    let shown = if below > 0 {
         rows.saturating_sub(1)
     } else {
         rows
     };
-    for student in roster.iter().take(shown) {
+    for student in roster.iter().skip(first).take(shown) {
         lines.push(Line::styled(row(student), row_style(theme, student)));
     }
-    if roster.len() > shown {
+    let more = roster.len().saturating_sub(first + shown);
+    if more > 0 {
         lines.push(Line::styled(
-            format!("… and {} more", roster.len() - shown),
+            format!("… and {more} more (↓ scrolls)"),
             theme.dim(),
         ));
     }
@@ -72,13 +77,21 @@ fn row_style(theme: &Theme, student: &StudentView) -> ratatui::style::Style {
 /// `alice            following        idle 3 s    unsaved`.
 fn row(student: &StudentView) -> String {
     let user = printable(&student.user);
-    let mut name: String = user.chars().take(USER_WIDTH).collect();
-    if user.chars().count() > USER_WIDTH {
-        name.pop();
-        name.push('…');
+    // Cut and padded in terminal columns (a CJK name takes two a character).
+    let mut name = String::new();
+    for c in user.chars() {
+        if columns(&name) + columns(c.encode_utf8(&mut [0; 4])) > USER_WIDTH - 1 {
+            name.push('…');
+            break;
+        }
+        name.push(c);
     }
+    if columns(&user) <= USER_WIDTH {
+        name = user.into_owned();
+    }
+    let pad = " ".repeat(USER_WIDTH.saturating_sub(columns(&name)));
     format!(
-        "{name:<USER_WIDTH$}  {:<15}  idle {:<7}  {}",
+        "{name}{pad}  {:<15}  idle {:<7}  {}",
         if student.following {
             "following"
         } else {

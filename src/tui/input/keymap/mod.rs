@@ -40,7 +40,7 @@ fn keys_of(mode: &Mode) -> (&'static [Binding], Otherwise) {
         Mode::Editing { .. } | Mode::Save { .. } | Mode::Broadcast { .. } => {
             (PROMPT, Otherwise::Type)
         }
-        Mode::Students => (STUDENTS, Otherwise::Cancel),
+        Mode::Students { .. } => (STUDENTS, Otherwise::Cancel),
         Mode::Presets(_) => (PICKER, Otherwise::Type),
         Mode::ConfirmOverwrite { .. } => (OVERWRITE_QUESTION, Otherwise::Cancel),
         Mode::ConfirmDiscard { .. } => (DISCARD_QUESTION, Otherwise::Cancel),
@@ -161,7 +161,7 @@ mod tests {
                 then: crate::tui::state::Discard::Quit,
             },
             Mode::ConfirmEndClass,
-            Mode::Students,
+            Mode::Students { offset: 0 },
             Mode::Broadcast {
                 prompt: crate::tui::state::prompt::Prompt::new("", false),
             },

@@ -397,9 +397,15 @@ pub const DISCARD_QUESTION: &[Binding] = &[keys![
     Key::Char('s') => Action::Save,
 ]];
 
-/// The list of students: `b` brings everyone back to follow, `m` writes a line to all; any
-/// other key closes it.
+/// The list of students: ↑ ↓ (k j) and PgUp PgDn scroll, `b` brings everyone back to
+/// follow, `m` writes a line to all; any other key closes it.
 pub const STUDENTS: &[Binding] = &[keys![
+    Key::Up => Action::SelectPrevious,
+    Key::Down => Action::SelectNext,
+    Key::Char('k') => Action::SelectPrevious,
+    Key::Char('j') => Action::SelectNext,
+    Key::PageUp => Action::PageUp,
+    Key::PageDown => Action::PageDown,
     Key::Char('b') => Action::BringEveryoneBack,
     Key::Char('m') => Action::WriteBroadcast,
 ]];
