@@ -5,31 +5,14 @@
 
 #![cfg(unix)]
 
-use crate::harness::pty::PtyProcess;
-use crate::harness::serve_process::port_in;
+use crate::harness::lecture::{past_the_join_screen, present};
 use crate::harness::ssh::{Explorer, logged_in_as, runtime};
 
 #[test]
 fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
     let dir = tempfile::tempdir().unwrap();
-    let host_key = dir.path().join("host_key");
-    let mut lecturer = PtyProcess::start(
-        &[
-            "present",
-            "--open",
-            "--listen",
-            "127.0.0.1:0",
-            "--host-key",
-            host_key.to_str().unwrap(),
-        ],
-        &[],
-        (100, 30),
-    );
-    lecturer.wait_for_screen("Students join the class with");
-    let port = port_in(&lecturer.screen());
-    lecturer.type_bytes(b"x");
-    lecturer.wait_for_screen("Parameters");
-    let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
+    let mut lecturer = present(dir.path(), &[], (100, 30));
+    let (_, address) = past_the_join_screen(&mut lecturer);
     runtime().block_on(async {
         let (alice, bob, carol) = (
             logged_in_as(address, "alice").await,

@@ -368,32 +368,15 @@ fn a_steps_changes_are_kept_for_the_return_and_quitting_asks_for_them() {
 #[cfg(unix)]
 #[test]
 fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
-    use crate::harness::serve_process::port_in;
+    use crate::harness::lecture::{past_the_join_screen, present};
     use crate::harness::ssh::{Explorer, logged_in_as, runtime};
 
     let dir = tempfile::tempdir().unwrap();
-    let host_key = dir.path().join("host_key");
     let lesson = shipped(SHIPPED[0]);
     let count = lesson.steps.len();
-    let mut lecturer = PtyProcess::start(
-        &[
-            "present",
-            "--open",
-            "--listen",
-            "127.0.0.1:0",
-            "--host-key",
-            host_key.to_str().unwrap(),
-            "--lesson",
-            SHIPPED[0],
-        ],
-        &[],
-        (80, 24),
-    );
-    lecturer.wait_for_screen("Students join the class with");
-    let port = port_in(&lecturer.screen());
-    lecturer.type_bytes(b"x");
+    let mut lecturer = present(dir.path(), &["--lesson", SHIPPED[0]], (80, 24));
+    let (_, address) = past_the_join_screen(&mut lecturer);
     lecturer.wait_for_screen(&format!("step 1/{count}:"));
-    let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
     let caption_line = |step: usize| wrap(&lesson.steps[step].caption, 78)[0].clone();
     runtime().block_on(async {
         let alice = logged_in_as(address, "alice").await;

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use nix::sys::signal::Signal;
 
+use crate::harness::lecture::{past_the_join_screen, present};
 use crate::harness::pty::PtyProcess;
 use crate::harness::wait::eventually;
 
@@ -55,23 +56,9 @@ fn last_screen(cast: &Cast) -> String {
 }
 
 fn presenting(dir: &Path, cast: &Path) -> PtyProcess {
-    let host_key = dir.join("host_key");
-    PtyProcess::start(
-        &[
-            "present",
-            "--open",
-            "--listen",
-            "127.0.0.1:0",
-            "--host-key",
-            host_key.to_str().unwrap(),
-            "--lesson",
-            "lessons/regularisation.toml",
-            "--record",
-            cast.to_str().unwrap(),
-        ],
-        &[],
-        (80, 24),
-    )
+    let lesson = ["--lesson", "lessons/regularisation.toml"];
+    let record = ["--record", cast.to_str().unwrap()];
+    present(dir, &[lesson, record].concat(), (80, 24))
 }
 
 #[test]
@@ -79,8 +66,7 @@ fn a_recording_plays_back_to_the_lecturers_screen_with_a_marker_per_step() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("class.cast");
     let mut lecturer = presenting(dir.path(), &path);
-    lecturer.wait_for_screen("Students join the class with");
-    lecturer.type_bytes(b"x");
+    past_the_join_screen(&mut lecturer);
     lecturer.wait_for_screen("step 1/7:");
     lecturer.type_bytes(b" ");
     lecturer.wait_for_screen("step 2/7:");
@@ -140,8 +126,7 @@ fn a_presenter_killed_with_sigkill_leaves_a_cast_that_parses() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("killed.cast");
     let mut lecturer = presenting(dir.path(), &path);
-    lecturer.wait_for_screen("Students join the class with");
-    lecturer.type_bytes(b"x");
+    past_the_join_screen(&mut lecturer);
     lecturer.wait_for_screen("step 1/7:");
     lecturer.type_bytes(b" ");
     lecturer.wait_for_screen("step 2/7:");

@@ -13,6 +13,7 @@ use beamfric::serve::{ServeError, ServeOptions, Server};
 use russh::keys::{PrivateKey, PrivateKeyWithHashAlg};
 
 use crate::harness::cpu;
+use crate::harness::lecture::{past_the_join_screen, present};
 use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess};
 use crate::harness::screen::{find, rows, sgr};
 use crate::harness::serve_process::{ServeProcess, port_in};
@@ -792,31 +793,16 @@ const PTY_SIZE: (u16, u16) = (120, 40);
 #[test]
 fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_students_work() {
     let dir = tempfile::tempdir().unwrap();
-    let host_key = dir.path().join("host_key");
     let saves = dir.path().join("saves");
     std::fs::create_dir(&saves).unwrap();
-    let mut lecturer = PtyProcess::start(
-        &[
-            "present",
-            "--open",
-            "--listen",
-            "127.0.0.1:0",
-            "--host-key",
-            host_key.to_str().unwrap(),
-            "--save-dir",
-            saves.to_str().unwrap(),
-        ],
-        &[],
+    let mut lecturer = present(
+        dir.path(),
+        &["--save-dir", saves.to_str().unwrap()],
         PTY_SIZE,
     );
     // Issue 23 item 3: the join screen first; any key closes it.
-    lecturer.wait_for_screen("Students join the class with");
-    let join = lecturer.screen();
-    let port = port_in(&join);
-    lecturer.type_bytes(b"x");
-    lecturer.wait_for_screen("students connect with");
+    let (join, address) = past_the_join_screen(&mut lecturer);
     lecturer.wait_for_screen("Parameters");
-    let address: std::net::SocketAddr = format!("127.0.0.1:{port}").parse().unwrap();
     runtime().block_on(async {
         let (alice, bob) = (
             logged_in_as(address, "alice").await,

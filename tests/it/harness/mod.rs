@@ -10,10 +10,13 @@
 //! - [`screen`]: finding text on a screen and mouse reports to send to it.
 //! - [`wait`]: waiting for a condition (`eventually`) instead of sleeping or timing.
 //! - [`serve_process`]: `beamfric serve` as a process of its own, its log line by line.
+//! - [`lecture`]: `beamfric present` on a pty, past its join screen.
 //! - [`cpu`]: a thread's CPU time, to wait until work is provably under way.
 //! - [`seed`]: the one seed of every random draw, `BEAMFRIC_SEED`, printed to repeat a run.
 
 pub mod cpu;
+#[cfg(unix)]
+pub mod lecture;
 pub mod process;
 #[cfg(unix)]
 pub mod pty;
