@@ -50,13 +50,22 @@ impl Item {
 /// equals) until the line fits `width`; the order of the kept items is kept. Never cuts an
 /// item: if even the most important alone is too wide, it is the only one kept.
 pub fn fit_items(items: &[Item], separator: &str, width: usize) -> String {
-    let mut kept: Vec<&Item> = items.iter().collect();
+    let joined: Vec<(&Item, &str)> = items.iter().map(|item| (item, separator)).collect();
+    fit_joined(&joined, width)
+}
+
+/// As [`fit_items`], each item with the separator that goes before it (when an item before
+/// it is kept).
+pub fn fit_joined(items: &[(&Item, &str)], width: usize) -> String {
+    let mut kept: Vec<(&Item, &str)> = items.to_vec();
     loop {
-        let line = kept
-            .iter()
-            .map(|i| i.text.as_str())
-            .collect::<Vec<_>>()
-            .join(separator);
+        let mut line = String::new();
+        for (i, (item, separator)) in kept.iter().enumerate() {
+            if i > 0 {
+                line.push_str(separator);
+            }
+            line.push_str(&item.text);
+        }
         if line.chars().count() <= width || kept.len() <= 1 {
             return line;
         }
@@ -65,10 +74,31 @@ pub fn fit_items(items: &[Item], separator: &str, width: usize) -> String {
         let (drop, _) = kept
             .iter()
             .enumerate()
-            .max_by_key(|(_, item)| item.importance)
+            .max_by_key(|(_, (item, _))| item.importance)
             .expect("at least two items");
         kept.remove(drop);
     }
+}
+
+/// `text` cut to `width` characters at a word boundary, ending in `…` when cut (a single word
+/// wider than the line is cut inside it only then).
+pub fn cut_at_word(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    let room = width.saturating_sub(1);
+    let mut cut: String = text.chars().take(room).collect();
+    let next_is_space = text.chars().nth(room).is_some_and(char::is_whitespace);
+    if !next_is_space && let Some(space) = cut.rfind(' ') {
+        cut.truncate(space);
+    }
+    let mut cut = cut
+        .trim_end()
+        .trim_end_matches(['·', '|'])
+        .trim_end()
+        .to_string();
+    cut.push('…');
+    cut
 }
 
 #[cfg(test)]
@@ -99,6 +129,19 @@ mod tests {
             );
         }
         assert_eq!(wrap_words("", 10), vec![String::new()]);
+    }
+
+    #[test]
+    fn cutting_at_a_word_ends_in_an_ellipsis_and_never_splits_a_word() {
+        assert_eq!(cut_at_word("short", 10), "short");
+        assert_eq!(cut_at_word("the quick brown fox", 12), "the quick…");
+        assert_eq!(cut_at_word("the quick brown fox", 10), "the quick…");
+        assert_eq!(cut_at_word("a · b · c", 6), "a · b…");
+        assert_eq!(cut_at_word("unbreakable", 5), "unbr…");
+        for width in 1..30 {
+            let cut = cut_at_word("one two three four five six", width);
+            assert!(cut.chars().count() <= width.max(1), "{cut:?} at {width}");
+        }
     }
 
     #[test]

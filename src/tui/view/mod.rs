@@ -24,6 +24,7 @@ use crate::plot::{Theme, transliterate};
 use crate::tui::layout::{MIN_SIZE, ScreenLayout, screen_layout};
 use crate::tui::state::App;
 use crate::tui::state::params::Row;
+use fit::{Item, cut_at_word, fit_joined};
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
@@ -76,25 +77,48 @@ fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     } else {
         format!(", {} segment(s)", scene.beam.segments.len())
     };
-    let text = format!(
-        " {}{} ({}) · l = {} m · J = {} m^4 · {} obstacle{}{segments}",
-        if app.modified() { "[modified] " } else { "" },
-        printable(&scene.title),
-        printable(&app.exploration.source.to_string()),
-        crate::format::eng(p.length),
-        crate::format::eng(inertia),
-        obstacles,
-        if obstacles == 1 { "" } else { "s" },
-    );
-    // A follow mode leads the line, where it costs no figure of the status (issue 23 item 2);
-    // the scene's description is cut first.
-    let line = match &app.follow {
-        Some(follow) => Line::from(vec![
-            Span::styled(
-                format!(" {} ", theme.text(&follow.label())),
-                theme.warning(),
+    // Whole items by importance, never one cut in the middle (issue 25): the title first,
+    // then the obstacles, the length and J, then where the scene came from.
+    let items = [
+        Item::new(
+            0,
+            format!(
+                "{}{}",
+                if app.modified() { "[modified] " } else { "" },
+                printable(&scene.title)
             ),
-            Span::raw(format!("{}{text}", if app.look.ascii { "|" } else { "│" })),
+        ),
+        Item::new(
+            4,
+            format!("({})", printable(&app.exploration.source.to_string())),
+        ),
+        Item::new(2, format!("l = {} m", crate::format::eng(p.length))),
+        Item::new(3, format!("J = {} m^4", crate::format::eng(inertia))),
+        Item::new(
+            1,
+            format!(
+                "{obstacles} obstacle{}{segments}",
+                if obstacles == 1 { "" } else { "s" }
+            ),
+        ),
+    ];
+    let separators = ["", " ", " · ", " · ", " · "];
+    let joined: Vec<(&Item, &str)> = items.iter().zip(separators).collect();
+    // A follow mode leads the line, where it costs no figure of the status (issue 23 item 2).
+    let label = app
+        .follow
+        .as_ref()
+        .map(|follow| format!(" {} ", theme.text(&follow.label())));
+    let bar = if app.look.ascii { "|" } else { "│" };
+    let used = label
+        .as_ref()
+        .map_or(0, |l| l.chars().count() + bar.chars().count());
+    let room = usize::from(area.width).saturating_sub(used + 1);
+    let text = format!(" {}", cut_at_word(&fit_joined(&joined, room), room));
+    let line = match label {
+        Some(label) => Line::from(vec![
+            Span::styled(label, theme.warning()),
+            Span::raw(format!("{bar}{text}")),
         ]),
         None => Line::from(text),
     };

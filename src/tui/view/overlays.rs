@@ -256,7 +256,7 @@ fn truncated(text: &str, width: usize) -> String {
 pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let text = format!(" {}", printable(app.scene().description.trim()));
     frame.render_widget(
-        Paragraph::new(truncated(&text, area.width as usize)).style(theme.dim()),
+        Paragraph::new(super::fit::cut_at_word(&text, area.width as usize)).style(theme.dim()),
         area,
     );
 }

@@ -126,8 +126,12 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
         frame.render_widget(Paragraph::new(line), second);
     }
     match &app.message {
+        // Cut at a word, never in one (issue 25).
         Some(message) => frame.render_widget(
-            Paragraph::new(Line::styled(message.clone(), theme.warning())),
+            Paragraph::new(Line::styled(
+                super::fit::cut_at_word(message, width),
+                theme.warning(),
+            )),
             third,
         ),
         None => {
