@@ -1100,3 +1100,17 @@ fn the_closing_save_takes_the_next_free_name() {
         *app.scene()
     );
 }
+
+/// Issue 25: PgDn pages the help (and the warnings) instead of closing it; PgUp pages back.
+#[test]
+fn page_down_pages_the_help_and_page_up_comes_back() {
+    let first = frame("benchmark-1", 80, 24, "?");
+    assert!(first.contains("PgUp PgDn: lines 1–"), "{first}");
+    let paged = frame("benchmark-1", 80, 24, "? PgDn");
+    assert!(paged.contains("PgUp PgDn: lines 22–"), "{paged}");
+    let back = frame("benchmark-1", 80, 24, "? PgDn PgUp");
+    assert!(back.contains("PgUp PgDn: lines 1–"), "{back}");
+    // Any other key still closes it.
+    let closed = frame("benchmark-1", 80, 24, "? PgDn x");
+    assert!(!closed.contains("PgUp PgDn: lines"), "{closed}");
+}

@@ -225,11 +225,11 @@ fn apply(app: &mut App, action: Action) {
         _ => match app.mode.clone() {
             Mode::Normal => normal::apply(app, action),
             Mode::Help { offset } => {
-                app.mode = prompts::scrolled(offset, action)
+                app.mode = prompts::scrolled(offset, action, scroll_page(app))
                     .map_or(Mode::Normal, |offset| Mode::Help { offset })
             }
             Mode::Warnings { offset } => {
-                app.mode = prompts::scrolled(offset, action)
+                app.mode = prompts::scrolled(offset, action, scroll_page(app))
                     .map_or(Mode::Normal, |offset| Mode::Warnings { offset })
             }
             Mode::SceneText | Mode::Join => {
@@ -257,6 +257,11 @@ fn apply(app: &mut App, action: Action) {
             Mode::ClassEnded { .. } => app.ending = Some(Ending::Quit),
         },
     }
+}
+
+/// A page of the help or the warnings view: the screen's rows less the box and a line kept.
+fn scroll_page(app: &App) -> u16 {
+    app.size.1.saturating_sub(3)
 }
 
 /// Marks the sweeps whose inputs changed as pending (or idle when no visible panel needs

@@ -36,7 +36,7 @@ pub(super) fn apply(app: &mut App, pointer: Pointer) {
                 }
                 _ => return,
             };
-            let offset = scrolled(offset, step).unwrap_or(offset);
+            let offset = scrolled(offset, step, 1).unwrap_or(offset);
             app.mode = match app.mode {
                 Mode::Help { .. } => Mode::Help { offset },
                 _ => Mode::Warnings { offset },

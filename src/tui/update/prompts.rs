@@ -20,12 +20,15 @@ const PROMPT_LIMIT: usize = 200;
 /// anyway).
 const WARNINGS_SCROLL_LIMIT: u16 = 200;
 
-/// A scrolled view's new offset after `action` (↑ and ↓ scroll), or `None`: any other key
-/// closes it.
-pub(super) fn scrolled(offset: u16, action: Action) -> Option<u16> {
+/// A scrolled view's new offset after `action` (↑ and ↓ scroll a line, PgUp and PgDn a page
+/// of `page` lines), or `None`: any other key closes it.
+pub(super) fn scrolled(offset: u16, action: Action, page: u16) -> Option<u16> {
+    let page = page.max(1);
     match action {
         Action::SelectPrevious => Some(offset.saturating_sub(1)),
         Action::SelectNext => Some(offset.saturating_add(1).min(WARNINGS_SCROLL_LIMIT)),
+        Action::PageUp => Some(offset.saturating_sub(page)),
+        Action::PageDown => Some(offset.saturating_add(page).min(WARNINGS_SCROLL_LIMIT)),
         _ => None,
     }
 }

@@ -232,7 +232,7 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     let mut block = theme.block(" Keys (any key closes) ", true);
     if total > visible {
         block = block.title_bottom(format!(
-            " {} lines {}–{} of {total} ",
+            " {} PgUp PgDn: lines {}–{} of {total} ",
             up_down(app.look.ascii),
             offset + 1,
             (offset + visible).min(total)

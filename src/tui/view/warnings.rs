@@ -131,7 +131,8 @@ pub(super) fn draw_view(frame: &mut Frame, app: &App, theme: &Theme, area: Rect,
     let more_below = total > offset + inner.height;
     let block = if offset > 0 || more_below {
         block.title_bottom(format!(
-            " lines {}–{} of {total} ",
+            " {} PgUp PgDn: lines {}–{} of {total} ",
+            up_down(app.look.ascii),
             offset + 1,
             (offset + inner.height).min(total)
         ))

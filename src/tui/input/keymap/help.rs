@@ -155,7 +155,12 @@ pub fn prompt_keys(confirm: &str, ascii: bool) -> String {
 /// The hint of the help and the warnings view: `↑↓ scroll`.
 pub fn scroll_keys(ascii: bool) -> String {
     let keys = arrows(SCROLLING, Action::SelectPrevious, Action::SelectNext, ascii);
-    format!("{keys} scroll")
+    let pages = format!(
+        "{} {}",
+        label_of(SCROLLING, Action::PageUp, ascii),
+        label_of(SCROLLING, Action::PageDown, ascii)
+    );
+    format!("{keys} {pages} scroll")
 }
 
 /// The hint items of the preset picker, each with its importance (0 most important).

@@ -240,6 +240,8 @@ mod tests {
                 (PICKER, Action::Cancel),
                 (SCROLLING, Action::SelectPrevious),
                 (SCROLLING, Action::SelectNext),
+                (SCROLLING, Action::PageUp),
+                (SCROLLING, Action::PageDown),
                 (OVERWRITE_QUESTION, Action::Confirm),
                 (DISCARD_QUESTION, Action::Confirm),
                 (DISCARD_QUESTION, Action::Save),
@@ -248,8 +250,8 @@ mod tests {
             }
         }
         assert_eq!(prompt_keys("sets", false), "Enter sets, Esc cancels");
-        assert_eq!(scroll_keys(false), "↑↓ scroll");
-        assert_eq!(scroll_keys(true), "Up/Down scroll");
+        assert_eq!(scroll_keys(false), "↑↓ PgUp PgDn scroll");
+        assert_eq!(scroll_keys(true), "Up/Down PgUp PgDn scroll");
         assert_eq!(
             overwrite_question("a.toml", false),
             "a.toml exists: overwrite it? y / n"

@@ -223,7 +223,7 @@ pub const NORMAL: &[Binding] = &[
     bind!(
         Key::Char('w'),
         Action::ShowWarnings,
-        "every warning in full, most serious first (↑↓ scroll, any other key closes)",
+        "every warning in full, most serious first (↑↓ PgUp PgDn scroll, any other key closes)",
         "warnings",
         6,
     ),
@@ -342,12 +342,15 @@ macro_rules! keys {
     };
 }
 
-/// The help and the warnings view: ↑ ↓ (and k j) scroll; any other key closes.
+/// The help and the warnings view: ↑ ↓ (and k j) scroll, PgUp PgDn by a page; any other key
+/// closes.
 pub const SCROLLING: &[Binding] = &[keys![
     Key::Up => Action::SelectPrevious,
     Key::Down => Action::SelectNext,
     Key::Char('k') => Action::SelectPrevious,
     Key::Char('j') => Action::SelectNext,
+    Key::PageUp => Action::PageUp,
+    Key::PageDown => Action::PageDown,
 ]];
 
 /// A one-line prompt (a value, a file name): characters are typed; these keys edit.
