@@ -56,8 +56,9 @@ pub fn mesh_sizes(from: usize, to: usize, points: usize) -> Vec<usize> {
 }
 
 /// Runs each method at each size `repeat` times (median run time). Every (method, size) gets
-/// a point; a method refused at one size (too large) is not run again at larger sizes, its
-/// points there carry the same reason.
+/// a point; a method that cannot apply at one size is not run again at larger sizes, its
+/// points there carry the same reason; a refusal (decided before any work: too many cases,
+/// too large a dense matrix) is asked again at each size, so its figures are that size's.
 pub fn mesh_sweep(
     problem: &Problem,
     methods: &[Method],
@@ -129,8 +130,10 @@ pub fn mesh_sweep(
                 }),
                 Err(e) => {
                     let reason = format!("{}: {}", e.kind.label(), e.reason);
-                    // Too large now means too large at every larger size too.
-                    if e.kind != SolveErrorKind::Breakdown {
+                    // Too large now means too large at every larger size too: not run again.
+                    // A refusal is decided before any work, so it is asked again at each size
+                    // and names that size's own figures.
+                    if !matches!(e.kind, SolveErrorKind::Breakdown | SolveErrorKind::Refused) {
                         refused[m] = Some(reason.clone());
                     }
                     points.push(MeshPoint {

@@ -328,3 +328,31 @@ fn the_time_line_names_the_stages_a_method_has() {
     }
     assert!(time_line("regularized").contains("friction DOFs"));
 }
+
+/// Issue 25: a refusal in `sweep elements` names its own n (the 10⁵ row said 10⁴'s figures).
+#[test]
+fn a_sweeps_refusals_name_their_own_size() {
+    let out = crate::harness::process::beamfric(&[
+        "sweep",
+        "elements",
+        "--scene",
+        "benchmark-1",
+        "--from",
+        "10000",
+        "--to",
+        "1000000",
+        "--points",
+        "3",
+        "--methods",
+        "dual-inverse",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8(out.stdout).unwrap();
+    for n in ["10000", "100000", "1000000"] {
+        let row = text
+            .lines()
+            .find(|l| l.starts_with(&format!("dual-inverse,{n},")))
+            .unwrap_or_else(|| panic!("no row for n = {n}:\n{text}"));
+        assert!(row.contains(&format!("for n = {n} elements")), "{row}");
+    }
+}
