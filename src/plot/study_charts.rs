@@ -309,8 +309,9 @@ pub struct CurrentRun {
 
 /// Every method's error against its run time (or against n when `by_time` is false): one
 /// marker per method, the selected method placed first so that it sits at its exact cells and
-/// the others move aside (at most three columns) rather than hide it; the current n marked and
-/// the selected method's error (and run time) there printed.
+/// the others move aside (at most three columns) rather than hide it; the current run marked
+/// by a rule (at its n, or at its run time when the x axis is time) and the selected method's
+/// error (and run time) there printed.
 pub fn error_time_chart(
     frame: &mut Frame,
     theme: &Theme,
@@ -340,9 +341,20 @@ pub fn error_time_chart(
         return;
     };
     let buffer = frame.buffer_mut();
-    if let Some(run) = current.filter(|_| !by_time) {
-        let n = (run.elements as f64).log10();
-        area.vertical_line(buffer, n, current_line(theme), theme.current());
+    // The current run's rule: at its n, or against time at the selected method's run time
+    // there (a mark a plain-text frame shows too, not only reverse video: issue 25).
+    let rule = match current {
+        Some(run) if !by_time => Some((run.elements as f64).log10()),
+        Some(run) => series
+            .iter()
+            .filter(|(_, method, _)| *method == run.method)
+            .flat_map(|(_, _, data)| data.iter())
+            .find(|(_, _, is_current)| *is_current)
+            .map(|(x, _, _)| *x),
+        None => None,
+    };
+    if let Some(x) = rule {
+        area.vertical_line(buffer, x, current_line(theme), theme.current());
     }
     area.scatter(buffer, &method_markers(theme, &series, selected));
     area.draw_axes(buffer, theme);

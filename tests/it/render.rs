@@ -409,6 +409,18 @@ fn lesson_mesh_error_against_run_time() {
             "{label}: time at n not printed\n{text}"
         );
         assert_every_series_drawn(&text, ascii, &label);
+        // The current run's rule is drawn in the plot, not only named in the key (issue 25):
+        // a plain-text frame shows it on rows of the plot area too.
+        let (rule, tick) = if ascii { (':', '+') } else { ('┆', '┤') };
+        // Rows of the plot with a y tick: the rule crosses at least two of them.
+        let plot_rows = text
+            .lines()
+            .filter(|l| l.contains(tick) && l.contains(rule) && !l.contains("n = 2000:"))
+            .count();
+        assert!(
+            plot_rows >= 2,
+            "{label}: no rule at the current run\n{text}"
+        );
         insta::assert_snapshot!(format!("lesson-mesh-error-vs-time-{label}"), text);
     }
 }
