@@ -1114,3 +1114,24 @@ fn page_down_pages_the_help_and_page_up_comes_back() {
     let closed = frame("benchmark-1", 80, 24, "? PgDn x");
     assert!(!closed.contains("PgUp PgDn: lines"), "{closed}");
 }
+
+/// Below the smallest size only a notice is drawn: keys that would change what nobody can see
+/// do nothing there, and those that leave still work (a hostile pass stepped a lesson and
+/// changed the scene unseen at 40×10).
+#[test]
+fn keys_change_nothing_unseen_below_the_smallest_size() {
+    let mut app = app("benchmark-1");
+    update(&mut app, Msg::Resize(40, 10));
+    let before = app.scene().clone();
+    keys(&mut app, "] a d m Enter 5 Enter");
+    assert_eq!(app.scene(), &before);
+    assert_eq!(app.mode, Mode::Normal);
+    // Back at a usable size, the same keys act.
+    update(&mut app, Msg::Resize(80, 24));
+    keys(&mut app, "]");
+    assert_ne!(app.scene(), &before);
+    // Quitting works at any size (the changes are asked about, as always).
+    update(&mut app, Msg::Resize(40, 10));
+    keys(&mut app, "q y");
+    assert_eq!(app.ending, Some(beamfric::tui::state::Ending::Quit));
+}

@@ -33,6 +33,7 @@ use crate::tui::input::pointer::Pointer;
 use crate::tui::jobs::solve::Solved;
 use crate::tui::jobs::sweeps::{SWEEPS, SweepContext, SweepResult};
 use crate::tui::layout::picker::picker_rows_shown;
+use crate::tui::layout::screen::{fits, screen};
 use crate::tui::layout::{parameter_rows_shown, visible_panels};
 use crate::tui::state::follow::ClassNews;
 use crate::tui::state::{App, Discard, Ending, Exploration, Mode};
@@ -94,6 +95,24 @@ pub fn update(app: &mut App, msg: Msg) {
         follow.note_input(Instant::now());
     }
     match msg {
+        // Below the smallest size nothing is drawn but a notice: a key there would change what
+        // nobody can see, so only those that leave act (quit and its yes, Ctrl-C, Ctrl-Z, Esc).
+        Msg::Key(key) if !fits(screen(app)) => {
+            let quitting = matches!(
+                app.mode,
+                Mode::ConfirmDiscard {
+                    then: Discard::Quit
+                } | Mode::ConfirmEndClass
+            );
+            match action_for(&app.mode, key) {
+                Some(
+                    action @ (Action::Quit | Action::Interrupt | Action::Suspend | Action::Cancel),
+                ) => act(app, action),
+                Some(Action::Confirm) if quitting => act(app, Action::Confirm),
+                _ => {}
+            }
+        }
+        Msg::Paste(_) | Msg::Pointer(_) if !fits(screen(app)) => {}
         Msg::Key(key) => {
             if follow::intercept(app, key) {
                 // Taken by follow mode.
