@@ -35,6 +35,26 @@ pub fn columns(text: &str) -> usize {
     unicode_width::UnicodeWidthStr::width(text)
 }
 
+/// The longest start of `text` that fits `width` columns (possibly empty).
+pub fn prefix_in_columns(text: &str, width: usize) -> &str {
+    let mut used = 0;
+    for (i, c) in text.char_indices() {
+        used += char_columns(c);
+        if used > width {
+            return &text[..i];
+        }
+    }
+    text
+}
+
+/// `text` in at most `width` columns, ending in `…` when cut.
+pub fn fit_columns(text: &str, width: usize) -> String {
+    if columns(text) <= width {
+        return text.to_string();
+    }
+    format!("{}…", prefix_in_columns(text, width.saturating_sub(1)))
+}
+
 fn char_columns(c: char) -> usize {
     unicode_width::UnicodeWidthChar::width(c).unwrap_or(0)
 }
@@ -128,6 +148,11 @@ mod tests {
         assert_eq!(wrap(&["梁梁梁 梁".to_string()], 6), vec!["梁梁梁", "梁"]);
         assert_eq!(wrap(&["梁梁梁梁".to_string()], 5), vec!["梁梁", "梁梁"]);
         assert_eq!(wrap(&["梁".to_string()], 1), vec!["梁"]);
+        assert_eq!(prefix_in_columns("梁a梁", 3), "梁a");
+        assert_eq!(prefix_in_columns("梁", 1), "");
+        assert_eq!(fit_columns("abcdef", 4), "abc…");
+        assert_eq!(fit_columns("梁梁梁", 4), "梁…");
+        assert_eq!(fit_columns("abc", 3), "abc");
         let accented = "e\u{301}".repeat(10);
         assert_eq!(
             wrap(std::slice::from_ref(&accented), 10),

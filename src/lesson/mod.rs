@@ -18,7 +18,9 @@ use std::path::PathBuf;
 
 use crate::scene::LoadedScene;
 
-pub use caption::{CAPTION_LINES, CAPTION_WIDTH, columns, paragraphs, wrap};
+pub use caption::{
+    CAPTION_LINES, CAPTION_WIDTH, columns, fit_columns, paragraphs, prefix_in_columns, wrap,
+};
 pub use read::{MAX_STEP_TITLE, MAX_STEPS, MAX_TITLE, read_lesson};
 
 /// A lesson, every step of it loaded and valid.

@@ -13,7 +13,7 @@ use crate::format::printable;
 use crate::model::Method;
 use crate::scene::{
     LoadedScene, PRESETS, Panel, Scene, SceneError, SceneSource, check_elements, check_epsilon,
-    preset, read_scene_text,
+    preset, read_scene_text, text_position,
 };
 
 /// Most steps in a lesson.
@@ -287,9 +287,7 @@ fn syntax_error(text: &str, file: &str, error: &toml::de::Error) -> LessonError 
         .lines()
         .filter(|l| l.trim_start().starts_with("[[step]]"))
         .count();
-    let line = before.matches('\n').count() + 1;
-    // Columns count characters, not bytes (ε is two bytes).
-    let column = text[line_start..start].chars().count() + 1;
+    let (line, column) = text_position(text, start);
     let this_line = text[line_start..].lines().next().unwrap_or("");
     let key = this_line
         .split_once('=')

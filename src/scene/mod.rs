@@ -303,12 +303,7 @@ fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError 
         };
     };
     let before = &text[..span.start.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    // Columns count characters, not bytes (ε is two bytes).
-    let column = before[before.rfind('\n').map_or(0, |i| i + 1)..]
-        .chars()
-        .count()
-        + 1;
+    let (line, column) = text_position(text, span.start);
     // The table the error sits in, so the message names the field's place, not just a line.
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let on_header = text[line_start..].trim_start().starts_with('[');
@@ -338,6 +333,17 @@ fn parse_error(text: &str, source: &str, error: &toml::de::Error) -> SceneError 
         field: format!("line {line}, column {column}{table}{key}"),
         rule: message,
     }
+}
+
+/// Line and column (from 1) of byte `offset` in `text`, as an editor shows them: columns
+/// count characters, not bytes (ε is two bytes). Scene and lesson errors say where with it.
+pub fn text_position(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (
+        before.matches('\n').count() + 1,
+        before[line_start..].chars().count() + 1,
+    )
 }
 
 /// The rule for the number of elements, shared by scene files, the command line and the

@@ -301,9 +301,18 @@ impl App {
         self.exploration.scene != self.saved
     }
 
+    /// The lesson's steps (counted from 0) left with unsaved changes.
+    pub fn changed_steps(&self) -> Vec<usize> {
+        self.step_edits
+            .iter()
+            .filter(|(_, e)| e.scene != e.saved)
+            .map(|(step, _)| *step)
+            .collect()
+    }
+
     /// Is any work unsaved: this scene's, or a lesson step's left with changes?
     pub fn has_unsaved_work(&self) -> bool {
-        self.modified() || self.step_edits.values().any(|e| e.scene != e.saved)
+        self.modified() || !self.changed_steps().is_empty()
     }
 
     /// Is this a served student following the presenter (who may not change the scene)?

@@ -8,7 +8,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::format::printable;
-use crate::lesson::{columns, wrap};
+use crate::lesson::{columns, prefix_in_columns, wrap};
 use crate::plot::Theme;
 use crate::tui::layout::caption_width;
 use crate::tui::state::App;
@@ -38,15 +38,9 @@ pub(super) fn draw_caption_strip(frame: &mut Frame, app: &App, theme: &Theme, ar
     if caption.len() > room && room > 0 {
         caption.truncate(room);
         if let Some(last) = caption.last_mut() {
+            // More follows: the last line shown always ends in `…`.
             let keep = caption_width(area).saturating_sub(1);
-            let mut cut = String::new();
-            for c in last.chars() {
-                if columns(&cut) + columns(c.encode_utf8(&mut [0; 4])) > keep {
-                    break;
-                }
-                cut.push(c);
-            }
-            *last = cut + "…";
+            *last = format!("{}…", prefix_in_columns(last, keep));
         }
     }
     lines.extend(

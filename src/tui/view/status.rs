@@ -243,10 +243,9 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
         Mode::ConfirmOverwrite { path } => overwrite_question(path, ascii),
         Mode::ConfirmDiscard { then } => {
             let changed_steps: Vec<String> = app
-                .step_edits
+                .changed_steps()
                 .iter()
-                .filter(|(_, e)| e.scene != e.saved)
-                .map(|(step, _)| (step + 1).to_string())
+                .map(|step| (step + 1).to_string())
                 .collect();
             let quit_too = if changed_steps.is_empty() {
                 "quit".to_string()

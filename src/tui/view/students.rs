@@ -11,7 +11,7 @@ use ratatui::text::Line;
 use ratatui::widgets::{Clear, Paragraph};
 
 use crate::format::printable;
-use crate::lesson::columns;
+use crate::lesson::{columns, fit_columns};
 use crate::plot::Theme;
 use crate::tui::state::App;
 use crate::tui::state::follow::StudentView;
@@ -78,17 +78,7 @@ fn row_style(theme: &Theme, student: &StudentView) -> ratatui::style::Style {
 fn row(student: &StudentView) -> String {
     let user = printable(&student.user);
     // Cut and padded in terminal columns (a CJK name takes two a character).
-    let mut name = String::new();
-    for c in user.chars() {
-        if columns(&name) + columns(c.encode_utf8(&mut [0; 4])) > USER_WIDTH - 1 {
-            name.push('…');
-            break;
-        }
-        name.push(c);
-    }
-    if columns(&user) <= USER_WIDTH {
-        name = user.into_owned();
-    }
+    let name = fit_columns(&user, USER_WIDTH);
     let pad = " ".repeat(USER_WIDTH.saturating_sub(columns(&name)));
     format!(
         "{name}{pad}  {:<15}  idle {:<7}  {}",
