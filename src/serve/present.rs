@@ -85,7 +85,7 @@ pub fn present(
     )
     .map_err(ServeError::Terminal);
     if let Some(recording) = recording {
-        finish_recording(recording);
+        finish_recording(recording, record);
     }
     // The class ends: every student sees their closing screen (their scene saved under
     // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
@@ -118,7 +118,7 @@ pub fn present(
 }
 
 /// Ends the recording and says where it went (or why it could not be finished).
-fn finish_recording(recording: Recording) {
+fn finish_recording(recording: Recording, path: Option<&std::path::Path>) {
     match recording.finish() {
         Ok(summary) => log(&format!(
             "recording saved: {}{} ({:.0} s, {} bytes{}); asciinema play {} replays it",
@@ -139,7 +139,16 @@ fn finish_recording(recording: Recording) {
             },
             crate::format::printable(&summary.path.display().to_string())
         )),
-        Err(e) => log(&format!("the recording could not be finished: {e}")),
+        // A full disk, say: the file keeps its last whole write, a complete cast.
+        Err(e) => log(&format!(
+            "the recording could not be finished ({}); {} keeps it as last written, a complete \
+             cast up to then",
+            e.kind(),
+            path.map_or_else(String::new, |p| crate::format::printable(
+                &p.display().to_string()
+            )
+            .into_owned())
+        )),
     }
 }
 
