@@ -176,8 +176,10 @@ fn explore(name: &str, lesson: &LessonArgs, display: &DisplayArgs) -> Result<Exi
         ));
     }
     let (loaded, lesson) = open_scene(name, lesson)?;
+    let (palette, markers) = display.palette_and_markers();
     let options = crate::tui::state::Options {
-        palette: display.theme,
+        palette,
+        markers,
         mouse: !display.no_mouse,
         show_timings: true,
         lesson,
@@ -244,7 +246,8 @@ fn serve_options(args: &ServeArgs) -> crate::serve::ServeOptions {
         mouse: !args.display.no_mouse,
         ascii: args.display.ascii,
         color: !args.display.no_color,
-        palette: args.display.theme,
+        palette: args.display.palette_and_markers().0,
+        markers: args.display.palette_and_markers().1,
         scene: args.scene.clone(),
         lesson: args.lesson.clone(),
         save_dir: args.save_dir.clone(),
@@ -260,6 +263,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
     let keys = crate::tui::input::keys::parse_keys(&args.keys)
         .map_err(|unknown| CliError::Argument(format!("--keys: {unknown}")))?;
     let (loaded, lesson) = open_scene(&args.scene, &args.lesson)?;
+    let (palette, markers) = args::chosen_look(args.theme, args.marker, args.projector);
     let options = crate::tui::RenderOptions {
         lesson,
         width: args.size.0,
@@ -268,7 +272,8 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
             ascii: args.ascii,
             color: args.color,
         },
-        palette: args.theme,
+        palette,
+        markers,
         timings: args.timings,
         allow_save: args.allow_save.clone(),
     };

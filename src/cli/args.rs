@@ -9,7 +9,7 @@ use std::sync::LazyLock;
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::plot::Palette;
+use crate::plot::{MarkerSet, Palette};
 use crate::scene::MAX_ELEMENTS;
 use crate::solve::{ConditionLevel, Method};
 
@@ -37,6 +37,38 @@ impl ValueEnum for Palette {
 
     fn to_possible_value(&self) -> Option<PossibleValue> {
         Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+impl ValueEnum for MarkerSet {
+    fn value_variants<'a>() -> &'a [Self] {
+        &MarkerSet::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+/// The palette and marker set of `--theme`, `--marker` and `--projector`: what is given, else
+/// the projector's (high-contrast, half blocks) with `--projector`, else the defaults.
+pub fn chosen_look(
+    theme: Option<Palette>,
+    marker: Option<MarkerSet>,
+    projector: bool,
+) -> (Palette, MarkerSet) {
+    let (palette, markers) = if projector {
+        (Palette::HighContrast, MarkerSet::HalfBlock)
+    } else {
+        (Palette::default(), MarkerSet::default())
+    };
+    (theme.unwrap_or(palette), marker.unwrap_or(markers))
+}
+
+impl DisplayArgs {
+    /// The palette and marker set asked for.
+    pub fn palette_and_markers(&self) -> (Palette, MarkerSet) {
+        chosen_look(self.theme, self.marker, self.projector)
     }
 }
 
@@ -92,9 +124,18 @@ pub struct DisplayArgs {
     /// No colours (also when NO_COLOR is set; a session's: its client's).
     #[arg(long)]
     pub no_color: bool,
-    /// Colours for the terminal's background or a projector (`T` cycles them).
-    #[arg(long, value_name = "THEME", default_value = "dark")]
-    pub theme: Palette,
+    /// Colours for the terminal's background or a projector (`T` cycles them) [default: dark,
+    /// high-contrast with --projector].
+    #[arg(long, value_name = "THEME")]
+    pub theme: Option<Palette>,
+    /// What the charts' curves are drawn with (`M` cycles them) [default: braille, half-block
+    /// with --projector; ascii without Unicode].
+    #[arg(long, value_name = "SET")]
+    pub marker: Option<MarkerSet>,
+    /// The look for a projector: thick half-block curves, the high-contrast palette, bold
+    /// labels (--theme and --marker still choose).
+    #[arg(long)]
+    pub projector: bool,
     /// Leave the mouse to the terminal (no clicks, wheel or drags in the explorer).
     #[arg(long)]
     pub no_mouse: bool,
@@ -305,9 +346,16 @@ pub struct RenderArgs {
     /// Emit ANSI colours (plain text otherwise).
     #[arg(long)]
     pub color: bool,
-    /// The colours of --color.
-    #[arg(long, value_name = "THEME", default_value = "dark")]
-    pub theme: Palette,
+    /// The colours of --color (bold labels in high-contrast) [default: dark, high-contrast with
+    /// --projector].
+    #[arg(long, value_name = "THEME")]
+    pub theme: Option<Palette>,
+    /// What the charts' curves are drawn with [default: braille, half-block with --projector].
+    #[arg(long, value_name = "SET")]
+    pub marker: Option<MarkerSet>,
+    /// The projector look: half-block curves, high-contrast palette, bold labels.
+    #[arg(long)]
+    pub projector: bool,
     /// Show run times (the frame then depends on the clock).
     #[arg(long)]
     pub timings: bool,

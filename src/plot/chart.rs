@@ -172,18 +172,14 @@ pub fn key_layout(
     (plot, lines)
 }
 
-/// The marker of a curve: Braille dots, or `.` in ASCII.
+/// The marker of a curve, from the theme's marker set (ASCII in an ASCII look).
 pub fn curve_marker(theme: &Theme) -> Marker {
-    if theme.look.ascii {
-        Marker::Custom('.')
-    } else {
-        Marker::Braille
-    }
+    theme.curve_markers().curve()
 }
 
 /// The key's marker of a curve.
 pub fn curve_key(theme: &Theme) -> char {
-    marker_char(theme, '⠤', '.')
+    theme.curve_markers().curve_key()
 }
 
 /// A point marker: `unicode`, or `ascii` in ASCII mode.

@@ -7,6 +7,7 @@
 mod ascii;
 mod axes;
 mod chart;
+mod markers;
 mod plot_area;
 mod study_charts;
 mod text;
@@ -18,6 +19,7 @@ pub use chart::{
     KeyEntry, PanelFrame, Piece, bounds_of, curve_key, curve_marker, key_layout, log_points,
     marker_char, notice, pack, panel_with_key, point_marker,
 };
+pub use markers::MarkerSet;
 pub use plot_area::{AxisKind, AxisSpec, Markers, PlotArea};
 pub use study_charts::{
     CurrentRun, StudyChart, chart_buffer, eps_condition_chart, eps_error_chart, error_time_chart,

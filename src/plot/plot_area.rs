@@ -65,7 +65,15 @@ fn widest(labels: &[(f64, String)]) -> u16 {
 
 impl PlotArea {
     /// Lays out a chart in `area`, or `None` when it is too small for one (under 12×4 cells).
+    /// The x title goes at the end of the x axis, right of its last tick (the graph narrows to
+    /// make room when it must), so that it never sits beside a tick's label and reads as a
+    /// value; when even that leaves no graph, the chart has no x title (the panel's title
+    /// names the axis).
     pub fn new(area: Rect, x: &AxisSpec, y: &AxisSpec) -> Option<PlotArea> {
+        PlotArea::lay_out(area, x, y, true).or_else(|| PlotArea::lay_out(area, x, y, false))
+    }
+
+    fn lay_out(area: Rect, x: &AxisSpec, y: &AxisSpec, with_title: bool) -> Option<PlotArea> {
         if area.height < 4 || area.width < 12 {
             return None;
         }
@@ -79,9 +87,16 @@ impl PlotArea {
                 widest(&x.scale(area.width.saturating_sub(y_width + 2), true).labels)
             }
         };
-        for _ in 0..3 {
+        let title = if with_title { x.title.as_str() } else { "" };
+        // Cells the title takes at the end of the axis row: a blank, then the title.
+        let title_cells = match title.chars().count() as u16 {
+            0 => 0,
+            width => width + 1,
+        };
+        let mut title_room = 0u16;
+        for _ in 0..6 {
             let left = (y_width + 1).max((x_width - 1) / 2);
-            let right = (x_width / 2).max(1);
+            let right = (x_width / 2).max(1) + title_room;
             let graph_width = area.width.checked_sub(left + right)?;
             if graph_width < 4 {
                 return None;
@@ -92,13 +107,25 @@ impl PlotArea {
                 x_width = needed;
                 continue;
             }
+            // Free cells of the axis row right of the last tick (to the area's right edge).
+            let last_tick = x_scale
+                .ticks
+                .iter()
+                .filter_map(|&t| cell(t, x_scale.bounds, graph_width))
+                .max()
+                .map_or(0, |c| c + 1);
+            let free = area.width - left - last_tick;
+            if free < title_cells {
+                title_room += title_cells - free;
+                continue;
+            }
             let graph = Rect::new(area.x + left, area.y, graph_width, graph_height);
             return Some(PlotArea {
                 area,
                 graph,
                 x: x_scale,
                 y: y_scale,
-                x_title: x.title.clone(),
+                x_title: title.to_string(),
             });
         }
         None
@@ -167,56 +194,22 @@ impl PlotArea {
                 buffer.set_stringn(x, row, text, (axis_x - x) as usize, label_style);
             }
         }
-        // x labels centred on their columns; the spans they take, for the title.
-        let mut taken: Vec<(i32, i32)> = Vec::new();
+        // x labels centred on their columns.
         for (value, text) in &self.x.labels {
             if let Some(column) = self.column(*value) {
                 let width = text.chars().count() as u16;
                 let start = label_start(column, width).max(i32::from(self.area.x)) as u16;
                 buffer.set_stringn(start, label_row, text, width as usize, label_style);
-                taken.push((i32::from(start), i32::from(start + width)));
             }
         }
-        self.draw_x_title(buffer, theme, &taken, label_row);
-    }
-
-    /// The x title in the widest free stretch of the label row (right-aligned in it), else at
-    /// the right of the graph's bottom or top row where those cells are blank, else nowhere.
-    fn draw_x_title(&self, buffer: &mut Buffer, theme: &Theme, taken: &[(i32, i32)], row: u16) {
-        let title = &self.x_title;
-        let width = title.chars().count() as i32;
-        if width == 0 {
-            return;
-        }
-        let mut edges = vec![(i32::from(self.area.x) - 1, i32::from(self.area.x))];
-        edges.extend_from_slice(taken);
-        edges.push((
-            i32::from(self.area.right()),
-            i32::from(self.area.right()) + 1,
-        ));
-        edges.sort();
-        let best = edges
-            .windows(2)
-            .map(|w| (w[0].1, w[1].0)) // free from .. to (exclusive)
-            .filter(|(from, to)| to - from >= width + 2)
-            .max_by_key(|(from, to)| to - from);
-        let style = theme.dim();
-        match best {
-            Some((_, to)) => {
-                let x = (to - 1 - width).max(i32::from(self.area.x)) as u16;
-                buffer.set_stringn(x, row, title, width as usize, style);
+        // The x title ends the axis row, after a blank, right of the last tick (see `new`).
+        let width = self.x_title.chars().count() as u16;
+        if width > 0 {
+            let start = self.area.right() - width;
+            if start > self.graph.x {
+                buffer[(start - 1, axis_row)].set_symbol(" ");
             }
-            // Inside the graph only over blank cells: a title never hides data.
-            None if width < i32::from(self.graph.width) => {
-                let x = self.graph.right() - width as u16;
-                let blank =
-                    |row: u16| (x..self.graph.right()).all(|c| buffer[(c, row)].symbol() == " ");
-                let rows = [self.graph.bottom() - 1, self.graph.top()];
-                if let Some(row) = rows.into_iter().find(|r| blank(*r)) {
-                    buffer.set_stringn(x, row, title, width as usize, style);
-                }
-            }
-            None => {}
+            buffer.set_stringn(start, axis_row, &self.x_title, width as usize, theme.dim());
         }
     }
 
@@ -237,6 +230,27 @@ impl PlotArea {
         if let Some(column) = self.column(x) {
             for row in self.graph.top()..self.graph.bottom() {
                 buffer[(column, row)].set_symbol(symbol).set_style(style);
+            }
+        }
+    }
+
+    /// Marks the x axis line from `range[0]` to `range[1]` (plotted values) with `glyph`,
+    /// ticks kept: a stretch of the x axis told apart (the beam's segments).
+    pub fn mark_axis(&self, buffer: &mut Buffer, range: [f64; 2], glyph: char, style: Style) {
+        let (Some(from), Some(to)) = (self.column(range[0]), self.column(range[1])) else {
+            return;
+        };
+        let ticks: Vec<u16> = self
+            .x
+            .ticks
+            .iter()
+            .filter_map(|&t| self.column(t))
+            .collect();
+        for column in from..=to {
+            if !ticks.contains(&column) {
+                buffer[(column, self.axis_row())]
+                    .set_char(glyph)
+                    .set_style(style);
             }
         }
     }
@@ -315,6 +329,7 @@ mod tests {
                 color: false,
             },
             super::super::Palette::Dark,
+            super::super::MarkerSet::Braille,
         )
     }
 
@@ -424,6 +439,59 @@ mod tests {
                         assert!(found.abs_diff(row) <= 1, "{case}: {text} {found} vs {row}");
                     }
                 }
+            }
+        }
+    }
+
+    /// Issue 25: the x title is never beside a tick's label (where `ε 1e-8` reads as a value):
+    /// it ends the axis row, right of the last tick, after a blank, on linear and log axes at
+    /// every width from 16 to 200 columns; the label row holds only labels.
+    #[test]
+    fn the_x_title_ends_the_axis_and_never_sits_beside_a_label() {
+        for width in 16..=200u16 {
+            for (kind, range, title) in [
+                (AxisKind::Log, [-16.0, 0.0], "ε"),
+                (AxisKind::Log, [1.0, 6.0], "t [s]"),
+                (AxisKind::Linear, [0.0, 1.0], "x [m]"),
+                (AxisKind::Linear, [0.0, 2.5], "x [m]"),
+            ] {
+                let x = AxisSpec {
+                    kind,
+                    range,
+                    title: title.into(),
+                };
+                let y = AxisSpec {
+                    kind: AxisKind::Log,
+                    range: [-3.0, 0.0],
+                    title: String::new(),
+                };
+                let area = Rect::new(1, 1, width, 10);
+                let Some(plot) = PlotArea::new(area, &x, &y) else {
+                    continue;
+                };
+                let mut buffer = Buffer::empty(Rect::new(0, 0, width + 2, 12));
+                plot.draw_axes(&mut buffer, &look());
+                let case = format!("{title} at width {width}");
+                let axis_row = plot.graph.bottom();
+                let label_row = axis_row + 1;
+                let labels: Vec<String> = plot.x.labels.iter().map(|(_, t)| t.clone()).collect();
+                let shown: Vec<String> = words(&buffer, label_row, 0, buffer.area.width)
+                    .into_iter()
+                    .map(|(_, w)| w)
+                    .collect();
+                assert_eq!(shown, labels, "{case}: the label row holds only the labels");
+                if plot.x_title.is_empty() {
+                    // No room even for a narrowed graph: allowed only in narrow charts.
+                    assert!(width < 30, "{case}: no title");
+                    continue;
+                }
+                let row: String = (area.x..area.right())
+                    .map(|c| buffer[(c, axis_row)].symbol().to_string())
+                    .collect();
+                assert!(row.ends_with(&format!(" {title}")), "{case}: {row:?}");
+                let start = area.right() - title.chars().count() as u16;
+                let last_tick = plot.x.ticks.iter().filter_map(|&t| plot.column(t)).max();
+                assert!(last_tick.is_some_and(|c| c + 1 < start), "{case}: {row:?}");
             }
         }
     }

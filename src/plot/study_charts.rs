@@ -14,7 +14,7 @@ use super::chart::{
     notice, panel_with_key, point_marker,
 };
 use super::plot_area::{AxisKind, AxisSpec, Markers, PlotArea};
-use super::{Look, Palette, Theme, transliterate};
+use super::{Look, MarkerSet, Palette, Theme, transliterate};
 use crate::format::{duration, sci};
 use crate::solve::{Method, Reference};
 use crate::study::{EpsPoint, MeshPoint};
@@ -356,6 +356,25 @@ pub fn error_time_chart(
     if let Some(x) = rule {
         area.vertical_line(buffer, x, current_line(theme), theme.current());
     }
+    // The selected method's points joined in the order of n, in the theme's curve markers,
+    // under every method's markers.
+    let path: Vec<(f64, f64)> = series
+        .iter()
+        .filter(|(_, method, _)| Some(*method) == selected)
+        .flat_map(|(_, _, data)| data.iter().map(|&(x, y, _)| area.unit((x, y))))
+        .collect();
+    if path.len() > 1 {
+        let style = series
+            .iter()
+            .find(|(_, method, _)| Some(*method) == selected)
+            .map_or(theme.plain(), |(i, _, _)| theme.series(*i));
+        let line = Dataset::default()
+            .marker(curve_marker(theme))
+            .graph_type(GraphType::Line)
+            .style(style)
+            .data(&path);
+        area.draw_datasets(buffer, theme, vec![line]);
+    }
     area.scatter(buffer, &method_markers(theme, &series, selected));
     area.draw_axes(buffer, theme);
 }
@@ -520,7 +539,7 @@ pub enum StudyChart<'a> {
 /// Draws one study chart, with its title, into a fresh buffer of the given size: the same
 /// drawing as the explorer's panel.
 pub fn chart_buffer(chart: StudyChart, title: &str, width: u16, height: u16, look: Look) -> Buffer {
-    let theme = Theme::new(look, Palette::Dark);
+    let theme = Theme::new(look, Palette::Dark, MarkerSet::default());
     let mut terminal = ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
         .expect("an in-memory terminal");
     terminal

@@ -9,7 +9,7 @@ use ratatui::symbols::border;
 use ratatui::text::Line;
 use ratatui::widgets::{Block, Borders};
 
-use super::Look;
+use super::{Look, MarkerSet};
 
 /// A set of colours for the terminal's background.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -57,11 +57,22 @@ impl Palette {
 pub struct Theme {
     pub look: Look,
     pub palette: Palette,
+    /// What curves are drawn with (ASCII whatever this says when the look has no Unicode).
+    pub markers: MarkerSet,
 }
 
 impl Theme {
-    pub fn new(look: Look, palette: Palette) -> Theme {
-        Theme { look, palette }
+    pub fn new(look: Look, palette: Palette, markers: MarkerSet) -> Theme {
+        Theme {
+            look,
+            palette,
+            markers,
+        }
+    }
+
+    /// The marker set the curves are drawn with in this look.
+    pub fn curve_markers(&self) -> MarkerSet {
+        self.markers.for_look(self.look.ascii)
     }
 
     fn colored(&self, dark: Style, light: Style, high: Style) -> Option<Style> {
@@ -89,8 +100,14 @@ impl Theme {
         )
         .unwrap_or_default()
     }
+    /// Ordinary text (axis labels among it): bold in the high-contrast palette, with or without
+    /// colours, so that it reads from the back of a room.
     pub fn plain(&self) -> Style {
-        Style::default()
+        if self.palette == Palette::HighContrast {
+            Style::default().add_modifier(Modifier::BOLD)
+        } else {
+            Style::default()
+        }
     }
     pub fn title(&self) -> Style {
         self.colored(

@@ -52,6 +52,8 @@ pub struct ExplorerSettings {
     pub color: bool,
     /// The colours a session starts with (`--theme`).
     pub palette: crate::plot::Palette,
+    /// The chart markers a session starts with (`--marker`).
+    pub markers: crate::plot::MarkerSet,
     /// `--save-dir`, resolved: the only directory sessions save to.
     pub save_dir: Option<std::path::PathBuf>,
 }
@@ -190,6 +192,7 @@ pub(crate) fn start(
         follow,
         owner: user.map(str::to_string),
         palette: settings.palette,
+        markers: settings.markers,
         lesson: settings.lesson.clone(),
         ..Options::new(Look {
             ascii: client.look().ascii || settings.ascii,

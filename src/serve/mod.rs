@@ -94,6 +94,8 @@ pub struct ServeOptions {
     pub color: bool,
     /// The sessions' colours at start (`--theme`; `T` cycles them).
     pub palette: crate::plot::Palette,
+    /// The sessions' chart markers at start (`--marker`; `M` cycles them).
+    pub markers: crate::plot::MarkerSet,
     /// The only directory served sessions may save to; `None`: `s` shows the TOML to copy.
     pub save_dir: Option<PathBuf>,
 }
@@ -117,6 +119,7 @@ impl Default for ServeOptions {
             ascii: false,
             color: true,
             palette: crate::plot::Palette::default(),
+            markers: crate::plot::MarkerSet::default(),
             save_dir: None,
         }
     }
@@ -282,6 +285,7 @@ impl Server {
                 ascii: options.ascii,
                 color: options.color,
                 palette: options.palette,
+                markers: options.markers,
                 save_dir,
             },
             slots: SessionSlots::new(memory.sessions),

@@ -46,6 +46,7 @@ pub fn present(
         show_timings: true,
         mouse: options.mouse,
         palette: options.palette,
+        markers: options.markers,
         follow: Some(Follow::presenter(&hub.followers, true)),
         lesson: shared.explorer.lesson.clone(),
         greeting: Some(format!(

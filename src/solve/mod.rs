@@ -30,8 +30,8 @@ pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{CondensedFailure, CondensedSolution, solve_condensed, solve_condensed_while};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
-    Conditioning, ErrorReport, FrictionState, MethodDetails, ObstacleResult, Reference, Solution,
-    SolveError, SolveErrorKind, Timing, Warning, WarningCode,
+    Conditioning, ErrorReport, FrictionState, KktGrade, MethodDetails, ObstacleResult, Reference,
+    Solution, SolveError, SolveErrorKind, Timing, Warning, WarningCode,
 };
 
 /// Solves with `method`, then certifies the answer (KKT residual, friction states, optional

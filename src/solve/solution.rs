@@ -197,6 +197,53 @@ impl Warning {
     }
 }
 
+/// How far from a solution a KKT residual (relative) puts an answer, in three grades: the
+/// words of the warning and of its headline follow it, so that a residual of 1e-9 does not
+/// read like one of 1e-1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KktGrade {
+    /// Above rounding, at most 1e-6: a solution to about that accuracy.
+    Close,
+    /// Above 1e-6, at most 1e-2: an approximate solution.
+    Approximate,
+    /// Above 1e-2 (or not finite): not a solution.
+    NotASolution,
+}
+
+impl KktGrade {
+    /// The grade of a relative KKT residual.
+    pub fn of(residual: f64) -> KktGrade {
+        if residual <= 1e-6 {
+            KktGrade::Close
+        } else if residual <= 1e-2 {
+            KktGrade::Approximate
+        } else {
+            KktGrade::NotASolution
+        }
+    }
+
+    /// What the grade means for the answer, after "the answer is".
+    pub fn meaning(self) -> &'static str {
+        match self {
+            KktGrade::Close => "a solution to about that accuracy, not to rounding",
+            KktGrade::Approximate => "an approximate solution, good to about that",
+            KktGrade::NotASolution => "not a solution of the discrete problem",
+        }
+    }
+
+    /// The status line's few words, with the residual.
+    pub fn headline(self, residual: f64) -> String {
+        let residual = crate::format::sci(residual, 2);
+        match self {
+            KktGrade::Close => format!("KKT check off by {residual}: accurate to about that"),
+            KktGrade::Approximate => format!("KKT check off by {residual}: approximate only"),
+            KktGrade::NotASolution => {
+                format!("the independent KKT check fails by {residual}: not a solution")
+            }
+        }
+    }
+}
+
 /// The friction state of one DOF (value or slope) of an obstacle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum FrictionState {

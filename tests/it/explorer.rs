@@ -22,6 +22,7 @@ fn frame(name: &str, width: u16, height: u16, keys: &str) -> String {
         look: PLAIN,
         timings: false,
         palette: Default::default(),
+        markers: Default::default(),
         allow_save: None,
         lesson: None,
     };

@@ -77,7 +77,7 @@ fn title_and_status_hold_whole_words_at_every_width_on_every_preset_and_method()
             let headlines: String = match app.exploration.solution() {
                 Some(Ok(solution)) => ordered(solution)
                     .iter()
-                    .map(|w| headline(w.code))
+                    .map(|w| headline(w.code, solution.kkt_residual))
                     .collect::<Vec<_>>()
                     .join(" "),
                 _ => String::new(),

@@ -312,6 +312,7 @@ fn ready_app() -> &'static App {
                 look,
                 timings: false,
                 palette: Default::default(),
+                markers: Default::default(),
                 allow_save: None,
                 lesson: None,
             },

@@ -40,6 +40,7 @@ fn step_frame(lesson: &Arc<Lesson>, step: usize, (width, height): (u16, u16)) ->
             color: false,
         },
         palette: Default::default(),
+        markers: Default::default(),
         timings: false,
         allow_save: None,
         lesson: Some(place.clone()),

@@ -22,6 +22,7 @@ mod fitting;
 mod fuzz;
 mod headless;
 mod lessons;
+mod markers;
 mod mouse;
 mod numerics;
 mod presets;

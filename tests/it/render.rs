@@ -23,6 +23,7 @@ fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
             color: false,
         },
         palette: Default::default(),
+        markers: Default::default(),
         timings: false,
         allow_save: None,
         lesson: None,
@@ -522,13 +523,22 @@ fn regularized_deflection_with_its_reference() {
                 assert!(text.contains("condensed = reference"), "{label}\n{text}");
                 // The reference curve's dots on several rows of the panel (the title line and
                 // the status lines, which use · as a separator, left out).
-                let reference = if ascii { ':' } else { '·' };
+                // In ASCII the dots are `.`, told from decimal points by having no digit beside.
+                let reference = if ascii { '.' } else { '·' };
                 let rows = text.lines().count();
+                let is_dot = |line: &[char], i: usize| {
+                    let digit = |j: Option<usize>| {
+                        j.and_then(|j| line.get(j))
+                            .is_some_and(|c| c.is_ascii_digit())
+                    };
+                    line[i] == reference && !digit(i.checked_sub(1)) && !digit(Some(i + 1))
+                };
                 let with_dots = text
                     .lines()
                     .skip(1)
                     .take(rows - 5)
-                    .filter(|l| l.matches(reference).count() >= 1)
+                    .map(|l| l.chars().collect::<Vec<char>>())
+                    .filter(|l| (0..l.len()).any(|i| is_dot(l, i)))
                     .count();
                 assert!(with_dots >= 4, "{label}: no reference curve\n{text}");
             }

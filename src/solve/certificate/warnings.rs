@@ -42,8 +42,10 @@ pub(super) fn kkt_warning(residual: f64, method: Method) -> Option<Warning> {
             WarningCode::KktResidual,
             format!(
                 "the KKT conditions of (38), checked piece by piece from the exact solution of \
-                 every stretch between special points, fail by {residual:.1e} (relative): the \
-                 answer is not the solution of the discrete problem to that accuracy; {advice}"
+                 every stretch between special points, fail by {} (relative): the answer is \
+                 {}; {advice}",
+                crate::format::sci(residual, 2),
+                crate::solve::KktGrade::of(residual).meaning()
             ),
         )
     })
@@ -148,8 +150,8 @@ pub(super) fn accuracy_warning(solution: &Solution, problem: &Problem) -> Option
         return Some(Warning::new(
             WarningCode::AccuracyLoss,
             format!(
-                "the regularised solution is {rel:.1e} (relative, u or u') from the {} \
-                 reference: {cause}",
+                "the regularised solution is {} from the {} reference: {cause}",
+                relative_errors(&error),
                 error.reference.name()
             ),
         ));
@@ -158,12 +160,23 @@ pub(super) fn accuracy_warning(solution: &Solution, problem: &Problem) -> Option
         Warning::new(
             WarningCode::AccuracyLoss,
             format!(
-                "{rel:.1e} relative error (u or u') against the {} reference: digits lost \
-                 to rounding",
+                "{} from the {} reference: digits lost to rounding",
+                relative_errors(&error),
                 error.reference.name()
             ),
         )
     })
+}
+
+/// The relative errors in u and in u' in words, each as the status line prints the first
+/// (two digits): `8.5e-7 in u and 1.2e-6 in u' (relative)`, so that the status line's
+/// `error 8.5e-7` is found in the warning, named.
+fn relative_errors(error: &crate::solve::ErrorReport) -> String {
+    let parts: Vec<String> = [(error.max_rel, "u"), (error.slope_max_rel, "u'")]
+        .into_iter()
+        .filter_map(|(value, name)| Some(format!("{} in {name}", crate::format::sci(value?, 2))))
+        .collect();
+    format!("{} (relative)", parts.join(" and "))
 }
 
 /// Relative error of a regularised solution above which it is reported even when ε explains

@@ -35,9 +35,24 @@ pub struct DeflectionData {
     pub states: [Vec<(f64, f64)>; 6],
     pub key: Vec<KeyEntry>,
     pub y_range: [f64; 2],
+    /// Stretches whose E·J differs from the beam's (the longest stretch's), with the glyph
+    /// that marks each along the x axis.
+    pub segments: Vec<Segment>,
+    /// The position [m] of the obstacle whose parameter is selected, marked by a rule.
+    pub selected_obstacle: Option<f64>,
 }
 
-pub const REFERENCE_MARKER: (char, char) = ('·', ':');
+/// A stretch of the beam of its own stiffness, as the x axis marks it.
+pub struct Segment {
+    pub from: f64,
+    pub to: f64,
+    pub glyph: char,
+}
+
+/// The glyphs marking stiffer or softer stretches along the x axis (Unicode, ASCII), in turn.
+pub const SEGMENT_GLYPHS: [(char, char); 3] = [('━', '='), ('═', '~'), ('▀', '^')];
+
+pub const REFERENCE_MARKER: (char, char) = ('·', '.');
 pub const WALL: (char, char) = ('▒', '#');
 /// Rows the deflection chart keeps before its key takes the rest.
 pub const DEFLECTION_ROWS: u16 = 5;
@@ -113,6 +128,13 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         style: theme.dim(),
         short: None,
     });
+    let segments = segments(&shown.request.problem, theme, &mut key);
+    let selected_obstacle = app
+        .exploration
+        .selected_row()
+        .obstacle()
+        .and_then(|i| solution.obstacles.get(i))
+        .map(|o| o.x);
     let mut states: [Vec<(f64, f64)>; 6] = Default::default();
     let regularized = method.is_regularized();
     for o in &solution.obstacles {
@@ -141,7 +163,61 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         states,
         key,
         y_range: [min, max],
+        segments,
+        selected_obstacle,
     })
+}
+
+/// The stretches whose E·J is not the beam's (the E·J covering the most length), each with
+/// its glyph and an entry in the key: `━ EJ 2.9e9 N m² on 0.3–0.6 m`.
+fn segments(
+    problem: &crate::model::Problem,
+    theme: &Theme,
+    key: &mut Vec<KeyEntry>,
+) -> Vec<Segment> {
+    let pieces = &problem.stiffness;
+    let length_with = |ej: f64| -> f64 {
+        pieces
+            .iter()
+            .filter(|p| p.bending_stiffness == ej)
+            .map(|p| p.to - p.from)
+            .sum()
+    };
+    let Some(beam) = pieces
+        .iter()
+        .map(|p| p.bending_stiffness)
+        .max_by(|a, b| length_with(*a).total_cmp(&length_with(*b)))
+    else {
+        return Vec::new();
+    };
+    let mut segments = Vec::new();
+    for piece in pieces.iter().filter(|p| p.bending_stiffness != beam) {
+        let (u, a) = SEGMENT_GLYPHS[segments.len() % SEGMENT_GLYPHS.len()];
+        let glyph = marker_char(theme, u, a);
+        key.push(KeyEntry {
+            marker: glyph,
+            name: format!(
+                "EJ {} N m² on {}–{} m (beam {})",
+                crate::format::sci(piece.bending_stiffness, 2),
+                crate::format::eng(piece.from),
+                crate::format::eng(piece.to),
+                crate::format::sci(beam, 2),
+            ),
+            style: theme.plain(),
+            short: Some(format!(
+                "EJ {} on {}–{} m",
+                crate::format::sci(piece.bending_stiffness, 1),
+                crate::format::eng(piece.from),
+                crate::format::eng(piece.to),
+            )),
+        });
+        segments.push(Segment {
+            from: piece.from,
+            to: piece.to,
+            glyph,
+        });
+    }
+    segments
 }
 
 /// The deflection chart's axes in `plot` (the panel inside its borders, above its key).
@@ -208,7 +284,7 @@ impl DeflectionColumns {
 /// finite values, and room for a plot at least two columns wide).
 pub fn deflection_columns(app: &App, area: Rect) -> Option<DeflectionColumns> {
     // The same data, key and axes as the drawing (see `deflection`).
-    let theme = Theme::new(app.look, app.palette);
+    let theme = Theme::new(app.look, app.palette, app.markers);
     let data = deflection_data(app, &theme, area).ok()?;
     let inner = theme.block("", false).inner(area);
     let plot = key_layout(&theme, inner, &[], &[], &data.key, DEFLECTION_ROWS).0;

@@ -124,8 +124,10 @@ pub fn caption_width(area: Rect) -> usize {
     usize::from(area.width.saturating_sub(2)).max(1)
 }
 
-/// Parameters on top, results below: the parameters get their rows (up to about 60 % of the
-/// column), the results the rest; a column too short for both has the parameters alone.
+/// Parameters on top, results below: the parameters get their rows when the results still
+/// have room, else the results get theirs up to half the column (the answer before the
+/// paging: the parameters scroll to the selection anyway); a column too short for both has
+/// the parameters alone.
 fn split_left(app: &App, left: Rect) -> (Rect, Option<Rect>) {
     const RESULTS_MIN: u16 = 5;
     const PARAMETERS_MIN: u16 = 7;
@@ -139,8 +141,11 @@ fn split_left(app: &App, left: Rect) -> (Rect, Option<Rect>) {
         // The parameters fit: the results take the rest (scrolling when they need more).
         parameters_wanted
     } else {
-        // Both scroll: the results get up to two fifths of the column.
-        let results = results_wanted.min(left.height * 2 / 5).max(RESULTS_MIN);
+        // The results get up to half the column, the parameters at least their minimum.
+        let results = results_wanted
+            .min(left.height / 2)
+            .max(RESULTS_MIN)
+            .min(left.height - PARAMETERS_MIN);
         left.height - results
     };
     let [top, bottom] =

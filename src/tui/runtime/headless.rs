@@ -22,6 +22,8 @@ pub struct RenderOptions {
     pub look: Look,
     /// The colours.
     pub palette: Palette,
+    /// What the charts' curves are drawn with.
+    pub markers: crate::plot::MarkerSet,
     /// Show run times (frames then depend on the clock).
     pub timings: bool,
     /// The only directory a save in the keys may write to; `None`: saves are only simulated.
@@ -79,6 +81,7 @@ pub fn prepare(
     };
     let app_options = Options {
         palette: options.palette,
+        markers: options.markers,
         show_timings: options.timings,
         save_policy,
         save_directory,

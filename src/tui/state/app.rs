@@ -15,7 +15,7 @@ use super::params::Row;
 use super::picker::PresetPicker;
 use super::prompt::Prompt;
 
-pub use crate::plot::{Look, Palette};
+pub use crate::plot::{Look, MarkerSet, Palette};
 
 /// What the keyboard is doing.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -101,6 +101,8 @@ pub struct Options {
     pub look: Look,
     /// The colours (`T` cycles them).
     pub palette: Palette,
+    /// What the charts' curves are drawn with (`M` cycles them).
+    pub markers: MarkerSet,
     /// Show run times (they make frames depend on the clock).
     pub show_timings: bool,
     /// Ask the terminal for mouse reports (off with `--no-mouse`).
@@ -141,6 +143,7 @@ impl Options {
         Options {
             look,
             palette: Palette::default(),
+            markers: MarkerSet::default(),
             show_timings: false,
             mouse: true,
             save_policy: SavePolicy::Write,
@@ -197,6 +200,8 @@ pub struct App {
     pub look: Look,
     /// The colours (`T` cycles them).
     pub palette: Palette,
+    /// What the charts' curves are drawn with (`M` cycles them).
+    pub markers: MarkerSet,
     /// The deflection panel shows u − u_ref instead of u and u_ref (`c`).
     pub show_difference: bool,
     /// Terminal size in cells, as last reported.
@@ -263,6 +268,7 @@ impl App {
             show_timings: options.show_timings,
             look: options.look,
             palette: options.palette,
+            markers: options.markers,
             show_difference: false,
             size: (120, 40),
             ending: None,

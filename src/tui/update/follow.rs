@@ -155,6 +155,7 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
                 // a follower may change it.
                 | Action::ShowWarnings
                 | Action::CycleTheme
+                | Action::CycleMarkers
                 | Action::ToggleDifference
                 | Action::ToggleZoom
         )

@@ -57,6 +57,21 @@ pub(super) fn apply(app: &mut App, action: Action) {
                 app.palette.description()
             ));
         }
+        Action::CycleMarkers => {
+            app.markers = app.markers.next();
+            app.message = Some(if app.look.ascii {
+                format!(
+                    "markers {} (drawn in ASCII: this terminal has no Unicode)",
+                    app.markers.name()
+                )
+            } else {
+                format!(
+                    "markers {}: {}",
+                    app.markers.name(),
+                    app.markers.description()
+                )
+            });
+        }
         Action::ToggleTimings => {
             app.show_timings = !app.show_timings;
             refresh_sweeps(app);

@@ -178,6 +178,19 @@ fn deflection(
                 .data(points),
         );
     }
+    if let Some(x) = data.selected_obstacle {
+        let rule = marker_char(theme, '┆', ':').to_string();
+        plot.vertical_line(buffer, x, &rule, theme.current());
+    }
     plot.draw_datasets(buffer, theme, datasets);
     plot.draw_axes(buffer, theme);
+    // Stretches of their own stiffness, along the x axis.
+    for segment in &data.segments {
+        plot.mark_axis(
+            buffer,
+            [segment.from, segment.to],
+            segment.glyph,
+            theme.plain(),
+        );
+    }
 }

@@ -28,7 +28,7 @@ use fit::{Item, cut_at_word, fit_joined};
 
 /// Draws the whole frame.
 pub fn draw(frame: &mut Frame, app: &App) {
-    let theme = Theme::new(app.look, app.palette);
+    let theme = Theme::new(app.look, app.palette, app.markers);
     let area = frame.area();
     // The palette's own background, where it has one (high contrast).
     frame.render_widget(ratatui::widgets::Block::new().style(theme.base()), area);
@@ -75,7 +75,15 @@ fn draw_title(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let segments = if scene.beam.segments.is_empty() {
         String::new()
     } else {
-        format!(", {} segment(s)", scene.beam.segments.len())
+        format!(
+            ", {} segment{}",
+            scene.beam.segments.len(),
+            if scene.beam.segments.len() == 1 {
+                ""
+            } else {
+                "s"
+            }
+        )
     };
     // Whole items by importance, never one cut in the middle (issue 25): the title first,
     // then the obstacles, the length and J, then where the scene came from.

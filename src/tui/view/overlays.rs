@@ -242,16 +242,6 @@ fn help(frame: &mut Frame, app: &App, theme: &Theme, area: Rect, offset: u16) {
     frame.render_widget(Paragraph::new(lines).scroll((offset, 0)).block(block), rect);
 }
 
-/// `text` cut to `width` characters, with `…` where it was cut.
-fn truncated(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        return text.to_string();
-    }
-    let mut out: String = text.chars().take(width.saturating_sub(1)).collect();
-    out.push('…');
-    out
-}
-
 /// The scene's description on one line under the title (in full in the help).
 pub(super) fn description_line(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     let text = format!(" {}", printable(app.scene().description.trim()));
@@ -312,7 +302,7 @@ fn presets(
                 info.name,
                 printable(&info.description)
             );
-            let text = truncated(&text, width);
+            let text = super::fit::cut_at_word(&text, width);
             if i == highlighted {
                 Line::styled(format!("{text:<width$}"), theme.selected())
             } else {

@@ -199,7 +199,10 @@ fn warning_lines(
             .collect();
     }
     let short = theme
-        .text(&format!("⚠ {count}: {}", headline(first.code)))
+        .text(&format!(
+            "⚠ {count}: {}",
+            headline(first.code, solution.kkt_residual)
+        ))
         .into_owned();
     fitted_lines(&short, width, rows, theme.warning())
 }

@@ -10,7 +10,7 @@ use ratatui::widgets::{Clear, Paragraph};
 use super::fit::wrap_words;
 
 use crate::plot::Theme;
-use crate::solve::{Solution, SolveError, Warning, WarningCode};
+use crate::solve::{KktGrade, Solution, SolveError, Warning, WarningCode};
 use crate::tui::input::keymap::up_down;
 use crate::tui::state::App;
 
@@ -32,8 +32,16 @@ pub fn rank(code: WarningCode) -> u8 {
     }
 }
 
-/// The warning in a few words, for the status line.
-pub fn headline(code: WarningCode) -> &'static str {
+/// The warning in a few words, for the status line; the KKT check's graded by the residual
+/// of the solution it is about ([`KktGrade`]).
+pub fn headline(code: WarningCode, kkt_residual: f64) -> std::borrow::Cow<'static, str> {
+    if code == WarningCode::KktResidual {
+        return KktGrade::of(kkt_residual).headline(kkt_residual).into();
+    }
+    code_headline(code).into()
+}
+
+fn code_headline(code: WarningCode) -> &'static str {
     match code {
         WarningCode::IndefiniteFactorization => "rounding destroyed A: this result means nothing",
         WarningCode::StiffnessConditioning => "A is too ill-conditioned for double precision",
@@ -86,7 +94,7 @@ fn view_lines(
                 let head = format!(
                     "{}. {} ({})",
                     i + 1,
-                    headline(warning.code),
+                    headline(warning.code, solution.kkt_residual),
                     warning.code.name()
                 );
                 push(&head, theme.warning());
@@ -152,7 +160,24 @@ mod tests {
         assert!(rank(WarningCode::StiffnessConditioning) < rank(WarningCode::AccuracyLoss));
         assert!(rank(WarningCode::AccuracyLoss) < rank(WarningCode::MeshRaised));
         for code in WarningCode::ALL {
-            assert!(!headline(code).is_empty());
+            assert!(!headline(code, 1e-3).is_empty());
         }
+    }
+
+    /// Issue 25: a KKT residual of 1e-9 is not called "not a solution"; 1e-1 is.
+    #[test]
+    fn the_kkt_headline_is_graded_by_the_residual() {
+        let at = |residual: f64| headline(WarningCode::KktResidual, residual).into_owned();
+        assert_eq!(
+            at(1.3e-9),
+            "KKT check off by 1.3e-9: accurate to about that"
+        );
+        assert_eq!(at(2.0e-4), "KKT check off by 2.0e-4: approximate only");
+        assert_eq!(
+            at(0.5),
+            "the independent KKT check fails by 5.0e-1: not a solution"
+        );
+        assert!(at(f64::NAN).contains("not a solution"));
+        assert!(!at(1e-7).contains("not a solution"));
     }
 }

@@ -46,6 +46,8 @@ pub enum Action {
     ToggleDifference,
     /// The next colour palette (dark, light, high contrast).
     CycleTheme,
+    /// The next marker set of the charts' curves (Braille, half blocks, … ASCII).
+    CycleMarkers,
     ShowHelp,
     /// Every warning of the solution shown, in full.
     ShowWarnings,

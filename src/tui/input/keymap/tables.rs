@@ -206,6 +206,13 @@ pub const NORMAL: &[Binding] = &[
         "theme",
         18,
     ),
+    bind!(
+        Key::Char('M'),
+        Action::CycleMarkers,
+        "curves drawn in Braille, half blocks, quadrants, sextants, blocks, ASCII",
+        "markers",
+        19,
+    ),
     Binding {
         keys: &[
             (Key::Char('u'), Action::Undo),
