@@ -34,6 +34,8 @@ macro_rules! say_inline {
     }};
 }
 
+mod figure;
+
 /// Exit status for bad input (scene, arguments).
 pub const EXIT_BAD_INPUT: u8 = 2;
 /// Exit status when the method gave no solution (refused, not applicable, broke down).
@@ -80,6 +82,7 @@ pub fn dispatch(cli: Cli) -> ExitCode {
         Some(Command::Sweep(SweepCommand::Epsilon(args))) => epsilon_sweep_command(&args),
         Some(Command::Sweep(SweepCommand::Elements(args))) => elements_sweep_command(&args),
         Some(Command::Report(args)) => report_command(&args),
+        Some(Command::Figure(args)) => figure::figure_command(&args),
         Some(Command::Serve(args)) => serve_command(&args),
         Some(Command::Present(args)) => present_command(&args),
         None => explore(

@@ -10,6 +10,7 @@
 //! - [`linalg`]: the block-tridiagonal factorization, the box QP, condition numbers.
 //! - [`solve`]: one module per method and the common [`solve::Solution`].
 //! - [`study`]: ε sweeps and mesh sweeps (the explorer's charts, `sweep`, `report`).
+//! - [`figure`]: slide-quality SVG figures of the panels (`e`, `figure`, `report`).
 //! - [`plot`]: look, theme, ASCII mapping and log-axis charts shared by the explorer and reports.
 //! - [`tui`]: the explorer (terminal UI and headless rendering).
 //! - [`check`]: the stability suite on the presets (`beamfric check`).
@@ -23,6 +24,7 @@
 pub mod check;
 pub mod cli;
 pub mod fem;
+pub mod figure;
 pub mod format;
 pub mod lesson;
 pub mod linalg;

@@ -9,6 +9,7 @@ use std::sync::LazyLock;
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::figure::FigurePanel;
 use crate::plot::{MarkerSet, Palette};
 use crate::scene::MAX_ELEMENTS;
 use crate::solve::{ConditionLevel, Method};
@@ -43,6 +44,16 @@ impl ValueEnum for Palette {
 impl ValueEnum for MarkerSet {
     fn value_variants<'a>() -> &'a [Self] {
         &MarkerSet::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()).help(self.description()))
+    }
+}
+
+impl ValueEnum for FigurePanel {
+    fn value_variants<'a>() -> &'a [Self] {
+        &FigurePanel::ALL
     }
 
     fn to_possible_value(&self) -> Option<PossibleValue> {
@@ -155,6 +166,8 @@ pub enum Command {
     Sweep(SweepCommand),
     /// Write the error-against-run-time report (Markdown, CSV, SVG) for a scene.
     Report(ReportArgs),
+    /// Write a panel's figure as SVG (the explorer's `e`): the same data, slide-sized.
+    Figure(FigureArgs),
     /// Serve the explorer over SSH: every connection gets its own explorer.
     Serve(ServeArgs),
     /// Serve as `serve` does, with your own explorer in this terminal presenting: every
@@ -318,6 +331,62 @@ pub struct ReportArgs {
     #[arg(long, default_value_t = 5, value_parser = count_up_to(MAX_REPEAT), allow_negative_numbers = true)]
     pub repeat: usize,
     /// Replace the files of an existing report in --out.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// What the error-time figure puts on its x axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Against {
+    /// The median run time [s].
+    Time,
+    /// The number of elements n.
+    Elements,
+}
+
+/// `beamfric figure`.
+#[derive(Debug, Args)]
+pub struct FigureArgs {
+    /// The panel to draw.
+    #[arg(value_enum)]
+    pub panel: FigurePanel,
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Method (default: the scene's): the solve of `deflection`, the current run of
+    /// `error-time`; for the ε panels regularized or regularized-newton (default: as the
+    /// explorer, regularized, and Newton where the enumeration refuses).
+    #[arg(long, value_enum)]
+    pub method: Option<Method>,
+    /// Number of elements (default: the scene's).
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
+    pub elements: Option<usize>,
+    /// Regularisation parameter ε (default: the scene's), the current ε of the ε panels.
+    #[arg(long, value_parser = finite_number, allow_hyphen_values = true)]
+    pub epsilon: Option<f64>,
+    /// The sweep's start: the smallest ε (default 1e-16) or the smallest n (default 10).
+    #[arg(long, value_parser = finite_number, allow_hyphen_values = true)]
+    pub from: Option<f64>,
+    /// The sweep's end: the largest ε (default 1) or the largest n (default 100000).
+    #[arg(long, value_parser = finite_number, allow_hyphen_values = true)]
+    pub to: Option<f64>,
+    /// Values swept, log-spaced, besides the scene's own (default 33 for ε, 9 for n): the
+    /// explorer's panels.
+    #[arg(long, value_parser = count_up_to(MAX_EPSILON_POINTS), allow_negative_numbers = true)]
+    pub points: Option<usize>,
+    /// Runs per mesh size of `error-time`; the run time is their median.
+    #[arg(long, default_value_t = 3, value_parser = count_up_to(MAX_REPEAT), allow_negative_numbers = true)]
+    pub repeat: usize,
+    /// The x axis of `error-time`.
+    #[arg(long, value_enum, default_value_t = Against::Time)]
+    pub against: Against,
+    /// The figure's title (default: the scene's title and what the figure shows).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// The SVG file to write.
+    #[arg(long, value_name = "FILE.svg")]
+    pub out: std::path::PathBuf,
+    /// Replace the file if it exists.
     #[arg(long)]
     pub force: bool,
 }

@@ -29,6 +29,8 @@ pub enum CliError {
     Explore(ExploreError),
     /// A report's destination cannot be used or written.
     Report(ReportError),
+    /// A figure's file cannot be written (the text names it and says why).
+    Figure(String),
 }
 
 impl std::fmt::Display for CliError {
@@ -42,6 +44,7 @@ impl std::fmt::Display for CliError {
             CliError::Serve(e) => e.fmt(f),
             CliError::Explore(e) => e.fmt(f),
             CliError::Report(e) => e.fmt(f),
+            CliError::Figure(text) => f.write_str(text),
         }
     }
 }
