@@ -156,6 +156,7 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
                 | Action::ShowWarnings
                 | Action::CycleTheme
                 | Action::CycleMarkers
+                | Action::ExportFigure
                 | Action::ToggleDifference
                 | Action::ToggleZoom
         )

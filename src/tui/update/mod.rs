@@ -8,12 +8,13 @@
 //! By subject: [`normal`] (the keys of normal mode), [`edit`] (changes of the scene: values,
 //! obstacles, methods, undo and redo, presets), [`discard`] (what would lose unsaved changes
 //! asks first), [`prompts`] (typing a value, the preset picker, the scrolled views) and the
-//! editing keys of every prompt ([`typing`]), [`save`], [`pointer`] (the mouse), [`follow`]
+//! editing keys of every prompt ([`typing`]), [`save`], [`export`] (the focused panel as an SVG figure), [`pointer`] (the mouse), [`follow`]
 //! (forks, rejoins, the presenter's states), [`lesson`] (a lesson's steps) and [`results`]
 //! (solves and sweeps arriving).
 
 mod discard;
 mod edit;
+mod export;
 mod follow;
 mod lesson;
 mod normal;

@@ -57,6 +57,7 @@ pub(super) fn apply(app: &mut App, action: Action) {
                 app.palette.description()
             ));
         }
+        Action::ExportFigure => super::export::export_figure(app),
         Action::CycleMarkers => {
             app.markers = app.markers.next();
             app.message = Some(if app.look.ascii {

@@ -46,6 +46,8 @@ pub enum Action {
     ToggleDifference,
     /// The next colour palette (dark, light, high contrast).
     CycleTheme,
+    /// Write the focused panel as an SVG figure.
+    ExportFigure,
     /// The next marker set of the charts' curves (Braille, half blocks, … ASCII).
     CycleMarkers,
     ShowHelp,

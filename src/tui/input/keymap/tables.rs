@@ -207,6 +207,13 @@ pub const NORMAL: &[Binding] = &[
         18,
     ),
     bind!(
+        Key::Char('e'),
+        Action::ExportFigure,
+        "export the focused panel as an SVG figure (16:9, for slides)",
+        "export",
+        17,
+    ),
+    bind!(
         Key::Char('M'),
         Action::CycleMarkers,
         "curves drawn in Braille, half blocks, quadrants, sextants, blocks, ASCII",
