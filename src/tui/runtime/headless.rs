@@ -94,6 +94,13 @@ pub fn prepare(
         if app.ending.is_some() {
             break;
         }
+        // An export draws the panel's data: the sweeps it shows are finished first, as an
+        // interactive user would wait for them to be drawn.
+        if crate::tui::input::keymap::action_for(&app.mode, *key)
+            == Some(crate::tui::input::keymap::Action::ExportFigure)
+        {
+            finish_sweeps(&mut app);
+        }
         press(&mut app, *key);
     }
     finish_sweeps(&mut app);

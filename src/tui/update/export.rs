@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::figure::{
-    DeflectionInput, ErrorAxis, FigurePanel, deflection_figure, eps_cond_figure,
-    eps_error_figure, error_time_figure,
+    DeflectionInput, ErrorAxis, deflection_figure, eps_cond_figure, eps_error_figure,
+    error_time_figure,
 };
 use crate::plot::CurrentRun;
 use crate::scene::{Panel, SaveError, write_atomic};
@@ -35,10 +35,7 @@ pub(super) fn export_figure(app: &mut App) {
         }
     };
     app.message = Some(match write_figure(app, panel, &svg) {
-        Ok(name) => format!(
-            "figure saved: {name} (SVG, 16:9; {} of the panel)",
-            FigurePanel::from(panel).description()
-        ),
+        Ok(name) => format!("figure saved: {name} (SVG, 1280×720, for slides)"),
         Err(why) => format!("figure not written: {why}"),
     });
 }
@@ -70,8 +67,7 @@ fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
             ))
         }
         Panel::EpsError | Panel::EpsCond => {
-            let points: &Vec<EpsPoint> = match app.exploration.sweep_view::<Vec<EpsPoint>>(panel)
-            {
+            let points: &Vec<EpsPoint> = match app.exploration.sweep_view::<Vec<EpsPoint>>(panel) {
                 SweepView::Ready(points) => points,
                 SweepView::Outdated(_) => return Err(computing("updating".into())),
                 SweepView::Notice(text) => return Err(computing(text)),
@@ -84,12 +80,12 @@ fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
             })
         }
         Panel::ErrorTime => {
-            let points: &Vec<MeshPoint> =
-                match app.exploration.sweep_view::<Vec<MeshPoint>>(panel) {
-                    SweepView::Ready(points) => points,
-                    SweepView::Outdated(_) => return Err(computing("updating".into())),
-                    SweepView::Notice(text) => return Err(computing(text)),
-                };
+            let points: &Vec<MeshPoint> = match app.exploration.sweep_view::<Vec<MeshPoint>>(panel)
+            {
+                SweepView::Ready(points) => points,
+                SweepView::Outdated(_) => return Err(computing("updating".into())),
+                SweepView::Notice(text) => return Err(computing(text)),
+            };
             let against = if app.show_timings {
                 ErrorAxis::RunTime
             } else {
@@ -126,8 +122,7 @@ fn write_figure(app: &App, panel: Panel, svg: &str) -> Result<String, String> {
                 )
             }),
             SavePolicy::Simulate => Err(format!(
-                "a headless render writes no files (it would write {name}; --allow-save DIR \
-                 lets it)"
+                "{name} (a render writes no files without --allow-save DIR)"
             )),
             SavePolicy::Refuse(reason) => Err(reason.clone()),
             SavePolicy::ShowText => {
@@ -165,6 +160,9 @@ mod tests {
             figure_name("out/alice-b.toml", Panel::ErrorTime, 3),
             "out/alice-b-error-time-3.svg"
         );
-        assert_eq!(figure_name("", Panel::Deflection, 1), "figure-deflection.svg");
+        assert_eq!(
+            figure_name("", Panel::Deflection, 1),
+            "figure-deflection.svg"
+        );
     }
 }
