@@ -25,6 +25,7 @@ mod lessons;
 mod markers;
 mod mouse;
 mod numerics;
+mod paper_figures;
 mod presets;
 mod properties;
 #[cfg(unix)]
