@@ -66,6 +66,10 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
                     message.push(' ');
                     message.push_str(item.trim());
                 }
+            } else if let Some(values) = lines.find(|l| l.trim().starts_with("[possible values")) {
+                // A value not among the choices: name them.
+                message.push(' ');
+                message.push_str(values.trim());
             }
             say!("beamfric: {}", message.trim_start_matches("error: "));
             ExitCode::from(EXIT_BAD_INPUT)

@@ -1,6 +1,6 @@
 //! `beamfric report`: error against run time for every method over mesh sizes, and the
 //! regularisation trade-off over ε, as a Markdown report with tables, the explorer's charts as
-//! text, CSV files and an SVG figure (plotters) next to it. Where a method is refused, or its
+//! text, CSV files and an SVG figure ([`crate::figure`], the explorer's `e`) next to it. Where a method is refused, or its
 //! result is meaningless (indefinite factorization, non-finite values), the report says so
 //! instead of printing numbers; the reference's own row is marked, never shown as error 0.
 
@@ -12,10 +12,8 @@ use crate::scene::LoadedScene;
 use crate::solve::{Method, WarningCode};
 use crate::study::{self, EpsPoint, MeshPoint, Progress};
 
-mod svg;
 mod write;
 
-use svg::svg_figure;
 pub use write::{Destination, INJECT_WRITE_FAILURE, MIN_FREE_BYTES, prepare, write};
 
 /// Why a report could not be written; each says in words which file and why.
@@ -164,8 +162,20 @@ pub fn build(loaded: &LoadedScene, options: &ReportOptions, progress: Progress) 
         markdown: md,
         mesh_csv: crate::output::mesh_sweep_csv(&mesh_points),
         epsilon_csv,
-        svg: svg_figure(&mesh_points, &title),
+        svg: error_time_svg(&mesh_points, &title),
     }
+}
+
+/// The figure of error against run time, one line per method, of the results the table
+/// shows numbers for (as the text chart).
+fn error_time_svg(mesh_points: &[MeshPoint], title: &str) -> String {
+    let shown: Vec<MeshPoint> = mesh_points
+        .iter()
+        .filter(|p| status(p).is_ok())
+        .cloned()
+        .collect();
+    let title = format!("{title}: error against run time");
+    crate::figure::error_time_figure(&shown, crate::figure::ErrorAxis::RunTime, None, &title)
 }
 
 /// The charts of a report: the explorer's drawing, Unicode, no colour.

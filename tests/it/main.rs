@@ -18,6 +18,7 @@ mod cli_solve;
 mod condensed;
 mod escaping;
 mod explorer;
+mod figure;
 mod fitting;
 mod fuzz;
 mod headless;
