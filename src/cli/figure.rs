@@ -97,14 +97,11 @@ fn default_title(loaded: &LoadedScene, args: &FigureArgs) -> String {
     } else {
         loaded.scene.title.clone()
     };
-    let what = match (args.panel, args.against) {
-        (FigurePanel::Deflection, _) => "deflection u(x)",
-        (FigurePanel::EpsError, _) => "regularisation error against ε",
-        (FigurePanel::EpsCond, _) => "condition numbers against ε",
-        (FigurePanel::ErrorTime, Against::Time) => "error against run time",
-        (FigurePanel::ErrorTime, Against::Elements) => "error against n",
+    let against = match args.against {
+        Against::Time => ErrorAxis::RunTime,
+        Against::Elements => ErrorAxis::Elements,
     };
-    format!("{scene}: {what}")
+    crate::figure::figure_title(&scene, args.panel, against)
 }
 
 /// The scene's solve and, for another method, the reference (`condensed` on the same mesh).

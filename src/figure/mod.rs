@@ -115,6 +115,19 @@ impl std::str::FromStr for FigurePanel {
     }
 }
 
+/// A figure's title: the scene's and what the panel shows (`Benchmark 1: error against n`),
+/// the same from `beamfric figure` and the explorer's `e`.
+pub fn figure_title(scene_title: &str, panel: FigurePanel, against: ErrorAxis) -> String {
+    let what = match (panel, against) {
+        (FigurePanel::Deflection, _) => "deflection u(x)",
+        (FigurePanel::EpsError, _) => "regularisation error against ε",
+        (FigurePanel::EpsCond, _) => "condition numbers against ε",
+        (FigurePanel::ErrorTime, ErrorAxis::RunTime) => "error against run time",
+        (FigurePanel::ErrorTime, ErrorAxis::Elements) => "error against n",
+    };
+    format!("{scene_title}: {what}")
+}
+
 /// A figure of `panel` that has no data, only `text` saying why (a method that refused, a
 /// sweep that could not run): valid SVG with the panel's title and axis names.
 pub fn notice_figure(panel: FigurePanel, title: &str, text: &str) -> String {

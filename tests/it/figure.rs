@@ -482,3 +482,56 @@ fn the_figure_module_uses_no_explorer_server_or_command_line() {
         }
     }
 }
+
+/// The explorer's `e` writes the focused panel as `beamfric figure` does, byte for byte (the
+/// same sweeps, the same drawing), next to the scene's save name and never over a file: a
+/// second `e` writes `-2`; a render without `--allow-save` writes nothing and says so.
+#[test]
+fn the_explorers_e_writes_the_same_figure_as_the_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let allow = dir.path().to_str().unwrap();
+    let run = beamfric(&[
+        "render",
+        "--scene",
+        "benchmark-1",
+        "--size",
+        "80x24",
+        "--keys",
+        "e Tab e Tab e Tab e e",
+        "--allow-save",
+        allow,
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let frame = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        frame.contains("figure saved: benchmark-1-error-time-2.svg"),
+        "{frame}"
+    );
+    let command = tempfile::tempdir().unwrap();
+    for panel in PANELS {
+        let exported = std::fs::read_to_string(dir.path().join(format!("benchmark-1-{panel}.svg")))
+            .unwrap_or_else(|e| panic!("{panel}: {e}"));
+        check_figure(panel, &exported);
+        let extra: &[&str] = if panel == "error-time" {
+            &["--against", "elements"]
+        } else {
+            &[]
+        };
+        assert_eq!(
+            exported,
+            figure(command.path(), panel, "benchmark-1", extra),
+            "{panel}"
+        );
+    }
+    assert_eq!(
+        std::fs::read(dir.path().join("benchmark-1-error-time-2.svg")).unwrap(),
+        std::fs::read(dir.path().join("benchmark-1-error-time.svg")).unwrap()
+    );
+    // Without --allow-save nothing is written, in words.
+    let run = beamfric(&["render", "--scene", "benchmark-1", "--keys", "e"]);
+    let frame = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        frame.contains("figure not written: benchmark-1-deflection.svg (a render writes no"),
+        "{frame}"
+    );
+}

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::figure::{
-    DeflectionInput, ErrorAxis, deflection_figure, eps_cond_figure, eps_error_figure,
+    DeflectionInput, ErrorAxis, FigurePanel, deflection_figure, eps_cond_figure, eps_error_figure,
     error_time_figure,
 };
 use crate::plot::CurrentRun;
@@ -35,15 +35,33 @@ pub(super) fn export_figure(app: &mut App) {
         }
     };
     app.message = Some(match write_figure(app, panel, &svg) {
+        Ok(name) if panel == Panel::Deflection && !shows_deflection(app) => {
+            format!("figure saved: {name} (of u(x): M, T and u − u_ref are not exported)")
+        }
         Ok(name) => format!("figure saved: {name} (SVG, 1280×720, for slides)"),
         Err(why) => format!("figure not written: {why}"),
     });
 }
 
+/// Does the deflection panel show u(x) itself (not M, T or u − u_ref)?
+fn shows_deflection(app: &App) -> bool {
+    app.exploration.diagram == crate::tui::state::Diagram::Deflection && !app.show_difference
+}
+
 /// The SVG of `panel` from what the explorer shows, or why there is none yet.
 fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
     let scene = app.scene();
-    let title = scene.title.clone();
+    let against = if app.show_timings {
+        ErrorAxis::RunTime
+    } else {
+        ErrorAxis::Elements
+    };
+    let scene_title = if scene.title.is_empty() {
+        app.exploration.source.stem()
+    } else {
+        scene.title.clone()
+    };
+    let title = crate::figure::figure_title(&scene_title, FigurePanel::from(panel), against);
     let computing = |view_notice: String| format!("the panel has no data yet ({view_notice})");
     match panel {
         Panel::Deflection => {
@@ -85,11 +103,6 @@ fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
                 SweepView::Ready(points) => points,
                 SweepView::Outdated(_) => return Err(computing("updating".into())),
                 SweepView::Notice(text) => return Err(computing(text)),
-            };
-            let against = if app.show_timings {
-                ErrorAxis::RunTime
-            } else {
-                ErrorAxis::Elements
             };
             let current = CurrentRun {
                 elements: scene.mesh.elements,
