@@ -383,8 +383,8 @@ pub struct FigureArgs {
     /// The figure's title (default: the scene's title and what the figure shows).
     #[arg(long)]
     pub title: Option<String>,
-    /// The SVG file to write.
-    #[arg(long, value_name = "FILE.svg")]
+    /// The file to write: SVG (`.svg`, 1280 × 720) or PNG (`.png`, 1920 × 1080).
+    #[arg(long, value_name = "FILE.svg|FILE.png")]
     pub out: std::path::PathBuf,
     /// Replace the file if it exists.
     #[arg(long)]

@@ -41,7 +41,13 @@ pub(super) fn figure_command(args: &FigureArgs) -> Result<ExitCode, CliError> {
         FigurePanel::EpsError | FigurePanel::EpsCond => epsilon_panel(&loaded, args, &title)?,
         FigurePanel::ErrorTime => error_time(&loaded, args, &title)?,
     };
-    write_figure(&args.out, &drawn.svg, args.force)?;
+    if is_png(&args.out) {
+        let png = crate::figure::svg_to_png(&drawn.svg)
+            .map_err(|why| CliError::Figure(format!("{}: {why}", args.out.display())))?;
+        write_figure(&args.out, &png, args.force)?;
+    } else {
+        write_figure(&args.out, drawn.svg.as_bytes(), args.force)?;
+    }
     say!("wrote {}", args.out.display());
     match drawn.refusal {
         Some(why) => {
@@ -52,16 +58,23 @@ pub(super) fn figure_command(args: &FigureArgs) -> Result<ExitCode, CliError> {
     }
 }
 
-/// The file must be an `.svg`, and not be there already unless `--force` (checked before
-/// anything is computed).
+/// Does the name ask for a PNG (`.png`, any case)?
+fn is_png(out: &Path) -> bool {
+    out.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+}
+
+/// The file must be an `.svg` or a `.png`, and not be there already unless `--force`
+/// (checked before anything is computed).
 fn check_destination(out: &Path, force: bool) -> Result<(), CliError> {
     let shown = out.display();
     let is_svg = out
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if !is_svg {
+    if !is_svg && !is_png(out) {
         return Err(CliError::Argument(format!(
-            "--out {shown}: figures are written as SVG, so the file name must end in .svg"
+            "--out {shown}: figures are written as SVG (.svg) or PNG (.png, 1920 × 1080), so \
+             the file name must end in one of those"
         )));
     }
     if !force && std::fs::symlink_metadata(out).is_ok() {
@@ -78,8 +91,8 @@ fn exists(out: &Path) -> String {
 }
 
 /// Writes the figure atomically (a temporary file in the same directory, renamed).
-fn write_figure(out: &Path, svg: &str, force: bool) -> Result<(), CliError> {
-    match scene::write_atomic(out, svg.as_bytes(), force) {
+fn write_figure(out: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
+    match scene::write_atomic(out, bytes, force) {
         Ok(_) => Ok(()),
         Err(SaveError::Exists(_)) => Err(CliError::Figure(exists(out))),
         Err(SaveError::Io(_, e)) => Err(CliError::Figure(format!(

@@ -20,12 +20,14 @@
 mod axes;
 mod deflection;
 mod panels;
+mod png;
 mod series;
 mod svg;
 
 pub use axes::{Axes, Axis, PLOT, PlotFrame, Scale, superscript};
 pub use deflection::{DeflectionInput, SAMPLES, deflection_figure, sample_deflection};
 pub use panels::{ErrorAxis, eps_cond_figure, eps_error_figure, error_time_figure, method_series};
+pub use png::{PNG_SCALE, svg_to_png};
 pub use svg::{HEIGHT, LABEL_SIZE, NOTE_SIZE, TITLE_SIZE, WIDTH, escape};
 
 use crate::scene::Panel;

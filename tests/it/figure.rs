@@ -399,7 +399,7 @@ fn the_error_figure_has_a_line_per_method_through_every_size() {
 }
 
 #[test]
-fn figure_refuses_an_existing_file_an_unknown_panel_and_a_png() {
+fn figure_refuses_an_existing_file_an_unknown_panel_and_another_format() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("mine.svg");
     std::fs::write(&out, "mine").unwrap();
@@ -432,11 +432,42 @@ fn figure_refuses_an_existing_file_an_unknown_panel_and_a_png() {
     assert!(message.contains("'plot'"), "{message}");
     assert!(message.contains("eps-error"), "{message}");
 
-    let png = dir.path().join("figure.png");
-    let run = beamfric(&["figure", "eps-error", "--out", png.to_str().unwrap()]);
+    let jpeg = dir.path().join("figure.jpg");
+    let run = beamfric(&["figure", "eps-error", "--out", jpeg.to_str().unwrap()]);
     assert_eq!(run.status.code(), Some(2));
     assert!(stderr(&run).contains(".svg"), "{}", stderr(&run));
-    assert!(!png.exists());
+    assert!(!jpeg.exists());
+}
+
+/// `--out FILE.png`: the same figure rendered by resvg at 1920 × 1080 (where the system has
+/// fonts; else refused in words and nothing written).
+#[test]
+fn figure_writes_a_png_of_the_same_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("eps.PNG");
+    let run = beamfric(&[
+        "figure",
+        "eps-error",
+        "--scene",
+        "benchmark-1",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    if !run.status.success() {
+        assert!(stderr(&run).contains("no fonts found"), "{}", stderr(&run));
+        assert!(!png.exists());
+        return;
+    }
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+    assert_eq!((width, height), (1920, 1080));
+    assert!(
+        bytes.len() > 20_000,
+        "{} bytes: a near-empty picture",
+        bytes.len()
+    );
 }
 
 #[test]
