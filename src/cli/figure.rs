@@ -31,11 +31,13 @@ struct Drawn {
 pub(super) fn figure_command(args: &FigureArgs) -> Result<ExitCode, CliError> {
     check_destination(&args.out, args.force)?;
     let loaded = load_with_overrides(&args.scene, args.method, args.elements, args.epsilon)?;
+    // A control character (a tab, a newline) is a blank on a slide; an empty title is none.
     let title = args
         .title
-        .clone()
+        .as_deref()
+        .map(|t| t.replace(char::is_control, " ").trim().to_string())
+        .filter(|t| !t.is_empty())
         .unwrap_or_else(|| default_title(&loaded, args));
-    let title = crate::format::printable(&title).into_owned();
     let drawn = match args.panel {
         FigurePanel::Deflection => deflection(&loaded, &title),
         FigurePanel::EpsError | FigurePanel::EpsCond => epsilon_panel(&loaded, args, &title)?,

@@ -189,7 +189,13 @@ impl Step {
             let decimals = (-self.exponent).max(0) as usize;
             format!("{value:.decimals$}")
         } else {
-            format!("{digits}×10{}", superscript(self.exponent))
+            // 10×10⁻⁶ reads as 1×10⁻⁵: the trailing zeros go into the exponent.
+            let (mut mantissa, mut exponent) = (digits, self.exponent);
+            while mantissa % 10 == 0 {
+                mantissa /= 10;
+                exponent += 1;
+            }
+            format!("{mantissa}×10{}", superscript(exponent))
         };
         (label.replace('-', "−"), value)
     }
@@ -385,6 +391,10 @@ mod tests {
         let tiny = Axis::linear_over([-3e-8, 0.0]);
         let labels: Vec<String> = tiny.ticks().into_iter().filter_map(|t| t.label).collect();
         assert!(labels.iter().any(|l| l.contains("×10⁻")), "{labels:?}");
+        let upto = Axis::linear_over([0.0, 1e-5]);
+        let top: Vec<String> = upto.ticks().into_iter().filter_map(|t| t.label).collect();
+        assert!(top.contains(&"1×10⁻⁵".to_string()), "{top:?}");
+        assert!(!top.iter().any(|l| l.starts_with("10×")), "{top:?}");
         assert!(tiny.low <= -3e-8 && tiny.high >= 0.0);
     }
 }

@@ -24,12 +24,44 @@ pub struct DeflectionInput<'a> {
     pub reference: Option<&'a Solution>,
 }
 
+/// The line under the figure: the solution's own warnings first (a flagged answer is never
+/// shown clean), then the method, n, ε and the load.
+fn footnote(problem: &Problem, mesh: &Mesh, solution: &Solution) -> String {
+    let method = solution.method;
+    let epsilon = solution
+        .epsilon
+        .map_or(String::new(), |e| format!(", ε = {}", sci(e, 2)));
+    let load = if problem.load.is_constant() {
+        format!("f = {} N/m", eng(problem.load.f0))
+    } else {
+        format!(
+            "f = {} … {} N/m",
+            eng(problem.load.f0),
+            eng(problem.load.f1)
+        )
+    };
+    // The solution's own warnings first, so that a flagged answer is never shown clean.
+    let warned = match &solution.warnings[..] {
+        [] => String::new(),
+        [one] => format!("⚠ {} (beamfric solve says why) · ", one.code.name()),
+        [first, rest @ ..] => format!(
+            "⚠ {} and {} more (beamfric solve says why) · ",
+            first.code.name(),
+            rest.len()
+        ),
+    };
+    format!(
+        "{warned}{method}, n = {}{epsilon}; load {load}, u positive along the load",
+        mesh.elements()
+    )
+}
+
 /// Points u(x) is sampled at (the explorer's most).
 pub const SAMPLES: usize = 401;
 /// Node markers are drawn up to this many elements (beyond, they would hide the curve).
 const MOST_NODE_MARKERS: usize = 200;
 /// Obstacles listed one by one in the legend up to this many.
-const MOST_LISTED_OBSTACLES: usize = 4;
+const MOST_LISTED_OBSTACLES: usize = 3;
 /// Fills of the stiffness band, one per distinct E·J.
 const BAND_FILLS: [&str; 6] = [
     "#cfe2f3", "#f4cccc", "#d9ead3", "#fff2cc", "#e6d5ec", "#d0e0e3",
@@ -58,19 +90,7 @@ pub fn deflection_figure(input: &DeflectionInput, title: &str) -> String {
     let epsilon = solution
         .epsilon
         .map_or(String::new(), |e| format!(", ε = {}", sci(e, 2)));
-    let load = if problem.load.is_constant() {
-        format!("f = {} N/m", eng(problem.load.f0))
-    } else {
-        format!(
-            "f = {} … {} N/m",
-            eng(problem.load.f0),
-            eng(problem.load.f1)
-        )
-    };
-    let note = format!(
-        "{method}, n = {}{epsilon}; load {load}, u positive along the load",
-        mesh.elements()
-    );
+    let note = footnote(problem, mesh, solution);
     let mut svg = page(
         title,
         "Deflection u(x) of a clamped beam through point obstacles",
@@ -146,10 +166,14 @@ pub fn deflection_figure(input: &DeflectionInput, title: &str) -> String {
         Sample::Swatch("#555555"),
         vec!["clamped ends".into()],
     ));
-    legend.extend(draw_obstacles(&mut svg, &axes, input));
+    // The stiffness before the obstacles: the bands under the axis must be explained, and
+    // the obstacles are numbered on the plot.
+    let obstacles = draw_obstacles(&mut svg, &axes, input);
     if banded {
         legend.extend(draw_stiffness_band(&mut svg, &axes, problem));
+        legend.extend(obstacles);
     } else {
+        legend.extend(obstacles);
         let ej = problem.stiffness[0].bending_stiffness;
         legend.push(LegendEntry::new(
             Sample::Nothing,
@@ -207,6 +231,9 @@ fn draw_obstacles(
         line_width: 0.0,
     };
     let obstacles = &input.solution.obstacles;
+    // Where numbers are already written: a number that would touch one is left out (crowded
+    // obstacles keep their marks; the legend says the numbers run from x = 0).
+    let mut labelled: Vec<(f64, f64)> = Vec::new();
     for (i, o) in obstacles.iter().enumerate() {
         let u = input.solution.field.at(input.mesh, o.x).deflection;
         if !u.is_finite() {
@@ -232,11 +259,20 @@ fn draw_obstacles(
         } else {
             at.1 + 34.0
         };
+        let number = (i + 1).to_string();
+        let half = super::svg::text_width(&number, LABEL_SIZE) / 2.0 + 6.0;
+        let touches = |&(x, y): &(f64, f64)| {
+            (x - at.0).abs() < 2.0 * half && (y - baseline).abs() < LABEL_SIZE
+        };
+        if labelled.iter().any(touches) {
+            continue;
+        }
+        labelled.push((at.0, baseline));
         svg.text(
             (at.0, baseline),
             Anchor::Middle,
             LABEL_SIZE,
-            &(i + 1).to_string(),
+            &number,
             r#"class="obstacle-label" font-weight="bold""#,
         );
     }
@@ -248,7 +284,7 @@ fn draw_obstacles(
                 LegendEntry::new(
                     Sample::Series(style),
                     vec![
-                        format!("obstacle {}, x = {} m", i + 1, eng(o.x)),
+                        format!("obstacle {} at {} m", i + 1, eng(o.x)),
                         o.state().to_string(),
                     ],
                 )
@@ -298,6 +334,22 @@ fn draw_stiffness_band(
                 data_value(piece.bending_stiffness)
             ),
         );
+    }
+    // Many values: one entry for them all (the band shows where each holds).
+    if values.len() > 3 {
+        let low = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let high = values.iter().copied().fold(0.0, f64::max);
+        return vec![LegendEntry::new(
+            Sample::Swatch(BAND_FILLS[0]),
+            vec![
+                format!("EJ from {} to {} N m²", sci(low, 3), sci(high, 3)),
+                format!(
+                    "{} values on {} stretches, shaded under the axis",
+                    values.len(),
+                    problem.stiffness.len()
+                ),
+            ],
+        )];
     }
     values
         .iter()

@@ -6,7 +6,7 @@
 use super::axes::{Axes, LEGEND_LEFT, PLOT, PlotFrame, draw_axis_names};
 use super::svg::{
     Anchor, HEIGHT, LABEL_SIZE, MarkerShape, NOTE_SIZE, Svg, TITLE_SIZE, WIDTH, data_value, escape,
-    fit_text, text_width,
+    text_width, wrap_text,
 };
 use crate::solve::Method;
 
@@ -164,14 +164,22 @@ pub fn draw_legend(svg: &mut Svg, frame: PlotFrame, entries: &[LegendEntry]) {
     let mut y = frame.top + LEGEND_LINE / 2.0;
     let width = WIDTH - 8.0 - LEGEND_TEXT;
     for (i, entry) in entries.iter().enumerate() {
-        let height = entry.lines.len().max(1) as f64 * LEGEND_LINE;
+        let lines: Vec<String> = entry
+            .lines
+            .iter()
+            .flat_map(|line| wrap_text(line, LABEL_SIZE, width))
+            .collect();
+        let height = lines.len().max(1) as f64 * LEGEND_LINE;
         if y + height > bottom {
             let left = entries.len() - i;
             svg.text(
                 (LEGEND_LEFT, y + 0.35 * LABEL_SIZE),
                 Anchor::Start,
                 LABEL_SIZE,
-                &format!("… and {left} more"),
+                &format!(
+                    "… {left} more entr{} (no room)",
+                    if left == 1 { "y" } else { "ies" }
+                ),
                 r#"class="legend-text""#,
             );
             break;
@@ -182,13 +190,13 @@ pub fn draw_legend(svg: &mut Svg, frame: PlotFrame, entries: &[LegendEntry]) {
         } else {
             ""
         };
-        for (k, line) in entry.lines.iter().enumerate() {
+        for (k, line) in lines.iter().enumerate() {
             let baseline = y + k as f64 * LEGEND_LINE + 0.35 * LABEL_SIZE;
             svg.text(
                 (LEGEND_TEXT, baseline),
                 Anchor::Start,
                 LABEL_SIZE,
-                &fit_text(line, LABEL_SIZE, width),
+                line,
                 &format!(r#"class="legend-text"{weight}"#),
             );
         }

@@ -87,6 +87,25 @@ pub fn text_width(text: &str, size: f64) -> f64 {
     text.chars().count() as f64 * CHAR_WIDTH * size
 }
 
+/// `text` in lines of at most `width` px at `size`, broken between words (a word longer than
+/// a line is cut with "…"): a legend's entry wraps rather than loses its unit.
+pub fn wrap_text(text: &str, size: f64, width: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        match lines.last_mut() {
+            Some(line) if text_width(&format!("{line} {word}"), size) <= width => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(fit_text(word, size, width)),
+        }
+    }
+    if lines.is_empty() {
+        lines.push(String::new());
+    }
+    lines
+}
+
 /// `text` cut (with "…") to at most `width` px at `size`.
 pub fn fit_text(text: &str, size: f64, width: f64) -> String {
     let most = (width / (CHAR_WIDTH * size)).floor().max(1.0) as usize;

@@ -42,7 +42,9 @@ pub fn ascii_char(c: char) -> char {
         '⚠' => '!',
         '\u{2800}' => ' ',
         '\u{2801}'..='\u{28ff}' => '*',
-        '█' | '▓' | '▒' | '░' | '▌' | '▐' | '▄' | '▀' => '#',
+        // Block elements, quadrants and sextants: the marker sets' curves.
+        '\u{2580}'..='\u{259f}' | '\u{1fb00}'..='\u{1fb3b}' => '#',
+        '≠' => '#',
         _ => '?',
     }
 }
@@ -94,6 +96,7 @@ fn spell_char(previous: Option<char>, c: char, next: Option<char>) -> String {
         '·' if previous.is_none_or(|p| p == ' ') && next.is_none_or(|n| n == ' ') => "|".into(),
         '·' => "*".into(),
         '≥' => ">=".into(),
+        '≠' => "!=".into(),
         '≤' => "<=".into(),
         '…' => "...".into(),
         '→' => "->".into(),
@@ -206,6 +209,10 @@ mod tests {
         for c in ['ε', '│', '⣿', '●', '≥', 'µ', '漢'] {
             assert!(ascii_char(c).is_ascii(), "{c}");
         }
+        // Every marker set's curve characters are drawn, not '?'.
+        for c in ['▄', '▀', '▖', '▟', '█', '🬋', '🬀', '🬻'] {
+            assert_eq!(ascii_char(c), '#', "{c}");
+        }
     }
 
     #[test]
@@ -216,6 +223,7 @@ mod tests {
         assert_eq!(spell_ascii("0.02·cond·eps"), "0.02*cond*eps");
         assert_eq!(spell_ascii("n⁴ and 10⁻¹⁶"), "n^4 and 10^-16");
         assert_eq!(spell_ascii("100×30"), "100x30");
+        assert_eq!(spell_ascii("u ≠ 0"), "u != 0");
     }
 
     fn row(text: &str, width: u16) -> Buffer {

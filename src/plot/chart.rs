@@ -19,9 +19,45 @@ pub struct PanelFrame {
     pub focused: bool,
 }
 
+/// A panel's title as it fits on its top border (`width` cells, corners included): whole
+/// words only, and no bracket left open — `Deflection u(x) [m] (b: next) [1/4 Tab]` in 28
+/// cells is ` Deflection u(x) [m]… ` — with `…` (`.` in ASCII) where it was cut.
+pub fn fitted_title(title: &str, width: u16, ascii: bool) -> String {
+    let room = usize::from(width.saturating_sub(2));
+    if title.chars().count() <= room {
+        return title.to_string();
+    }
+    // Whole, without its closing blank.
+    let whole = format!(" {}", title.trim());
+    if whole.chars().count() <= room {
+        return whole;
+    }
+    let words: Vec<&str> = title.trim().split(' ').collect();
+    let mut fitted = String::new();
+    for count in (1..=words.len()).rev() {
+        let candidate = words[..count].join(" ");
+        let open = candidate.matches(['(', '[']).count();
+        let closed = candidate.matches([')', ']']).count();
+        // " " + candidate + "…" + " " within the room.
+        if open == closed && candidate.chars().count() + 3 <= room {
+            fitted = candidate;
+            break;
+        }
+    }
+    if fitted.is_empty() {
+        return String::new();
+    }
+    format!(" {fitted}{} ", if ascii { "." } else { "…" })
+}
+
 /// A message in place of a chart.
 pub fn notice(frame: &mut Frame, theme: &Theme, panel: PanelFrame, text: String) {
-    let block = theme.block(theme.text(&panel.title).into_owned(), panel.focused);
+    let title = fitted_title(
+        &theme.text(&panel.title),
+        panel.area.width,
+        theme.look.ascii,
+    );
+    let block = theme.block(title, panel.focused);
     frame.render_widget(
         Paragraph::new(theme.text(&text).into_owned())
             .wrap(Wrap { trim: true })
@@ -90,7 +126,12 @@ pub fn panel_with_key(
     key: &[KeyEntry],
     plot_rows: u16,
 ) -> Rect {
-    let block = theme.block(theme.text(&panel.title).into_owned(), panel.focused);
+    let title = fitted_title(
+        &theme.text(&panel.title),
+        panel.area.width,
+        theme.look.ascii,
+    );
+    let block = theme.block(title, panel.focused);
     let inner = block.inner(panel.area);
     frame.render_widget(block, panel.area);
     let (plot, lines) = key_layout(theme, inner, readout, optional, key, plot_rows);
@@ -214,4 +255,30 @@ pub fn bounds_of<'a>(
         y = [y[0].min(p.1), y[1].max(p.1)];
     }
     Some((x, y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fitted_title;
+
+    #[test]
+    fn titles_fit_in_whole_words_with_no_bracket_left_open() {
+        let title = " Deflection u(x) [m] (b: next) [1/4 Tab] ";
+        assert_eq!(fitted_title(title, 60, false), title);
+        assert_eq!(fitted_title(title, 30, false), " Deflection u(x) [m]… ");
+        assert_eq!(fitted_title(title, 30, true), " Deflection u(x) [m]. ");
+        assert_eq!(
+            fitted_title(" Error vs ε (regularised) [2/4 Tab] ", 30, false),
+            " Error vs ε (regularised)… "
+        );
+        assert_eq!(fitted_title(title, 4, false), "");
+        assert_eq!(fitted_title(" ab cd ", 9, false), " ab cd ");
+        assert_eq!(fitted_title(" ab cd ", 8, false), " ab cd");
+        for width in 0..50 {
+            let fitted = fitted_title(title, width, false);
+            assert!(
+                fitted.chars().count() <= usize::from(width.saturating_sub(2)) || fitted == title
+            );
+        }
+    }
 }

@@ -128,7 +128,9 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         style: theme.dim(),
         short: None,
     });
-    let segments = segments(&shown.request.problem, theme, &mut key);
+    let beam = &app.scene().beam;
+    let beam_stiffness = beam.young * beam.section.inertia();
+    let segments = segments(&shown.request.problem, beam_stiffness, theme, &mut key);
     let selected_obstacle = app
         .exploration
         .selected_row()
@@ -168,30 +170,19 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
     })
 }
 
-/// The stretches whose E·J is not the beam's (the E·J covering the most length), each with
-/// its glyph and an entry in the key: `━ EJ 2.9e9 N m² on 0.3–0.6 m`.
+/// The stretches whose E·J is not the beam's own (`[beam]`'s E times its section's J), each
+/// with its glyph and an entry in the key: `━ EJ 2.9e9 N m² on 0.3–0.6 m (beam 2.9e3)`.
 fn segments(
     problem: &crate::model::Problem,
+    beam: f64,
     theme: &Theme,
     key: &mut Vec<KeyEntry>,
 ) -> Vec<Segment> {
     let pieces = &problem.stiffness;
-    let length_with = |ej: f64| -> f64 {
-        pieces
-            .iter()
-            .filter(|p| p.bending_stiffness == ej)
-            .map(|p| p.to - p.from)
-            .sum()
-    };
-    let Some(beam) = pieces
-        .iter()
-        .map(|p| p.bending_stiffness)
-        .max_by(|a, b| length_with(*a).total_cmp(&length_with(*b)))
-    else {
-        return Vec::new();
-    };
+    // Equal up to rounding of the product E·J.
+    let is_beam = |ej: f64| (ej - beam).abs() <= 1e-12 * beam.abs();
     let mut segments = Vec::new();
-    for piece in pieces.iter().filter(|p| p.bending_stiffness != beam) {
+    for piece in pieces.iter().filter(|p| !is_beam(p.bending_stiffness)) {
         let (u, a) = SEGMENT_GLYPHS[segments.len() % SEGMENT_GLYPHS.len()];
         let glyph = marker_char(theme, u, a);
         key.push(KeyEntry {
@@ -215,6 +206,28 @@ fn segments(
             from: piece.from,
             to: piece.to,
             glyph,
+        });
+    }
+    // More than two: one entry for them all, so that the key leaves the chart its rows.
+    if segments.len() > 2 {
+        let own: Vec<f64> = pieces
+            .iter()
+            .map(|p| p.bending_stiffness)
+            .filter(|ej| !is_beam(*ej))
+            .collect();
+        let low = own.iter().copied().fold(f64::INFINITY, f64::min);
+        let high = own.iter().copied().fold(0.0, f64::max);
+        key.truncate(key.len() - segments.len());
+        key.push(KeyEntry {
+            marker: segments[0].glyph,
+            name: format!(
+                "{} stretches, EJ {} … {} N m²",
+                segments.len(),
+                crate::format::sci(low, 2),
+                crate::format::sci(high, 2),
+            ),
+            style: theme.plain(),
+            short: Some(format!("{} stretches of their own EJ", segments.len())),
         });
     }
     segments

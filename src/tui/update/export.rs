@@ -128,9 +128,14 @@ fn write_figure(app: &App, panel: Panel, svg: &str) -> Result<String, String> {
     let target_of = |name: &str| -> Result<PathBuf, String> {
         match &app.save_policy {
             SavePolicy::Write => Ok(PathBuf::from(name)),
+            SavePolicy::Within(dir) if !dir.is_dir() => Err(format!(
+                "{} is not a directory, and it is the only place files may go",
+                dir.display()
+            )),
             SavePolicy::Within(dir) => save_target(&app.save_policy, name).ok_or_else(|| {
                 format!(
-                    "{name} is outside {}, the only directory files may go to",
+                    "{name} is outside {}, the only directory files may go to (or a link \
+                     leads out of it)",
                     dir.display()
                 )
             }),
