@@ -275,8 +275,56 @@ pub fn error_time_figure(
             current_ring(&mut svg, &axes, x, y);
         }
     }
+    if against == ErrorAxis::RunTime {
+        // Against time, n is not on an axis: one method's points say theirs (the selected
+        // method's, else the one with the most points).
+        let labelled = selected.or_else(|| {
+            series
+                .iter()
+                .max_by_key(|s| s.points.len())
+                .and_then(|s| Method::ALL.into_iter().find(|m| m.name() == s.name))
+        });
+        if let Some(method) = labelled {
+            draw_sizes(&mut svg, &axes, points, method);
+        }
+    }
     draw_legend(&mut svg, PLOT, &legend);
     svg.finish()
+}
+
+/// Each point of `method` against run time labelled with its n (`n = 10`, `32`, … `3.2e4`),
+/// right of its marker, or left where that would leave the plot.
+fn draw_sizes(svg: &mut super::svg::Svg, axes: &Axes, points: &[MeshPoint], method: Method) {
+    use super::svg::{Anchor, NOTE_SIZE, text_width};
+    let mut first = true;
+    for p in points
+        .iter()
+        .filter(|p| p.method == method && p.refused.is_none())
+    {
+        let Some((x, y)) = plottable([(x_of(p, ErrorAxis::RunTime), error_of(p))]).pop() else {
+            continue;
+        };
+        let size = if p.elements < 10_000 {
+            p.elements.to_string()
+        } else {
+            sci(p.elements as f64, 2)
+        };
+        let text = if first { format!("n = {size}") } else { size };
+        first = false;
+        let (px, py) = axes.to_px(x, y);
+        let (at, anchor) = if px + 10.0 + text_width(&text, NOTE_SIZE) <= PLOT.right {
+            (px + 10.0, Anchor::Start)
+        } else {
+            (px - 10.0, Anchor::End)
+        };
+        svg.text(
+            (at, py - 10.0),
+            anchor,
+            NOTE_SIZE,
+            &text,
+            &format!(r#"class="n-label" data-n="{}""#, p.elements),
+        );
+    }
 }
 
 /// The legend's lines for the current run: its method and n, its error (or why there is

@@ -496,6 +496,22 @@ fn the_reports_figure_passes_the_same_checks() {
     for (method, seen) in &series {
         assert!(seen.markers.len() >= 2, "{method}");
     }
+    // Against run time n is on no axis: one method's points are labelled with their sizes,
+    // the first as `n = 10`.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let sizes: Vec<(String, String)> = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("n-label"))
+        .map(|n| {
+            (
+                n.attribute("data-n").unwrap().into(),
+                n.text().unwrap().into(),
+            )
+        })
+        .collect();
+    assert_eq!(sizes.len(), 3, "{sizes:?}");
+    assert_eq!(sizes[0], ("10".to_string(), "n = 10".to_string()));
+    assert!(sizes[1..].iter().all(|(n, text)| n == text), "{sizes:?}");
 }
 
 #[test]
