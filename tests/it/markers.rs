@@ -151,3 +151,44 @@ fn the_projector_look() {
         "the projector's labels are bold"
     );
 }
+
+/// The deflection numbers its obstacles beside their markers, in the plot itself (where the
+/// cells are blank): Benchmark 3's four at 80×24.
+#[test]
+fn the_deflection_numbers_its_obstacles() {
+    let options = RenderOptions {
+        width: 80,
+        height: 24,
+        look: Look {
+            ascii: false,
+            color: false,
+        },
+        palette: Palette::default(),
+        markers: MarkerSet::default(),
+        timings: false,
+        allow_save: None,
+        lesson: None,
+    };
+    let app = prepare(loaded_preset("benchmark-3"), &[], options).unwrap();
+    let text = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
+    let mut numbers = Vec::new();
+    for line in text.lines() {
+        let chart: Vec<char> = line.chars().skip(30).collect();
+        // The graph: right of the y axis (its ┤ or │), left of the panel's border.
+        let Some(axis) = chart.iter().position(|c| *c == '┤' || *c == '│') else {
+            continue;
+        };
+        let graph = &chart[axis + 1..chart.len().saturating_sub(1)];
+        for (i, c) in graph.iter().enumerate() {
+            let digit = |j: Option<usize>| {
+                j.and_then(|j| graph.get(j))
+                    .is_some_and(|c| c.is_ascii_digit())
+            };
+            if c.is_ascii_digit() && !digit(i.checked_sub(1)) && !digit(Some(i + 1)) {
+                numbers.push(*c);
+            }
+        }
+    }
+    numbers.sort();
+    assert_eq!(numbers, ['1', '2', '3', '4'], "{text}");
+}

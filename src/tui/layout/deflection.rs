@@ -40,6 +40,8 @@ pub struct DeflectionData {
     pub segments: Vec<Segment>,
     /// The position [m] of the obstacle whose parameter is selected, marked by a rule.
     pub selected_obstacle: Option<f64>,
+    /// Every obstacle's point (x, value) in order, for its number beside its marker.
+    pub obstacles: Vec<(f64, f64)>,
 }
 
 /// A stretch of the beam of its own stiffness, as the x axis marks it.
@@ -138,6 +140,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         .and_then(|i| solution.obstacles.get(i))
         .map(|o| o.x);
     let mut states: [Vec<(f64, f64)>; 6] = Default::default();
+    let mut obstacles = Vec::new();
     let regularized = method.is_regularized();
     for o in &solution.obstacles {
         let word = state_word(o, regularized, shown.max_deflection);
@@ -146,6 +149,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         if y.is_finite() {
             states[state].push((o.x, y));
         }
+        obstacles.push((o.x, y));
     }
     for (i, points) in states.iter().enumerate() {
         if !points.is_empty() {
@@ -167,6 +171,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         y_range: [min, max],
         segments,
         selected_obstacle,
+        obstacles,
     })
 }
 

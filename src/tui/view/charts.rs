@@ -183,6 +183,7 @@ fn deflection(
         plot.vertical_line(buffer, x, &rule, theme.current());
     }
     plot.draw_datasets(buffer, theme, datasets);
+    number_obstacles(buffer, &plot, &data.obstacles, theme);
     plot.draw_axes(buffer, theme);
     // Stretches of their own stiffness, along the x axis.
     for segment in &data.segments {
@@ -192,5 +193,33 @@ fn deflection(
             segment.glyph,
             theme.plain(),
         );
+    }
+}
+
+/// Each obstacle's number in the row above its marker (below it on the top row), where those
+/// cells are blank: a number never hides the curve, a marker or another number.
+fn number_obstacles(
+    buffer: &mut ratatui::buffer::Buffer,
+    plot: &crate::plot::PlotArea,
+    obstacles: &[(f64, f64)],
+    theme: &Theme,
+) {
+    let graph = plot.graph;
+    for (i, &(x, y)) in obstacles.iter().enumerate() {
+        let (Some(column), Some(row)) = (plot.column(x), plot.row(y)) else {
+            continue;
+        };
+        let number = (i + 1).to_string();
+        let width = number.len() as u16;
+        let start = column.saturating_sub((width - 1) / 2).max(graph.left());
+        if start + width > graph.right() {
+            continue;
+        }
+        let above = row.checked_sub(1).filter(|r| *r >= graph.top());
+        let below = Some(row + 1).filter(|r| *r < graph.bottom());
+        let blank = |r: u16| (start..start + width).all(|c| buffer[(c, r)].symbol() == " ");
+        if let Some(r) = above.into_iter().chain(below).find(|r| blank(*r)) {
+            buffer.set_stringn(start, r, &number, width as usize, theme.plain());
+        }
     }
 }
