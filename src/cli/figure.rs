@@ -16,10 +16,7 @@ use crate::plot::CurrentRun;
 use crate::scene::{self, LoadedScene, SaveError};
 use crate::solve::{Cancellation, ConditionLevel, Method, SolveOptions, solve};
 use crate::study;
-use crate::tui::jobs::sweeps::{DENSE_MAX, EPS_POINTS, MESH_MAX};
-
-/// The explorer's mesh sweep: this many sizes from 10 to [`MESH_MAX`].
-const MESH_POINTS: usize = 9;
+use crate::tui::jobs::sweeps::{EPS_POINTS, MESH_MAX, MESH_POINTS};
 
 /// A figure made: its SVG, and why it has no data if it has none.
 struct Drawn {
@@ -225,7 +222,7 @@ fn epsilon_panel(loaded: &LoadedScene, args: &FigureArgs, title: &str) -> Result
 }
 
 /// The explorer's mesh sweep: every method over the sizes asked for and the scene's n,
-/// `dual-inverse` only up to n = 400.
+/// `dual-inverse` only up to [`study::DENSE_MAX`].
 fn error_time(loaded: &LoadedScene, args: &FigureArgs, title: &str) -> Result<Drawn, CliError> {
     let (from, to, points) = range(args, (10.0, MESH_MAX as f64, MESH_POINTS));
     let mut ends = [0usize; 2];
@@ -241,30 +238,18 @@ fn error_time(loaded: &LoadedScene, args: &FigureArgs, title: &str) -> Result<Dr
     check_order(from, to)?;
     check_count("--points", points, 1..=super::MAX_MESH_POINTS)?;
     let settings = &loaded.settings;
-    let mut sizes = study::mesh_sizes(ends[0], ends[1], points);
-    sizes.push(settings.elements);
-    sizes.sort();
-    sizes.dedup();
-    let (dense, others): (Vec<Method>, Vec<Method>) = Method::ALL
-        .into_iter()
-        .partition(|m| *m == Method::DualInverse);
-    let small: Vec<usize> = sizes.iter().copied().filter(|&n| n <= DENSE_MAX).collect();
     let progress = ProgressLine::new("figure");
     let report = |done, total, what: &str| progress.report(done, total, what);
-    let sweep = |methods: &[Method], sizes: &[usize]| {
-        study::mesh_sweep(
-            &loaded.problem,
-            methods,
-            sizes,
-            args.repeat,
-            settings.epsilon,
-            &Cancellation::NEVER,
-            &report,
-        )
-        .expect("never cancelled")
-    };
-    let mut mesh_points = sweep(&others, &sizes);
-    mesh_points.extend(sweep(&dense, &small));
+    let mesh_points = study::error_study(
+        &loaded.problem,
+        &study::mesh_sizes(ends[0], ends[1], points),
+        settings.elements,
+        args.repeat,
+        settings.epsilon,
+        &Cancellation::NEVER,
+        &report,
+    )
+    .expect("never cancelled");
     progress.finish();
     let against = match args.against {
         Against::Time => ErrorAxis::RunTime,

@@ -55,6 +55,37 @@ pub fn mesh_sizes(from: usize, to: usize, points: usize) -> Vec<usize> {
     sizes
 }
 
+/// The largest mesh `dual-inverse` is run at in the error study: its O(N³) cost shows well
+/// before.
+pub const DENSE_MAX: usize = 400;
+
+/// The error study of the error-vs-run-time panel and `beamfric figure error-time`: every
+/// method over `sizes` and the scene's own n (`current`), `dual-inverse` only up to
+/// [`DENSE_MAX`].
+pub fn error_study(
+    problem: &Problem,
+    sizes: &[usize],
+    current: usize,
+    repeat: usize,
+    epsilon: f64,
+    cancel: &Cancel,
+    progress: Progress,
+) -> Result<Vec<MeshPoint>, Cancelled> {
+    let mut sizes = sizes.to_vec();
+    sizes.push(current);
+    sizes.sort();
+    sizes.dedup();
+    let (dense, others): (Vec<Method>, Vec<Method>) = Method::ALL
+        .into_iter()
+        .partition(|m| *m == Method::DualInverse);
+    let small: Vec<usize> = sizes.iter().copied().filter(|&n| n <= DENSE_MAX).collect();
+    let mut points = mesh_sweep(problem, &others, &sizes, repeat, epsilon, cancel, progress)?;
+    points.extend(mesh_sweep(
+        problem, &dense, &small, repeat, epsilon, cancel, progress,
+    )?);
+    Ok(points)
+}
+
 /// Runs each method at each size `repeat` times (median run time). Every (method, size) gets
 /// a point; a method that cannot apply at one size is not run again at larger sizes, its
 /// points there carry the same reason; a refusal (decided before any work: too many cases,

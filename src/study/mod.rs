@@ -7,7 +7,7 @@ mod epsilon;
 mod mesh;
 
 pub use epsilon::{CONDITION_LIMIT, EpsPoint, epsilon_sweep, log_space};
-pub use mesh::{MeshPoint, mesh_sizes, mesh_sweep};
+pub use mesh::{DENSE_MAX, MeshPoint, error_study, mesh_sizes, mesh_sweep};
 
 /// Says whether the study should stop (its result is no longer wanted); it also stops the
 /// solve of the point in progress, from inside its loops.

@@ -14,9 +14,16 @@ use crate::harness::scenes::loaded_preset;
 /// Benchmark 1 solved with every chart's data, the first obstacle's position selected (the
 /// deflection's current point).
 fn benchmark_1(ascii: bool) -> App {
-    let options = RenderOptions {
-        width: 120,
-        height: 40,
+    // f0, f1, E, width, height, then obstacle 1's x.
+    let keys = [Key::Down; 5];
+    prepare(loaded_preset("benchmark-1"), &keys, options(120, 40, ascii)).expect("the preset opens")
+}
+
+/// A plain render's options (no colours, the default palette and markers).
+fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
+    RenderOptions {
+        width,
+        height,
         look: Look {
             ascii,
             color: false,
@@ -26,10 +33,7 @@ fn benchmark_1(ascii: bool) -> App {
         timings: false,
         allow_save: None,
         lesson: None,
-    };
-    // f0, f1, E, width, height, then obstacle 1's x.
-    let keys = [Key::Down; 5];
-    prepare(loaded_preset("benchmark-1"), &keys, options).expect("the preset opens")
+    }
 }
 
 /// The charts' rows of a frame (the panels right of the parameters and results).
@@ -156,20 +160,7 @@ fn the_projector_look() {
 /// cells are blank): Benchmark 3's four at 80×24.
 #[test]
 fn the_deflection_numbers_its_obstacles() {
-    let options = RenderOptions {
-        width: 80,
-        height: 24,
-        look: Look {
-            ascii: false,
-            color: false,
-        },
-        palette: Palette::default(),
-        markers: MarkerSet::default(),
-        timings: false,
-        allow_save: None,
-        lesson: None,
-    };
-    let app = prepare(loaded_preset("benchmark-3"), &[], options).unwrap();
+    let app = prepare(loaded_preset("benchmark-3"), &[], options(80, 24, false)).unwrap();
     let text = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
     let mut numbers = Vec::new();
     for line in text.lines() {

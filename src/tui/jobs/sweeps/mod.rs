@@ -16,7 +16,7 @@ use crate::scene::Panel;
 use crate::study::{Cancel, Cancelled};
 
 pub use epsilon::{EPS_POINTS, EpsilonSweep};
-pub use mesh::{DENSE_MAX, MESH_MAX, MeshSweep};
+pub use mesh::{MESH_MAX, MESH_POINTS, MeshSweep};
 pub use sweep::{PanelSweep, SweepContext, SweepData, SweepInputs, SweepRequest, SweepResult};
 
 /// Every sweep, by index: the state's slots and the worker's lanes use the same index.
