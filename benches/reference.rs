@@ -8,6 +8,7 @@
 //! cargo bench --bench reference -- scan       # the stable method on many generated scenes
 //! cargo bench --bench reference -- write      # keep seeds as regression scenes
 //! cargo bench --bench reference -- diagnose   # one generated scene in detail
+//! cargo bench --bench reference -- families   # the stable method on the issue-26 families
 //! ```
 //!
 //! Each reads its settings from the environment, as described at its function:
@@ -38,6 +39,7 @@ fn main() {
         Some("scan") => scan_stable_method_on_hard_scenes(),
         Some("write") => write_hard_scenes_as_regressions(),
         Some("diagnose") => diagnose_one_hard_scene(),
+        Some("families") => scan_stable_method_on_families(),
         None => eprintln!("{USAGE}"),
         Some(other) => {
             eprintln!("unknown tool {other:?}; {USAGE}");
@@ -370,6 +372,28 @@ fn scan_stable_method_on_hard_scenes() {
         }
     }
     println!("{failures} of {count} scenes fail");
+}
+
+/// `families`: the stable method against the reference on `BEAMFRIC_HARD_SCENES` (default
+/// 200) seeds of every family of `check::families`, with k drawn from 2..=200 per seed, on
+/// 400 elements. Minutes.
+fn scan_stable_method_on_families() {
+    use beamfric::check::families::{Family, family_scene};
+    let count = env_number("BEAMFRIC_HARD_SCENES", 200);
+    for family in Family::ALL {
+        let mut rng = reference::scenes::Rng::new(17);
+        let mut failures = 0;
+        for seed in 0..count {
+            let k = rng.range(2, 200);
+            let scene = family_scene(family, k, seed, 400);
+            if let Err(why) = check_stable(&format!("{} k={k} seed={seed}", family.name()), &scene)
+            {
+                failures += 1;
+                println!("{}", why.lines().next().unwrap_or_default());
+            }
+        }
+        println!("{}: {failures} of {count} scenes fail", family.name());
+    }
 }
 
 /// `write`: writes the hard scene of every seed in `BEAMFRIC_WRITE_SEEDS` (comma separated) to

@@ -13,7 +13,9 @@
 //! names a method that then works.
 
 mod closed_forms;
+pub mod families;
 mod hard;
+mod many;
 
 use serde::Serialize;
 
@@ -27,6 +29,7 @@ use crate::solve::{
 
 pub use closed_forms::closed_forms;
 pub use hard::HARD_CASES;
+pub use many::{MANY_SIZES, check_families, check_family};
 
 /// Accuracy an exact method must reach when it raises no flag (the accuracy-loss threshold and
 /// the acceptance bound of issue 10).
@@ -446,10 +449,12 @@ pub fn check_presets() -> Vec<CaseReport> {
         .collect()
 }
 
-/// Runs the suite on every preset and every hard case ([`HARD_CASES`]).
+/// Runs the suite on every preset, every hard case ([`HARD_CASES`]) and the many-obstacle
+/// families ([`check_families`]).
 pub fn check_all() -> Vec<CaseReport> {
     let mut reports = check_presets();
     reports.extend(HARD_CASES.iter().map(|(name, text)| check_text(name, text)));
+    reports.extend(check_families());
     reports
 }
 

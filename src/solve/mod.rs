@@ -27,7 +27,9 @@ use certificate::MeshReference;
 
 pub use crate::model::Method;
 pub use closed_form::{ClosedForm, closed_form};
-pub use condensed::{CondensedFailure, CondensedSolution, solve_condensed, solve_condensed_while};
+pub use condensed::{
+    CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
+};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
     Conditioning, ErrorReport, FrictionState, KktGrade, MethodDetails, ObstacleResult, Reference,

@@ -18,6 +18,7 @@ mod cli_solve;
 mod condensed;
 mod escaping;
 mod explorer;
+mod families;
 mod figure;
 mod fitting;
 mod fuzz;

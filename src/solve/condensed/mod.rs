@@ -98,8 +98,27 @@ pub struct CondensedSolution {
     pub states: Vec<[FrictionState; 2]>,
     /// Linear solves (one per active-set step).
     pub solves: usize,
+    /// What the search cost, step by step.
+    pub counts: SolveCounts,
     /// Did the active-set iteration end with a consistent pattern?
     pub converged: bool,
+}
+
+/// The work of one condensed solve: pattern solves (each one banded factorisation),
+/// banded solves with existing factors (refinement steps and the like) and refinements in
+/// double-double.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SolveCounts {
+    /// Patterns solved (a banded factorisation and solve each).
+    pub pattern_solves: usize,
+    /// Banded factorisations of any kind (pattern solves and the interior-point steps).
+    pub factorizations: usize,
+    /// Solves with factors already made (refinement steps, predictor–corrector pairs).
+    pub back_solves: usize,
+    /// Solves refined with the exact relations in double-double.
+    pub refinements: usize,
+    /// Steps of the interior-point guess (a factorisation of the stiffness form each).
+    pub interior_steps: usize,
 }
 
 /// Why the condensed method has no solution.
@@ -112,7 +131,9 @@ pub enum CondensedFailure {
 }
 
 mod decisions;
+mod interior;
 mod line_search;
+mod mixed;
 mod nodes;
 mod refinement;
 mod scaling;

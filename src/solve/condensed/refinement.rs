@@ -66,6 +66,7 @@ impl ShootingSystem {
             // The f64 factors are too far from the exact relations: factor those themselves,
             // in double-double (banded_lu_dd), and go on from the last iterate.
             let mut matrix = self.exact_matrix(pattern);
+            self.count(|c| c.factorizations += 1);
             if matrix.factor().is_ok() {
                 correction_size.fill(f64::INFINITY);
                 self.refine(pattern, &mut x, &mut correction_size, |d| {
@@ -120,6 +121,7 @@ impl ShootingSystem {
         let mut previous_largest = f64::INFINITY;
         for _ in 0..EXACT_REFINEMENT_STEPS {
             let mut d = self.exact_residual(pattern, x);
+            self.count(|c| c.back_solves += 1);
             if !apply_inverse(&mut d) {
                 return Refinement::Diverged;
             }

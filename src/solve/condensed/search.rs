@@ -60,6 +60,11 @@ pub(super) fn solve_with_newton_phases(
         .unwrap_or(NEWTON_REVERSAL_FRACTIONS[0]);
     let system = ShootingSystem::new(problem, mesh, &scales, first_fraction);
     let mut search = PatternSearch::new(&system, problem.obstacles.len(), newton_phases);
+    if !newton_phases.is_empty()
+        && let Some(guess) = system.interior_point_pattern()
+    {
+        search.pattern = guess;
+    }
     let (solution, converged) = search.run(keep_going)?;
     condensed_solution(
         (problem, mesh, &scales),
@@ -372,6 +377,7 @@ fn condensed_solution(
         friction,
         states,
         solves,
+        counts: system.counts.get(),
         converged,
     })
 }

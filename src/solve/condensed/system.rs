@@ -4,8 +4,8 @@
 //! (3)–(6) at the obstacles, the clamped ends — and one banded solve per pattern. Refinement
 //! is in `refinement`, what a solve says about each DOF in `decisions`.
 
-use super::CondensedFailure;
 use super::scaling::{ExactPiece, Piece, Scales};
+use super::{CondensedFailure, SolveCounts};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::linalg::double_double::DoubleDouble;
@@ -52,6 +52,8 @@ pub(super) struct ShootingSystem {
     pub(super) thresholds: Vec<[f64; 2]>,
     /// σ / diagonal stiffness in the reversal prediction of the current Newton phase.
     pub(super) reversal_fraction: std::cell::Cell<f64>,
+    /// The work done so far.
+    pub(super) counts: std::cell::Cell<SolveCounts>,
 }
 
 /// The states of one solve of a fixed pattern.
@@ -167,6 +169,7 @@ impl ShootingSystem {
             point_of_obstacle,
             thresholds,
             reversal_fraction: std::cell::Cell::new(reversal_fraction),
+            counts: std::cell::Cell::new(SolveCounts::default()),
         }
     }
 
@@ -189,8 +192,13 @@ impl ShootingSystem {
         banded: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
         if accuracy == Accuracy::RefineLast {
+            self.count(|c| c.refinements += 1);
             return self.refine_last(pattern, banded);
         }
+        self.count(|c| {
+            c.pattern_solves += 1;
+            c.factorizations += 1;
+        });
         let pieces = self.pieces.len();
         banded.reset(4 * pieces - 2);
         self.assemble_matrix(
@@ -223,6 +231,13 @@ impl ShootingSystem {
             .solve_unrefined()
             .map_err(|e| CondensedFailure::Singular { column: e.column })?;
         Ok(self.pattern_solution(pattern, &x))
+    }
+
+    /// Adds to the work counts.
+    pub(super) fn count(&self, add: impl FnOnce(&mut SolveCounts)) {
+        let mut counts = self.counts.get();
+        add(&mut counts);
+        self.counts.set(counts);
     }
 
     /// Column of component c (0..4) of the state at point p; point 0 has only m, m'.

@@ -1,0 +1,151 @@
+//! Scenes with many obstacles in the four arrangements of issue 26, generated from fixed seeds
+//! so that a benchmark, `beamfric check` and the reference tests see the same beams: random
+//! positions and thresholds; tight clusters whose thresholds are well below the stuck forces
+//! (every DOF moves); the same clusters with thresholds around the stuck forces (mixed
+//! states); equally spaced obstacles with thresholds exactly at the stuck forces (ties).
+//!
+//! The beam and load are Benchmark 3's (l = 1 m, E J of a 1 cm round steel bar, f from 1e5 to
+//! 1.5e5 N/m). "Stuck forces" are the reactions (38) gives when every DOF is held: the
+//! condensed solution with thresholds too large to be reached.
+
+use crate::fem::Mesh;
+use crate::model::Problem;
+use crate::scene::{ObstacleSpec, Scene, preset};
+use crate::solve::solve_condensed;
+
+/// An arrangement of many obstacles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// Uniformly random positions; thresholds uniformly random between 0 and twice the stuck
+    /// force of each DOF.
+    Random,
+    /// Three clusters, at 0.25, 0.5 and 0.75 l, each ±0.02 l wide; thresholds 5–50 % of the
+    /// stuck forces, so every DOF moves.
+    Clustered,
+    /// The same clusters with thresholds 50–150 % of the stuck forces: mixed states.
+    ClusteredMixed,
+    /// Equally spaced obstacles with thresholds equal to the stuck forces (rounded to f64):
+    /// every DOF at its threshold, about half of them by a motion of rounding size.
+    Ties,
+}
+
+impl Family {
+    /// Every family, in the order of issue 26's table.
+    pub const ALL: [Family; 4] = [
+        Family::Random,
+        Family::Clustered,
+        Family::ClusteredMixed,
+        Family::Ties,
+    ];
+
+    /// The family's name in tables and case names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Random => "random",
+            Family::Clustered => "clustered",
+            Family::ClusteredMixed => "clustered-mixed",
+            Family::Ties => "ties",
+        }
+    }
+}
+
+/// A fixed sequence of uniform numbers in [0, 1) (SplitMix64).
+struct Uniform(u64);
+
+impl Uniform {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Benchmark 3's beam and load.
+fn base_scene() -> Scene {
+    let preset = preset("benchmark-3").expect("the benchmark-3 preset exists");
+    Scene::from_toml(preset.text, preset.name).expect("the preset is valid")
+}
+
+/// Obstacle positions [m] of `family` (sorted, distinct) for `k` obstacles.
+fn positions(family: Family, k: usize, random: &mut Uniform, length: f64) -> Vec<f64> {
+    let mut xs: Vec<f64> = match family {
+        Family::Ties => (1..=k)
+            .map(|j| j as f64 / (k + 1) as f64 * length)
+            .collect(),
+        Family::Random => (0..k)
+            .map(|_| (0.01 + 0.98 * random.next()) * length)
+            .collect(),
+        Family::Clustered | Family::ClusteredMixed => (0..k)
+            .map(|j| {
+                let centre = [0.25, 0.5, 0.75][j % 3];
+                (centre + 0.04 * (random.next() - 0.5)) * length
+            })
+            .collect(),
+    };
+    xs.sort_by(f64::total_cmp);
+    // Random draws that land within 1e-6·l of each other are spread to that distance (the
+    // scene's own minimum separation is far below it).
+    for i in 1..xs.len() {
+        xs[i] = xs[i].max(xs[i - 1] + 1e-6 * length);
+    }
+    xs
+}
+
+/// (|λ1|, |λ2|) per obstacle with every DOF held (thresholds out of reach), on `elements`.
+pub fn stuck_forces(scene: &Scene, elements: usize) -> Vec<[f64; 2]> {
+    let mut held = scene.clone();
+    for o in &mut held.obstacles {
+        o.sliding = 1e300;
+        o.swivel = 1e300;
+    }
+    let problem = held.problem().expect("a generated scene is valid");
+    let mesh = Mesh::new(&problem, elements);
+    let solution = solve_condensed(&problem, &mesh).expect("the held beam has a solution");
+    solution
+        .friction
+        .iter()
+        .map(|[force, moment]| [force.abs(), moment.abs()])
+        .collect()
+}
+
+/// The scene of `family` with `k` obstacles from `seed`, its thresholds set from the stuck
+/// forces on a mesh of `elements`.
+pub fn family_scene(family: Family, k: usize, seed: u64, elements: usize) -> Scene {
+    let mut scene = base_scene();
+    scene.title = format!("{} k={k} seed={seed}", family.name());
+    scene.description = String::new();
+    scene.mesh.elements = elements;
+    let mut random = Uniform(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ k as u64);
+    let length = scene.beam.length;
+    scene.obstacles = positions(family, k, &mut random, length)
+        .into_iter()
+        .map(|x| ObstacleSpec {
+            x,
+            sliding: 0.0,
+            swivel: 0.0,
+        })
+        .collect();
+    let stuck = stuck_forces(&scene, elements);
+    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
+        let (low, high) = match family {
+            Family::Random => (0.0, 2.0),
+            Family::Clustered => (0.05, 0.5),
+            Family::ClusteredMixed => (0.5, 1.5),
+            Family::Ties => (1.0, 1.0),
+        };
+        let mut fraction = || low + (high - low) * random.next();
+        o.sliding = force * fraction();
+        o.swivel = moment * fraction();
+    }
+    scene
+}
+
+/// [`family_scene`] validated, with its mesh.
+pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
+    let scene = family_scene(family, k, seed, elements);
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = Mesh::new(&problem, elements);
+    (problem, mesh)
+}

@@ -1,0 +1,201 @@
+//! The multiple-shooting system of `system` with a mixed condition c_i = D_i λ_i + r_i at
+//! every friction DOF in place of a pattern's "c = 0" or "λ = ±g": the linear system of one
+//! interior-point step (`interior`). Same band, same unknowns; the DOF's column holds its
+//! force where D is small (a DOF close to stuck: c follows from λ) and its motion where D is
+//! large (close to moving: λ follows from c), so neither is a small difference of large ones.
+
+use super::CondensedFailure;
+use super::system::{JUMPS, Pattern, ShootingSystem};
+use crate::linalg::banded_lu::BandedSystem;
+
+/// The condition at one friction DOF: c − m = D (λ − λ₀) about a base force λ₀ and motion m
+/// (λ = λ₀ with c free where D is infinite). Written about a base point so that the change of
+/// a force on the verge of moving (D large, λ₀ at its threshold) is not a small difference
+/// of large numbers.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Mixed {
+    pub(super) weight: f64,
+    pub(super) force: f64,
+    pub(super) motion: f64,
+}
+
+impl Mixed {
+    /// No friction at `dof`: λ = 0, c free.
+    pub(super) fn free(_dof: usize) -> Mixed {
+        Mixed {
+            weight: f64::INFINITY,
+            force: 0.0,
+            motion: 0.0,
+        }
+    }
+
+    /// c = D λ + this, where the force is the unknown.
+    fn offset(&self) -> f64 {
+        self.motion - self.weight * self.force
+    }
+}
+
+/// Motions c and the changes of the forces λ − λ₀ per friction DOF.
+pub(super) type MotionsAndForces = (Vec<f64>, Vec<f64>);
+
+impl ShootingSystem {
+    /// The diagonal stiffness at friction DOF i: 12EJ/L³ per adjacent piece for a deflection,
+    /// 4EJ/L for a slope.
+    pub(super) fn diagonal_stiffness(&self, i: usize) -> f64 {
+        let p = self.point_of_obstacle[i / 2];
+        [p - 1, p]
+            .iter()
+            .map(|&q| {
+                let piece = &self.pieces[q];
+                if i.is_multiple_of(2) {
+                    12.0 * piece.stiffness / piece.length.powi(3)
+                } else {
+                    4.0 * piece.stiffness / piece.length
+                }
+            })
+            .sum()
+    }
+
+    /// Does DOF i's column hold its force (D small against its compliance)?
+    fn force_unknown(&self, i: usize, mixed: &Mixed) -> bool {
+        mixed.weight * self.diagonal_stiffness(i) < 1.0
+    }
+
+    /// Solves the system with the conditions `mixed` (one per friction DOF), factoring it in
+    /// `banded`.
+    pub(super) fn solve_mixed(
+        &self,
+        mixed: &[Mixed],
+        banded: &mut BandedSystem,
+    ) -> Result<MotionsAndForces, CondensedFailure> {
+        banded.reset(4 * self.pieces.len() - 2);
+        let force_column = self.force_columns(mixed);
+        let rhs = self.assemble_mixed(mixed, &force_column, Some(banded));
+        for (row, value) in rhs.into_iter().enumerate() {
+            banded.add_rhs(row, value);
+        }
+        let x = banded
+            .solve_unrefined()
+            .map_err(|e| CondensedFailure::Singular { column: e.column })?;
+        Ok(self.mixed_values(mixed, &force_column, &x))
+    }
+
+    /// The same system (the same weights, so the same factors in `banded`) with other
+    /// offsets: one back substitution. `None` without factors.
+    pub(super) fn resolve_mixed(
+        &self,
+        mixed: &[Mixed],
+        banded: &BandedSystem,
+    ) -> Option<MotionsAndForces> {
+        let force_column = self.force_columns(mixed);
+        let mut x = self.assemble_mixed(mixed, &force_column, None);
+        banded.apply_inverse(&mut x).then_some(())?;
+        Some(self.mixed_values(mixed, &force_column, &x))
+    }
+
+    /// Per column: the friction DOF whose force it holds.
+    fn force_columns(&self, mixed: &[Mixed]) -> Vec<Option<usize>> {
+        let mut columns = vec![None; 4 * self.pieces.len() - 2];
+        for (i, m) in mixed.iter().enumerate() {
+            if self.force_unknown(i, m) {
+                columns[self.dof_column(i)] = Some(i);
+            }
+        }
+        columns
+    }
+
+    /// The right-hand side of the mixed system, and its matrix into `matrix` when given: the
+    /// moving pattern's matrix with c = D λ + r substituted where a force is the unknown, and
+    /// λ = (c − r)/D in the jump where the motion is.
+    fn assemble_mixed(
+        &self,
+        mixed: &[Mixed],
+        force_column: &[Option<usize>],
+        mut matrix: Option<&mut BandedSystem>,
+    ) -> Vec<f64> {
+        let mut rhs = self.mixed_rhs_base();
+        let moving = vec![Pattern::Positive; mixed.len()];
+        self.assemble_matrix(
+            &moving,
+            |p| self.pieces[p].transfer_matrix(),
+            |v| v,
+            |row, column, value| {
+                let entry = match force_column[column] {
+                    Some(i) => {
+                        rhs[row] -= value * mixed[i].offset();
+                        mixed[i].weight * value
+                    }
+                    None => value,
+                };
+                if let Some(m) = matrix.as_deref_mut() {
+                    m.add(row, column, entry);
+                }
+            },
+        );
+        for (i, m) in mixed.iter().enumerate() {
+            let (row, column, sign) = self.jump_entry(i);
+            let entry = if force_column[column].is_some() {
+                sign
+            } else if m.weight.is_finite() {
+                // λ = λ₀ + (c − m)/D in the jump.
+                rhs[row] += sign * (m.motion / m.weight) - sign * m.force;
+                sign / m.weight
+            } else {
+                rhs[row] -= sign * m.force;
+                continue;
+            };
+            if let Some(matrix) = matrix.as_deref_mut() {
+                matrix.add(row, column, entry);
+            }
+        }
+        rhs
+    }
+
+    /// The column of friction DOF i (its motion, or its force).
+    fn dof_column(&self, i: usize) -> usize {
+        Self::column(self.point_of_obstacle[i / 2], i % 2)
+    }
+
+    /// (row, column, sign) of DOF i's force in its jump row.
+    fn jump_entry(&self, i: usize) -> (usize, usize, f64) {
+        let p = self.point_of_obstacle[i / 2];
+        let (_, jump_row, sign) = JUMPS[i % 2];
+        (4 * (p - 1) + jump_row, self.dof_column(i), sign)
+    }
+
+    /// The load's part of the right-hand side: −q of every piece's rows.
+    fn mixed_rhs_base(&self) -> Vec<f64> {
+        let pieces = self.pieces.len();
+        let mut rhs = vec![0.0; 4 * pieces - 2];
+        for (p, piece) in self.pieces.iter().enumerate() {
+            let rows = if p + 1 == pieces { 2 } else { 4 };
+            for (r, q) in piece.load_terms().iter().enumerate().take(rows) {
+                rhs[4 * p + r] = -q;
+            }
+        }
+        rhs
+    }
+
+    /// Motions and forces from a solution `x`.
+    fn mixed_values(
+        &self,
+        mixed: &[Mixed],
+        force_column: &[Option<usize>],
+        x: &[f64],
+    ) -> MotionsAndForces {
+        mixed
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                let value = x[self.dof_column(i)];
+                if force_column[self.dof_column(i)].is_some() {
+                    (m.weight * value + m.offset(), value - m.force)
+                } else if m.weight.is_finite() {
+                    (value, (value - m.motion) / m.weight)
+                } else {
+                    (value, 0.0)
+                }
+            })
+            .unzip()
+    }
+}
