@@ -1,12 +1,11 @@
 //! The many-obstacle cases of `beamfric check` (issue 26): each family of `families` at
-//! k = 1000 and 4000 on 10⁴ elements. Every method but `condensed` and `flexibility` either
-//! refuses that many obstacles or needs the 2k × 2k dual matrix (512 MB at k = 4000), so a case
-//! runs the condensed method, judged on its own certificate (finite, converged, no warning, KKT
-//! residual within [`MANY_KKT_TOLERANCE`]), and at k = 1000 the flexibility method against it
-//! as in every other case.
+//! k = 1000 and 4000 on 10⁴ elements. Every other method refuses more than 512 obstacles (its
+//! dense 2k × 2k matrices) and names `condensed`, so a case runs the condensed method, judged
+//! on its own certificate: finite, converged, no warning, KKT residual within
+//! [`MANY_KKT_TOLERANCE`].
 
 use super::families::{Family, family_scene};
-use super::{Bench, CaseReport, MethodRun, options, summarize};
+use super::{CaseReport, MethodRun, options, summarize};
 use crate::fem::Mesh;
 use crate::solve::{Method, solve};
 
@@ -18,9 +17,6 @@ const MANY_ELEMENTS: usize = 10_000;
 
 /// The seed of every many-obstacle case.
 const MANY_SEED: u64 = 1;
-
-/// Largest flexibility-method case (its S is 2k × 2k).
-const FLEXIBILITY_MAX_OBSTACLES: usize = 1000;
 
 /// KKT residual the condensed method must reach (relative, as the certificate reports it).
 const MANY_KKT_TOLERANCE: f64 = 1e-10;
@@ -84,17 +80,6 @@ pub fn check_family(family: Family, k: usize) -> CaseReport {
         flagged: false,
         warnings: reference.warnings.iter().map(|w| w.code).collect(),
     });
-    if k <= FLEXIBILITY_MAX_OBSTACLES {
-        let bench = Bench {
-            problem: &problem,
-            mesh: &mesh,
-            epsilon: settings.epsilon,
-            largest: reference.max_deflection().max(f64::MIN_POSITIVE),
-            reference: &reference,
-        };
-        let run = bench.judge(Method::Flexibility, &mut report.failures);
-        report.runs.push(run);
-    }
     summarize(&mut report);
     report
 }

@@ -118,6 +118,7 @@ impl ShootingSystem {
             variables,
         };
         let steps = method.run();
+        // Each step: a factorisation with its solve, and one more solve with its factors.
         self.count(|c| {
             c.interior_steps += steps;
             c.factorizations += steps;

@@ -22,6 +22,12 @@ const NEWTON_STEPS: usize = 40;
 /// σ = 0 converges in 6–16 solves where 0.5 diverges after a few steps at 4000 obstacles;
 /// 0.5 stays as the second variant for scenes where 0 cycles.
 pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
+/// Fewest obstacles for which the search starts from the interior-point guess (about 12
+/// steps of its own): with fewer, semismooth Newton from all stuck takes a handful of solves.
+/// Measured on the issue-26 families at k = 128 (`cargo bench --bench many_obstacles --
+/// report`): random, clustered and mixed go from 13–39 pattern solves (1.1–3.0 ms) to 1
+/// (1.0–1.2 ms); ties from 14 to 22 (12.9 to 16.6 ms).
+const INTERIOR_POINT_FROM: usize = 32;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -61,6 +67,7 @@ pub(super) fn solve_with_newton_phases(
     let system = ShootingSystem::new(problem, mesh, &scales, first_fraction);
     let mut search = PatternSearch::new(&system, problem.obstacles.len(), newton_phases);
     if !newton_phases.is_empty()
+        && problem.obstacles.len() >= INTERIOR_POINT_FROM
         && let Some(guess) = system.interior_point_pattern()
     {
         search.pattern = guess;
