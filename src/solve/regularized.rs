@@ -262,6 +262,7 @@ pub(super) fn regularized_output(
         details,
         dual_condition: None,
         regularized_cases: condition_cases,
+        friction_accuracy: None,
     }
 }
 

@@ -41,6 +41,7 @@ pub(in crate::solve) fn certify(
         mut details,
         dual_condition,
         regularized_cases,
+        friction_accuracy,
     } = output;
     if let Some(w) = mesh_raised_warning(mesh) {
         warnings.insert(0, w);
@@ -64,9 +65,13 @@ pub(in crate::solve) fn certify(
         )?;
         still_wanted()?;
     }
+    // A dual method's own account of its friction stage, with the rounding of its S and z0.
+    let friction_errors = friction_accuracy
+        .map(|a| a.with_rounding(friction_data_rounding(problem, method, stiffness_scaled)));
     let judging = Judging {
         motion_resolution: motion_resolution(problem, method, stiffness_scaled),
         epsilon: method.is_regularized().then_some(options.epsilon),
+        friction_errors: friction_errors.as_ref(),
     };
     let Equilibrium {
         residual: kkt_residual,
@@ -253,6 +258,27 @@ fn motion_resolution(
             let scaled = stiffness_scaled.map_or(1.0 / f64::EPSILON, |c| c.value);
             qp.max(1e-12).max(0.1 * scaled * f64::EPSILON)
         }
+    }
+}
+
+/// The relative rounding of every entry of S and z0 that a dual method's box QP decided from
+/// (`friction_accuracy` turns it into errors of the motions and stuck forces): the QP's
+/// stopping tolerance, 64·2k ulps of the terms of its gradient (`linalg::boxqp`); on the
+/// stiffness route also the loss of the factorization of A, 0.1·cond(D^-1/2 A D^-1/2)·eps as
+/// in [`motion_resolution`]. `flexibility` measures its own single-shooting loss on top.
+fn friction_data_rounding(
+    problem: &Problem,
+    method: Method,
+    stiffness_scaled: Option<ConditionNumber>,
+) -> f64 {
+    let qp = 128.0 * problem.obstacles.len() as f64 * f64::EPSILON;
+    match method {
+        Method::Dual | Method::DualInverse => {
+            let scaled = stiffness_scaled.map_or(1.0 / f64::EPSILON, |c| c.value);
+            qp.max(0.1 * scaled * f64::EPSILON)
+        }
+        Method::Flexibility => qp,
+        _ => 0.0,
     }
 }
 

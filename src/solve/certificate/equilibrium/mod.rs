@@ -70,7 +70,7 @@ pub(in crate::solve) fn check(
     problem: &Problem,
     mesh: &Mesh,
     (field, lambda): (&NodalField, &[[f64; 2]]),
-    judging: Judging,
+    judging: Judging<'_>,
     stop: Stop,
 ) -> Option<Equilibrium> {
     let still_wanted = || (!stop()).then_some(());

@@ -7,6 +7,7 @@
 use super::dimensionless::{DimensionlessSolution, relative};
 use super::pieces::{PieceForces, special_point};
 use crate::solve::FrictionState;
+use crate::solve::friction_accuracy::FrictionErrors;
 
 /// Ulps of the local magnitudes within which a motion is not resolved.
 const MOTION_ULPS: f64 = 64.0;
@@ -16,12 +17,15 @@ const FORCE_ULPS: f64 = 64.0;
 
 /// How a method's answer is judged.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(in crate::solve) struct Judging {
+pub(in crate::solve) struct Judging<'a> {
     /// The method's own rounding of c relative to the largest |u| and |u'| (0 when it is no
     /// more than a few ulps of the local values).
     pub motion_resolution: f64,
     /// ε of a regularised method.
     pub epsilon: Option<f64>,
+    /// A dual method's own bounds on the errors of its motions and stuck forces at every
+    /// obstacle (SI units): a DOF within them of a tie is at the threshold.
+    pub friction_errors: Option<&'a FrictionErrors>,
 }
 
 /// The friction states per obstacle and, for a regularised method, the largest relative
@@ -38,7 +42,7 @@ struct StateCheck<'a> {
     global: [f64; 2],
     /// The largest force of each kind (force, moment).
     kind_scale: [f64; 2],
-    judging: Judging,
+    judging: Judging<'a>,
 }
 
 /// One friction DOF at its obstacle, in dimensionless units.
@@ -57,6 +61,8 @@ struct Dof {
     meeting: f64,
     /// The same with every term of the two pieces' end forces at its own size.
     meeting_terms: f64,
+    /// The method's own bounds on the errors of c and of a stuck λ here (0 when it has none).
+    own_errors: [f64; 2],
 }
 
 /// Stage of the check: the friction state of every obstacle, raising `residual` to the
@@ -178,6 +184,17 @@ impl StateCheck<'_> {
             left.magnitude[3] + right.magnitude[1],
         ];
         let c = [data.deflection.at(node), data.slope.at(node)];
+        let own_errors = |d: usize| -> [f64; 2] {
+            self.judging.friction_errors.map_or([0.0; 2], |e| {
+                let motion = e.motion[j][d];
+                let motion = if d == 0 {
+                    units.u(motion)
+                } else {
+                    units.slope(motion)
+                };
+                [motion, units.force(e.force[j][d], d)]
+            })
+        };
         let mut pair = [FrictionState::Stuck; 2];
         for d in 0..2 {
             let dof = Dof {
@@ -188,6 +205,7 @@ impl StateCheck<'_> {
                 local: local[d],
                 meeting: meeting[d],
                 meeting_terms: meeting_terms[d],
+                own_errors: own_errors(d),
             };
             pair[d] = self.dof_state(&dof, residual, unresolved_force);
         }
@@ -206,7 +224,8 @@ impl StateCheck<'_> {
         let (judging, units, d) = (self.judging, &self.data.units, dof.kind);
         let (c, l, g) = (dof.motion, dof.force, dof.threshold);
         let motion_tolerance = (MOTION_ULPS * f64::EPSILON * dof.local)
-            .max(judging.motion_resolution * self.global[d]);
+            .max(judging.motion_resolution * self.global[d])
+            .max(dof.own_errors[0]);
         let epsilon = judging
             .epsilon
             .map_or(0.0, |e| [units.u(e), units.slope(e)][d]);
@@ -214,7 +233,7 @@ impl StateCheck<'_> {
             .max(l.abs())
             .max(dof.meeting)
             .max(self.data.subnormal_force[d] / f64::EPSILON);
-        let mut force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
+        let mut force_tolerance = (FORCE_ULPS * f64::EPSILON * force_scale).max(dof.own_errors[1]);
         if epsilon > 0.0 {
             // A regularised method's λ = g·c/ε is as uncertain as its c near ε (the unresolved
             // motion turned into force) and as its equilibrium (its relative loss on the
