@@ -9,6 +9,14 @@
 //! kinds of entry error: a relative rounding ρ of every entry, which the certificate knows (the
 //! QP's stopping tolerance, the stiffness route's loss with cond(A)); and what the method knows
 //! it lost itself, absolutely (the single shooting of `flexibility`).
+//!
+//! The regularised methods (`regularized`, `regularized-newton`) are off by what ε does
+//! ([`regularization_accuracy`]): their answer is the exact solution of (38) with every
+//! obstacle displaced by δ_j = clamp(c_j, −ε, ε), and the solution of (38) moves by at most
+//! 2 √(S_ii) ‖δ‖_K at DOF i when its obstacles are displaced by δ (the solution map of the
+//! convex problem is non-expansive in the energy norm; the displacement costs ‖δ‖_K once as
+//! the lifted field and once as the load it makes, K = S⁻¹ the stiffness on the friction
+//! DOFs). A motion within that of zero is not one of the exact problem.
 
 use crate::linalg::boxqp::{BoundState, QpResult};
 use crate::linalg::dense::Cholesky;
@@ -110,6 +118,42 @@ pub(crate) fn friction_accuracy(
     }))
 }
 
+/// What ε does to the motions of a regularised method's answer `c` on the friction DOFs (K
+/// the condensed stiffness there, 2k×2k row-major): 2 √(S_ii) √(δᵀKδ) at DOF i with
+/// δ = clamp(c, −ε, ε) (module doc), as `lost`. Its forces are left to the ε-problem's own
+/// judgement (a stuck force of the ε-problem is one within that motion of the exact problem's).
+/// `Ok(None)` when K is not positive definite in floating point.
+pub(crate) fn regularization_accuracy(
+    k: &[f64],
+    c: &[f64],
+    epsilon: f64,
+    stop: Stop,
+) -> Result<Option<FrictionAccuracy>, Stopped> {
+    let dim = c.len();
+    let every: Vec<usize> = (0..dim).collect();
+    let Some(inverse) = free_block_inverse(k, dim, &every, stop)? else {
+        return Ok(None);
+    };
+    let delta: Vec<f64> = c.iter().map(|v| v.clamp(-epsilon, epsilon)).collect();
+    let energy: f64 = (0..dim)
+        .map(|i| delta[i] * (0..dim).map(|j| k[i * dim + j] * delta[j]).sum::<f64>())
+        .sum();
+    let norm = energy.max(0.0).sqrt();
+    let motion: Vec<f64> = (0..dim)
+        .map(|i| 2.0 * inverse[i * dim + i].sqrt() * norm)
+        .collect();
+    Ok(Some(FrictionAccuracy {
+        per_rounding: FrictionErrors {
+            motion: vec![[0.0; 2]; dim / 2],
+            force: vec![[0.0; 2]; dim / 2],
+        },
+        lost: FrictionErrors {
+            motion: pairs(&motion),
+            force: vec![[0.0; 2]; dim / 2],
+        },
+    }))
+}
+
 /// |S_FF⁻¹| (m×m row-major, m = |F|), from the Cholesky factor of S_FF scaled to unit
 /// diagonal (S mixes m/N and rad/(N m)); `None` when it is not positive definite.
 fn free_block_inverse(
@@ -148,21 +192,29 @@ fn spread_to_forces(
     mut motion: Vec<f64>,
 ) -> FrictionErrors {
     let m = free.len();
+    let mut is_free = vec![false; dim];
+    for &i in free {
+        is_free[i] = true;
+    }
     let mut force = vec![0.0; dim];
     for (a, &i) in free.iter().enumerate() {
         force[i] = (0..m).map(|b| inverse[a * m + b] * motion[free[b]]).sum();
     }
     for i in 0..dim {
-        if !free.contains(&i) {
+        if !is_free[i] {
             motion[i] += free
                 .iter()
                 .map(|&j| (s[i * dim + j] * force[j]).abs())
                 .sum::<f64>();
         }
     }
-    let pairs = |v: &[f64]| v.chunks(2).map(|c| [c[0], c[1]]).collect();
     FrictionErrors {
         motion: pairs(&motion),
         force: pairs(&force),
     }
+}
+
+/// Per obstacle (sliding, swivel).
+fn pairs(v: &[f64]) -> Vec<[f64; 2]> {
+    v.chunks(2).map(|c| [c[0], c[1]]).collect()
 }

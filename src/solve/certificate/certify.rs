@@ -65,13 +65,14 @@ pub(in crate::solve) fn certify(
         )?;
         still_wanted()?;
     }
-    // A dual method's own account of its friction stage, with the rounding of its S and z0.
-    let friction_errors = friction_accuracy
+    // A method's own account of its friction stage: a dual method's with the rounding of its
+    // S and z0, a regularised one's of what ε does.
+    let own_errors = friction_accuracy
         .map(|a| a.with_rounding(friction_data_rounding(problem, method, stiffness_scaled)));
     let judging = Judging {
         motion_resolution: motion_resolution(problem, method, stiffness_scaled),
         epsilon: method.is_regularized().then_some(options.epsilon),
-        friction_errors: friction_errors.as_ref(),
+        own_errors: own_errors.as_ref(),
     };
     let Equilibrium {
         residual: kkt_residual,
@@ -243,7 +244,9 @@ fn larger(
 /// the closed form resolve to a few ulps of the local values (0 here); the box QP of the dual
 /// methods stops within 64·2k ulps of its gradient; the stiffness route loses about
 /// 0.02·cond(D^-1/2 A D^-1/2)·eps (docs/design.md fact 2; 0.1 for margin), single shooting
-/// about 1e-14 on ordinary scenes (1e-12 for margin).
+/// about 1e-14 on ordinary scenes (1e-12 for margin). The dual methods' states use it only when
+/// they have no account of their own (`friction_accuracy`; their QP's free block was not
+/// positive definite); the regularised methods' forces inside ε always.
 fn motion_resolution(
     problem: &Problem,
     method: Method,
