@@ -10,6 +10,9 @@
 //! S = B A⁻¹ Bᵀ and z0 = B A⁻¹ b of (49) without the stiffness matrix, in O(k²) work.
 //! After the box QP, every node is evaluated from the state at the start of its piece by the
 //! exact Taylor polynomial: no sum runs over the elements, so rounding does not grow with n.
+//! The shooting carries the sums of the absolute values of its terms alongside, so the method
+//! knows what its single shooting lost in every entry of S and z0 (`fit`); the certificate
+//! judges the friction states with that (`super::friction_accuracy`).
 //!
 //! Because the finite-element solution is exact at the nodes (docs/design.md fact 1), these
 //! nodal values are the discrete solution of (38) itself, for any mesh.
