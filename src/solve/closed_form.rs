@@ -245,5 +245,6 @@ pub(super) fn solve(
         details: MethodDetails::default(),
         dual_condition: None,
         regularized_cases: Vec::new(),
+        friction_accuracy: None,
     })
 }

@@ -42,5 +42,11 @@ pub(super) fn solve(
         .into_iter()
         .chain(indefinite_k)
         .collect();
-    Ok(dual_output(field, &qp, &s, timing, warnings, options))
+    Ok(dual_output(
+        field,
+        (&qp, &s, &z0),
+        None,
+        (timing, warnings),
+        options,
+    ))
 }

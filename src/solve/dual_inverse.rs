@@ -118,5 +118,11 @@ pub(super) fn solve(
     }
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(field, &qp, &s, timing, Vec::new(), options))
+    Ok(dual_output(
+        field,
+        (&qp, &s, &z0),
+        None,
+        (timing, Vec::new()),
+        options,
+    ))
 }

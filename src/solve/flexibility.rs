@@ -10,10 +10,14 @@
 //! S = B A⁻¹ Bᵀ and z0 = B A⁻¹ b of (49) without the stiffness matrix, in O(k²) work.
 //! After the box QP, every node is evaluated from the state at the start of its piece by the
 //! exact Taylor polynomial: no sum runs over the elements, so rounding does not grow with n.
+//! The shooting carries the sums of the absolute values of its terms alongside, so the method
+//! knows what its single shooting lost in every entry of S and z0 (`fit`); the certificate
+//! judges the friction states with that (`super::friction_accuracy`).
 //!
 //! Because the finite-element solution is exact at the nodes (docs/design.md fact 1), these
 //! nodal values are the discrete solution of (38) itself, for any mesh.
 
+use super::friction_accuracy::EntryErrors;
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, Timing};
@@ -37,6 +41,163 @@ fn propagate(s: State, t: f64, ej: f64, f0: f64, slope: f64) -> State {
     [u + t * du + int2_m / ej, du + int_m / ej, m_t, v_t]
 }
 
+/// The columns of the superposition carried to every obstacle and to l, each value with the
+/// sum of the absolute values of the terms it was computed from (its rounding is relative to
+/// that). Columns: 0 the load, 1 unit m(0), 2 unit m'(0), 3 + q unit λ_q.
+struct Shooting {
+    /// (u, u', m, m') of every column at l.
+    end: Vec<State>,
+    /// Their term magnitudes.
+    end_magnitude: Vec<State>,
+    /// (u, u') of every column at every obstacle: values[c * dim + q].
+    values: Vec<f64>,
+    /// Their term magnitudes.
+    value_magnitude: Vec<f64>,
+    /// Roundings in a row from x = 0 to any value: 12 per piece (the depth of `propagate`).
+    depth: usize,
+}
+
+/// Carries every column across the pieces (cancelled between pieces).
+fn shoot(problem: &Problem, mesh: &Mesh, options: &SolveOptions) -> Result<Shooting, SolveError> {
+    let dim = 2 * problem.obstacles.len();
+    let slope = problem.load_slope();
+    let columns = 3 + dim;
+    let mut states = vec![[0.0; 4]; columns];
+    states[1][2] = 1.0;
+    states[2][3] = 1.0;
+    let mut magnitudes = states.clone();
+    let mut values = vec![0.0; columns * dim];
+    let mut value_magnitude = vec![0.0; columns * dim];
+    for piece in &mesh.pieces {
+        check_cancel(options, Method::Flexibility)?;
+        if let Ok(j) = mesh.obstacle_nodes.binary_search(&piece.first_node) {
+            for (c, (s, m)) in states.iter().zip(&magnitudes).enumerate() {
+                for d in 0..2 {
+                    values[c * dim + 2 * j + d] = s[d];
+                    value_magnitude[c * dim + 2 * j + d] = m[d];
+                }
+            }
+            states[3 + 2 * j][3] -= 1.0;
+            states[3 + 2 * j + 1][2] += 1.0;
+            magnitudes[3 + 2 * j][3] += 1.0;
+            magnitudes[3 + 2 * j + 1][2] += 1.0;
+        }
+        let a = mesh.nodes[piece.first_node];
+        let t = mesh.nodes[piece.last_node] - a;
+        let ej = piece.bending_stiffness;
+        let f0 = problem.load_at(a);
+        states[0] = propagate(states[0], t, ej, f0, slope);
+        magnitudes[0] = propagate(magnitudes[0], t, ej, f0.abs(), slope.abs());
+        for (s, m) in states.iter_mut().zip(&mut magnitudes).skip(1) {
+            *s = propagate(*s, t, ej, 0.0, 0.0);
+            *m = propagate(*m, t, ej, 0.0, 0.0);
+        }
+    }
+    Ok(Shooting {
+        end: states,
+        end_magnitude: magnitudes,
+        values,
+        value_magnitude,
+        depth: 12 * mesh.pieces.len(),
+    })
+}
+
+/// S, z0 of (49) and the reactions (m(0), m'(0)) of every column from the shooting: u(l) =
+/// u'(l) = 0 gives [u_M u_V; u'_M u'_V] (m0, v0) = −(u_c(l), u'_c(l)) for every column c.
+struct Fitted {
+    s: Vec<f64>,
+    z0: Vec<f64>,
+    reactions: Vec<[f64; 2]>,
+    /// The rounding the shooting and the fit may have left in S and z0 (first order).
+    lost: EntryErrors,
+}
+
+fn fit(shooting: &Shooting, dim: usize) -> Fitted {
+    let Shooting {
+        end,
+        end_magnitude,
+        values,
+        value_magnitude,
+        depth,
+    } = shooting;
+    let eps = f64::EPSILON;
+    // Every value computed along the beam is off by up to depth·eps of its terms; Cramer's
+    // rule on 2×2 is forward stable, so the reactions are off by |M⁻¹| (δe + δM |r|) with a
+    // few more roundings in δ.
+    let rounding = (*depth as f64 + 4.0) * eps;
+    let (um, uv, dm, dv) = (end[1][0], end[2][0], end[1][1], end[2][1]);
+    let det = um * dv - uv * dm;
+    let inverse_magnitude =
+        [[dv.abs(), uv.abs()], [dm.abs(), um.abs()]].map(|r| r.map(|v| v / det.abs()));
+    let matrix_error = [
+        [end_magnitude[1][0], end_magnitude[2][0]],
+        [end_magnitude[1][1], end_magnitude[2][1]],
+    ]
+    .map(|r| r.map(|v| rounding * v));
+    let columns = end.len();
+    let mut reactions = Vec::with_capacity(columns);
+    let mut reaction_error = Vec::with_capacity(columns);
+    for (state, magnitude) in end.iter().zip(end_magnitude) {
+        let (u, du) = (state[0], state[1]);
+        let r = [-(dv * u - uv * du) / det, -(um * du - dm * u) / det];
+        let rhs_error: [f64; 2] = std::array::from_fn(|i| {
+            rounding * magnitude[i]
+                + matrix_error[i][0] * r[0].abs()
+                + matrix_error[i][1] * r[1].abs()
+        });
+        reaction_error.push(std::array::from_fn(|i| {
+            inverse_magnitude[i][0] * rhs_error[0] + inverse_magnitude[i][1] * rhs_error[1]
+        }));
+        reactions.push(r);
+    }
+    // The value of column c at friction DOF q once its reactions are fitted, and its error.
+    let value_rounding = *depth as f64 * eps;
+    let fitted = |c: usize, q: usize| -> (f64, f64) {
+        let [m0, v0] = reactions[c];
+        let [dm0, dv0] = reaction_error[c];
+        let (v, vm, vv) = (values[c * dim + q], values[dim + q], values[2 * dim + q]);
+        let magnitude = |c: usize| value_magnitude[c * dim + q];
+        let terms = v.abs() + (m0 * vm).abs() + (v0 * vv).abs();
+        let error = value_rounding
+            * (magnitude(c) + m0.abs() * magnitude(1) + v0.abs() * magnitude(2))
+            + dm0 * vm.abs()
+            + dv0 * vv.abs()
+            + 2.0 * eps * terms;
+        (v + m0 * vm + v0 * vv, error)
+    };
+    let (z0, z0_error): (Vec<f64>, Vec<f64>) = (0..dim).map(|q| fitted(0, q)).unzip();
+    let mut s = vec![0.0; dim * dim];
+    let mut s_error = vec![0.0; dim * dim];
+    for q in 0..dim {
+        for p in 0..dim {
+            let (value, error) = fitted(3 + p, q);
+            s[q * dim + p] = -value;
+            s_error[q * dim + p] = error;
+        }
+    }
+    // S is symmetric: the mean of the two computed entries, off by at most the larger error
+    // and half their difference.
+    for q in 0..dim {
+        for p in 0..q {
+            let (a, b) = (s[q * dim + p], s[p * dim + q]);
+            let error = s_error[q * dim + p].max(s_error[p * dim + q]) + 0.5 * (a - b).abs();
+            s[q * dim + p] = 0.5 * (a + b);
+            s[p * dim + q] = s[q * dim + p];
+            s_error[q * dim + p] = error;
+            s_error[p * dim + q] = error;
+        }
+    }
+    Fitted {
+        s,
+        z0,
+        reactions,
+        lost: EntryErrors {
+            s: s_error,
+            z0: z0_error,
+        },
+    }
+}
+
 /// Solves by the force formulation.
 pub(super) fn solve(
     problem: &Problem,
@@ -46,66 +207,18 @@ pub(super) fn solve(
     super::shared::refuse_many_obstacles(problem, Method::Flexibility)?;
     let mut timing = Timing::default();
     let mut clock = Stopwatch::start();
-    let k = problem.obstacles.len();
-    let dim = 2 * k;
+    let dim = 2 * problem.obstacles.len();
     let slope = problem.load_slope();
     let obstacle_at = |node: usize| mesh.obstacle_nodes.binary_search(&node).ok();
-
-    // Columns: 0 the load, 1 unit m(0), 2 unit m'(0), 3 + q unit λ_q.
-    let columns = 3 + dim;
-    let mut states = vec![[0.0; 4]; columns];
-    states[1][2] = 1.0;
-    states[2][3] = 1.0;
-    // (u, u') of every column at every obstacle: values[c * dim + q].
-    let mut values = vec![0.0; columns * dim];
-    for piece in &mesh.pieces {
-        check_cancel(options, Method::Flexibility)?;
-        if let Some(j) = obstacle_at(piece.first_node) {
-            for (c, s) in states.iter().enumerate() {
-                values[c * dim + 2 * j] = s[0];
-                values[c * dim + 2 * j + 1] = s[1];
-            }
-            states[3 + 2 * j][3] -= 1.0;
-            states[3 + 2 * j + 1][2] += 1.0;
-        }
-        let a = mesh.nodes[piece.first_node];
-        let t = mesh.nodes[piece.last_node] - a;
-        let ej = piece.bending_stiffness;
-        let f0 = problem.load_at(a);
-        states[0] = propagate(states[0], t, ej, f0, slope);
-        for s in states.iter_mut().skip(1) {
-            *s = propagate(*s, t, ej, 0.0, 0.0);
-        }
-    }
+    let shooting = shoot(problem, mesh, options)?;
     timing.assembly = clock.lap();
-
-    // u(l) = u'(l) = 0: [u_M u_V; u'_M u'_V] (m0, v0) = −(u_c(l), u'_c(l)) for every column c.
-    let (um, uv, dm, dv) = (states[1][0], states[2][0], states[1][1], states[2][1]);
-    let det = um * dv - uv * dm;
-    let reactions = |c: usize| -> [f64; 2] {
-        let (u, du) = (states[c][0], states[c][1]);
-        [-(dv * u - uv * du) / det, -(um * du - dm * u) / det]
-    };
-    // The value of column c at friction DOF q once its reactions are fitted.
-    let fitted = |c: usize, q: usize| -> f64 {
-        let [m0, v0] = reactions(c);
-        values[c * dim + q] + m0 * values[dim + q] + v0 * values[2 * dim + q]
-    };
-    let z0: Vec<f64> = (0..dim).map(|q| fitted(0, q)).collect();
-    let mut s = vec![0.0; dim * dim];
-    for q in 0..dim {
-        check_cancel(options, Method::Flexibility)?;
-        for p in 0..dim {
-            s[q * dim + p] = -fitted(3 + p, q);
-        }
-    }
-    for q in 0..dim {
-        for p in 0..q {
-            let mean = 0.5 * (s[q * dim + p] + s[p * dim + q]);
-            s[q * dim + p] = mean;
-            s[p * dim + q] = mean;
-        }
-    }
+    check_cancel(options, Method::Flexibility)?;
+    let Fitted {
+        s,
+        z0,
+        reactions,
+        lost,
+    } = fit(&shooting, dim);
     timing.factorization = clock.lap();
 
     let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &|| {
@@ -116,9 +229,9 @@ pub(super) fn solve(
     timing.friction_stage = clock.lap();
 
     // The actual state, piece by piece, and every node from the start of its piece.
-    let mut reaction = reactions(0);
+    let mut reaction = reactions[0];
     for (q, l) in lambda.iter().enumerate() {
-        let r = reactions(3 + q);
+        let r = reactions[3 + q];
         reaction[0] += l * r[0];
         reaction[1] += l * r[1];
     }
@@ -152,5 +265,11 @@ pub(super) fn solve(
     field.slope[last] = 0.0;
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(field, &qp, &s, timing, Vec::new(), options))
+    Ok(dual_output(
+        field,
+        (&qp, &s, &z0),
+        Some(&lost),
+        (timing, Vec::new()),
+        options,
+    ))
 }

@@ -14,6 +14,7 @@ mod condensed;
 mod dual;
 mod dual_inverse;
 mod flexibility;
+mod friction_accuracy;
 mod options;
 mod regularized;
 mod regularized_newton;

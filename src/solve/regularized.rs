@@ -8,6 +8,7 @@
 //! cases differ only there), so A is factored once and each case costs one 2k×2k Cholesky.
 //! The enumeration refuses when 9^k exceeds [`SolveOptions::max_cases`].
 
+use super::friction_accuracy::regularization_accuracy;
 use super::options::SolveOptions;
 use super::shared::check_cancel;
 use super::shared::{MethodOutput, Stopwatch};
@@ -167,6 +168,7 @@ pub(super) fn solve(
         (&regions, &friction_values, &g, epsilon),
         (&factored.friction_stiffness, &factored.friction_load),
     );
+    let friction_stiffness = factored.friction_stiffness.clone();
     let field = factored.reconstruct(&friction_values, (Method::Regularized, options))?;
     timing.reconstruction = clock.lap();
 
@@ -186,11 +188,9 @@ pub(super) fn solve(
         ..MethodDetails::default()
     };
     Ok(regularized_output(
-        field,
-        lambda,
-        timing,
-        warnings,
-        details,
+        (field, lambda),
+        (&friction_stiffness, &friction_values, options),
+        (timing, warnings, details),
         condition_cases,
     ))
 }
@@ -244,15 +244,16 @@ pub(super) fn regularized_forces(
     lambda.chunks(2).map(|c| [c[0], c[1]]).collect()
 }
 
-/// What both regularised methods hand back.
+/// What both regularised methods hand back, with what ε does to their motions (from K, the
+/// friction DOFs' values `c` and ε; none when the solve was cancelled meanwhile).
 pub(super) fn regularized_output(
-    field: crate::fem::NodalField,
-    lambda: Vec<[f64; 2]>,
-    timing: Timing,
-    warnings: Vec<Warning>,
-    details: MethodDetails,
+    (field, lambda): (crate::fem::NodalField, Vec<[f64; 2]>),
+    (k, c, options): (&[f64], &[f64], &SolveOptions),
+    (timing, warnings, details): (Timing, Vec<Warning>, MethodDetails),
     condition_cases: Vec<Vec<(usize, f64)>>,
 ) -> MethodOutput {
+    let stop = || options.cancel.is_cancelled();
+    let friction_accuracy = regularization_accuracy(k, c, options.epsilon, &stop).unwrap_or(None);
     MethodOutput {
         field,
         lambda,
@@ -262,6 +263,7 @@ pub(super) fn regularized_output(
         details,
         dual_condition: None,
         regularized_cases: condition_cases,
+        friction_accuracy,
     }
 }
 

@@ -165,6 +165,7 @@ pub(super) fn solve(
     let regions: Vec<EpsilonRegion> = c.iter().map(|&c| EpsilonRegion::of(c, epsilon)).collect();
     timing.friction_stage = clock.lap();
     let lambda = regularized_forces((&regions, &c, &g, epsilon), (k, b));
+    let friction_stiffness = k.to_vec();
     let field = factored.reconstruct(&c, (Method::RegularizedNewton, options))?;
     timing.reconstruction = clock.lap();
 
@@ -184,11 +185,9 @@ pub(super) fn solve(
         ..MethodDetails::default()
     };
     Ok(regularized_output(
-        field,
-        lambda,
-        timing,
-        warnings,
-        details,
+        (field, lambda),
+        (&friction_stiffness, &c, options),
+        (timing, warnings, details),
         condition_cases,
     ))
 }

@@ -4,6 +4,7 @@
 
 use std::time::{Duration, Instant};
 
+use super::friction_accuracy::{EntryErrors, FrictionAccuracy, friction_accuracy};
 use super::options::{ConditionLevel, SolveOptions};
 use super::solution::{FrictionState, MethodDetails, Timing, Warning, WarningCode};
 use crate::fem::NodalField;
@@ -29,6 +30,10 @@ pub(crate) struct MethodOutput {
     /// Regularised methods: the per-case diagonal additions (DOF index in the friction
     /// vector → g/ε) whose largest condition number is reported.
     pub regularized_cases: Vec<Vec<(usize, f64)>>,
+    /// The dual methods: how far their friction stage may be off at every DOF, for the
+    /// certificate to judge the states with (`None` for the others, and when the QP's free
+    /// block is not positive definite).
+    pub friction_accuracy: Option<FrictionAccuracy>,
 }
 
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
@@ -98,13 +103,14 @@ impl Stopwatch {
 }
 
 /// What the three dual methods (`dual`, `dual-inverse`, `flexibility`) hand back once the box
-/// QP has given λ and the nodal field is rebuilt: a warning if the QP did not converge, and cond(S) when asked for.
+/// QP has given λ and the nodal field is rebuilt: a warning if the QP did not converge, cond(S)
+/// when asked for, and the accuracy of the friction stage from S, z0 (`dual`) and the entry
+/// errors the method measured itself (`lost`).
 pub(crate) fn dual_output(
     field: NodalField,
-    qp: &QpResult,
-    s: &[f64],
-    timing: Timing,
-    mut warnings: Vec<Warning>,
+    (qp, s, z0): (&QpResult, &[f64], &[f64]),
+    lost: Option<&EntryErrors>,
+    (timing, mut warnings): (Timing, Vec<Warning>),
     options: &SolveOptions,
 ) -> MethodOutput {
     if !qp.converged {
@@ -128,6 +134,9 @@ pub(crate) fn dual_output(
         },
         dual_condition: dual_condition(s, qp.x.len(), options),
         regularized_cases: Vec::new(),
+        // A cancelled solve ends right after the method: no account is needed then.
+        friction_accuracy: friction_accuracy(s, z0, qp, lost, &|| options.cancel.is_cancelled())
+            .unwrap_or(None),
     }
 }
 

@@ -43,3 +43,4 @@ mod serve;
 mod serve_attacks;
 #[cfg(unix)]
 mod terminal;
+mod ties;

@@ -41,6 +41,7 @@ pub(in crate::solve) fn certify(
         mut details,
         dual_condition,
         regularized_cases,
+        friction_accuracy,
     } = output;
     if let Some(w) = mesh_raised_warning(mesh) {
         warnings.insert(0, w);
@@ -64,9 +65,14 @@ pub(in crate::solve) fn certify(
         )?;
         still_wanted()?;
     }
+    // A method's own account of its friction stage: a dual method's with the rounding of its
+    // S and z0, a regularised one's of what ε does.
+    let own_errors = friction_accuracy
+        .map(|a| a.with_rounding(friction_data_rounding(problem, method, stiffness_scaled)));
     let judging = Judging {
         motion_resolution: motion_resolution(problem, method, stiffness_scaled),
         epsilon: method.is_regularized().then_some(options.epsilon),
+        own_errors: own_errors.as_ref(),
     };
     let Equilibrium {
         residual: kkt_residual,
@@ -238,7 +244,9 @@ fn larger(
 /// the closed form resolve to a few ulps of the local values (0 here); the box QP of the dual
 /// methods stops within 64·2k ulps of its gradient; the stiffness route loses about
 /// 0.02·cond(D^-1/2 A D^-1/2)·eps (docs/design.md fact 2; 0.1 for margin), single shooting
-/// about 1e-14 on ordinary scenes (1e-12 for margin).
+/// about 1e-14 on ordinary scenes (1e-12 for margin). The dual methods' states use it only when
+/// they have no account of their own (`friction_accuracy`; their QP's free block was not
+/// positive definite); the regularised methods' forces inside ε always.
 fn motion_resolution(
     problem: &Problem,
     method: Method,
@@ -253,6 +261,27 @@ fn motion_resolution(
             let scaled = stiffness_scaled.map_or(1.0 / f64::EPSILON, |c| c.value);
             qp.max(1e-12).max(0.1 * scaled * f64::EPSILON)
         }
+    }
+}
+
+/// The relative rounding of every entry of S and z0 that a dual method's box QP decided from
+/// (`friction_accuracy` turns it into errors of the motions and stuck forces): the QP's
+/// stopping tolerance, 64·2k ulps of the terms of its gradient (`linalg::boxqp`); on the
+/// stiffness route also the loss of the factorization of A, 0.1·cond(D^-1/2 A D^-1/2)·eps as
+/// in [`motion_resolution`]. `flexibility` measures its own single-shooting loss on top.
+fn friction_data_rounding(
+    problem: &Problem,
+    method: Method,
+    stiffness_scaled: Option<ConditionNumber>,
+) -> f64 {
+    let qp = 128.0 * problem.obstacles.len() as f64 * f64::EPSILON;
+    match method {
+        Method::Dual | Method::DualInverse => {
+            let scaled = stiffness_scaled.map_or(1.0 / f64::EPSILON, |c| c.value);
+            qp.max(0.1 * scaled * f64::EPSILON)
+        }
+        Method::Flexibility => qp,
+        _ => 0.0,
     }
 }
 

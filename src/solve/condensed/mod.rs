@@ -212,5 +212,6 @@ pub(super) fn solve(
         },
         dual_condition: None,
         regularized_cases: Vec::new(),
+        friction_accuracy: None,
     })
 }

@@ -20,11 +20,14 @@
 //!
 //! **States.** A DOF moves when |c| exceeds what rounding resolves: a few ulps of the local
 //! magnitudes (the values on the two adjacent pieces), or more when the method's own rounding
-//! is known to be larger (`motion_resolution`, relative to the largest value of its kind). A DOF
-//! that does not move is stuck when |λ| is below its threshold by more than rounding of the
-//! local forces, and "at the threshold" otherwise: both descriptions fit. For the regularised
-//! methods the motion must also exceed ε, and complementarity is that of the ε-problem,
-//! λ = g·clamp(c/ε, −1, 1); a DOF below ε is "at the threshold" when |λ| = g is within both
+//! is known to be larger: a dual method's bound on the error of that motion from the errors of
+//! its S and z0 (`solve::friction_accuracy`), else `motion_resolution`, relative to the largest
+//! value of its kind. A DOF that does not move is stuck when |λ| is below its threshold by more
+//! than rounding of the local forces and than a dual method's bound on the error of that force,
+//! and "at the threshold" otherwise: both descriptions fit. For the regularised methods the
+//! motion must also exceed ε and what ε explains (the exact problem with every obstacle
+//! displaced by clamp(c, −ε, ε) moves by at most that), and complementarity is that of the
+//! ε-problem, λ = g·clamp(c/ε, −1, 1); a DOF below ε is "at the threshold" when |λ| = g is within both
 //! the unresolved motion turned into force (g/ε times it) and the method's relative loss on
 //! the forces meeting there; the smaller of the two, relative to the largest force of its
 //! kind, is what the certificate reports as the regularised forces' uncertainty
@@ -70,7 +73,7 @@ pub(in crate::solve) fn check(
     problem: &Problem,
     mesh: &Mesh,
     (field, lambda): (&NodalField, &[[f64; 2]]),
-    judging: Judging,
+    judging: Judging<'_>,
     stop: Stop,
 ) -> Option<Equilibrium> {
     let still_wanted = || (!stop()).then_some(());

@@ -1,12 +1,16 @@
 //! The friction state of every DOF from the motion at it and the force at its bound, and the
 //! feasibility and complementarity of (38) there (the "States" of the module doc): a DOF moves
 //! when |c| exceeds what rounding resolves, is stuck when |λ| is below its threshold by more
-//! than rounding, and is at the threshold when both descriptions fit. For a regularised method
-//! the ε-problem's λ = g·clamp(c/ε, −1, 1) instead.
+//! than rounding, and is at the threshold when both descriptions fit. Rounding includes the
+//! method's own: a dual method's bounds on the errors of its motions and stuck forces at every
+//! DOF (`solve::friction_accuracy`), else its resolution relative to the beam's values. For a
+//! regularised method the ε-problem's λ = g·clamp(c/ε, −1, 1) instead, and a motion is one of
+//! the exact problem only beyond what ε itself moves the DOF by.
 
 use super::dimensionless::{DimensionlessSolution, relative};
 use super::pieces::{PieceForces, special_point};
 use crate::solve::FrictionState;
+use crate::solve::friction_accuracy::FrictionErrors;
 
 /// Ulps of the local magnitudes within which a motion is not resolved.
 const MOTION_ULPS: f64 = 64.0;
@@ -16,12 +20,16 @@ const FORCE_ULPS: f64 = 64.0;
 
 /// How a method's answer is judged.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(in crate::solve) struct Judging {
+pub(in crate::solve) struct Judging<'a> {
     /// The method's own rounding of c relative to the largest |u| and |u'| (0 when it is no
     /// more than a few ulps of the local values).
     pub motion_resolution: f64,
     /// ε of a regularised method.
     pub epsilon: Option<f64>,
+    /// The method's own bounds at every obstacle (SI units): for a dual method the errors of
+    /// its motions and stuck forces (a DOF within them of a tie is at the threshold); for a
+    /// regularised one the motion that ε itself explains.
+    pub own_errors: Option<&'a FrictionErrors>,
 }
 
 /// The friction states per obstacle and, for a regularised method, the largest relative
@@ -38,7 +46,7 @@ struct StateCheck<'a> {
     global: [f64; 2],
     /// The largest force of each kind (force, moment).
     kind_scale: [f64; 2],
-    judging: Judging,
+    judging: Judging<'a>,
 }
 
 /// One friction DOF at its obstacle, in dimensionless units.
@@ -57,6 +65,9 @@ struct Dof {
     meeting: f64,
     /// The same with every term of the two pieces' end forces at its own size.
     meeting_terms: f64,
+    /// The method's own bounds here (0 when it has none), see [`Judging::own_errors`]: on c,
+    /// and on a stuck λ.
+    own_errors: [f64; 2],
 }
 
 /// Stage of the check: the friction state of every obstacle, raising `residual` to the
@@ -178,6 +189,17 @@ impl StateCheck<'_> {
             left.magnitude[3] + right.magnitude[1],
         ];
         let c = [data.deflection.at(node), data.slope.at(node)];
+        let own_errors = |d: usize| -> [f64; 2] {
+            self.judging.own_errors.map_or([0.0; 2], |e| {
+                let motion = e.motion[j][d];
+                let motion = if d == 0 {
+                    units.u(motion)
+                } else {
+                    units.slope(motion)
+                };
+                [motion, units.force(e.force[j][d], d)]
+            })
+        };
         let mut pair = [FrictionState::Stuck; 2];
         for d in 0..2 {
             let dof = Dof {
@@ -188,6 +210,7 @@ impl StateCheck<'_> {
                 local: local[d],
                 meeting: meeting[d],
                 meeting_terms: meeting_terms[d],
+                own_errors: own_errors(d),
             };
             pair[d] = self.dof_state(&dof, residual, unresolved_force);
         }
@@ -205,8 +228,13 @@ impl StateCheck<'_> {
     ) -> FrictionState {
         let (judging, units, d) = (self.judging, &self.data.units, dof.kind);
         let (c, l, g) = (dof.motion, dof.force, dof.threshold);
-        let motion_tolerance = (MOTION_ULPS * f64::EPSILON * dof.local)
-            .max(judging.motion_resolution * self.global[d]);
+        // A dual method's rounding of c: its own bound at this DOF where it has one, else
+        // the resolution relative to the beam's values.
+        let method_motion = match (judging.own_errors, judging.epsilon) {
+            (Some(_), None) => dof.own_errors[0],
+            _ => judging.motion_resolution * self.global[d],
+        };
+        let motion_tolerance = (MOTION_ULPS * f64::EPSILON * dof.local).max(method_motion);
         let epsilon = judging
             .epsilon
             .map_or(0.0, |e| [units.u(e), units.slope(e)][d]);
@@ -214,7 +242,7 @@ impl StateCheck<'_> {
             .max(l.abs())
             .max(dof.meeting)
             .max(self.data.subnormal_force[d] / f64::EPSILON);
-        let mut force_tolerance = FORCE_ULPS * f64::EPSILON * force_scale;
+        let mut force_tolerance = (FORCE_ULPS * f64::EPSILON * force_scale).max(dof.own_errors[1]);
         if epsilon > 0.0 {
             // A regularised method's λ = g·c/ε is as uncertain as its c near ε (the unresolved
             // motion turned into force) and as its equilibrium (its relative loss on the
@@ -233,7 +261,14 @@ impl StateCheck<'_> {
         }
         // Feasibility |λ| ≤ g.
         *residual = residual.max(relative((l.abs() - g).max(0.0), force_scale));
-        let moves = c.abs() > motion_tolerance + epsilon;
+        // A regularised motion is one of the exact problem only beyond what ε itself moves
+        // the DOF by (`friction_accuracy::regularization_accuracy`).
+        let explained_by_epsilon = if epsilon > 0.0 {
+            dof.own_errors[0]
+        } else {
+            0.0
+        };
+        let moves = c.abs() > (motion_tolerance + epsilon).max(explained_by_epsilon);
         // Complementarity: the force a moving DOF (or the ε-problem) prescribes.
         let prescribed = if judging.epsilon.is_some() && epsilon > 0.0 {
             Some(g * (c / epsilon).clamp(-1.0, 1.0))
