@@ -119,8 +119,12 @@ impl Axis {
     pub fn ticks(&self) -> Vec<Tick> {
         match self.scale {
             Scale::Log => {
-                let from = self.low.log10().round() as i32;
-                let to = self.high.log10().round() as i32;
+                let (from, to) = (self.low.log10().round(), self.high.log10().round());
+                // Decades of doubles span −324..=308; anything else is no log axis.
+                if !(from.is_finite() && to.is_finite() && from <= to) {
+                    return Vec::new();
+                }
+                let (from, to) = (from as i32, to as i32);
                 let every = ((to - from) as usize).div_ceil(MOST_LABELS - 1).max(1) as i32;
                 (from..=to)
                     .map(|exponent| Tick {
@@ -131,9 +135,18 @@ impl Axis {
                     .collect()
             }
             Scale::Linear => {
-                let step = nice_step((self.high - self.low) / 6.0);
+                let span = self.high - self.low;
+                // A span that overflows (data from −1e308 to 1e308) or is empty has no
+                // 1-2-5 ticks: the axis is drawn without them.
+                if !(span.is_finite() && span > 0.0) {
+                    return Vec::new();
+                }
+                let step = nice_step(span / 6.0);
                 let first = (self.low / step.value()).round() as i64;
                 let last = (self.high / step.value()).round() as i64;
+                if !(0..=MOST_TICKS).contains(&(last.saturating_sub(first))) {
+                    return Vec::new();
+                }
                 (first..=last)
                     .map(|k| {
                         let (label, value) = step.multiple(k);
@@ -201,8 +214,18 @@ impl Step {
     }
 }
 
-/// The 1-2-5 step nearest above `rough`.
+/// Most linear ticks an axis takes (a 1-2-5 step of at least a sixth of the span gives at most
+/// 13).
+const MOST_TICKS: i64 = 64;
+
+/// The 1-2-5 step nearest above `rough` (finite and positive; anything else gives 1).
 fn nice_step(rough: f64) -> Step {
+    if !(rough.is_finite() && rough > 0.0) {
+        return Step {
+            mantissa: 1,
+            exponent: 0,
+        };
+    }
     let exponent = rough.log10().floor() as i32;
     let scaled = rough / decade(exponent);
     let (mantissa, exponent) = if scaled <= 1.0 {
@@ -354,6 +377,27 @@ pub fn current_rule(svg: &mut Svg, frame: PlotFrame, x: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn axes_beyond_doubles_have_no_ticks_and_do_not_panic() {
+        // A span that overflows to infinity (found by the random-key fuzzer: `e` on a scene
+        // driven to extreme values), an empty one, and non-finite ends.
+        for (scale, low, high) in [
+            (Scale::Linear, -1.5e308, 1.5e308),
+            (Scale::Linear, 2.0, 2.0),
+            (Scale::Linear, f64::NAN, 1.0),
+            (Scale::Log, 0.0, 1.0),
+            (Scale::Log, 1.0, f64::INFINITY),
+        ] {
+            assert!(Axis { scale, low, high }.ticks().is_empty(), "{low} {high}");
+        }
+        let ordinary = Axis {
+            scale: Scale::Linear,
+            low: 0.0,
+            high: 1.0,
+        };
+        assert_eq!(ordinary.ticks().len(), 6, "0, 0.2, …, 1");
+    }
 
     #[test]
     fn log_axis_labels_only_decades_at_their_values() {
