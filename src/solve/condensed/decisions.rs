@@ -129,19 +129,7 @@ impl ShootingSystem {
     /// its diagonal stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope).
     /// With σ = 0 a reversing DOF is first held stuck.
     fn reversal_stiffness(&self, i: usize) -> f64 {
-        let p = self.point_of_obstacle[i / 2];
-        let diagonal: f64 = [p - 1, p]
-            .iter()
-            .map(|&q| {
-                let piece = &self.pieces[q];
-                if i.is_multiple_of(2) {
-                    12.0 * piece.stiffness / piece.length.powi(3)
-                } else {
-                    4.0 * piece.stiffness / piece.length
-                }
-            })
-            .sum();
-        self.reversal_fraction.get() * diagonal
+        self.reversal_fraction.get() * self.diagonal_stiffness(i)
     }
 
     pub(super) fn state(
