@@ -32,6 +32,17 @@ pub use condensed::{
     CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
 };
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
+/// What the studies (`crate::study`) read of the methods' insides: the regularised method's
+/// cases, the condensed method's system, a dual method's account of its accuracy.
+pub(crate) mod internals {
+    pub(crate) use super::certificate::{FORCE_ULPS, MOTION_ULPS, friction_data_rounding};
+    pub(crate) use super::condensed::shooting_matrix;
+    pub(crate) use super::friction_accuracy::{FrictionErrors, friction_accuracy};
+    pub(crate) use super::regularized::{
+        EpsilonRegion, case_count, case_regions, case_violation, conditions_every_case,
+        middle_additions, solve_case,
+    };
+}
 pub use solution::{
     Conditioning, ErrorReport, FrictionState, KktGrade, MethodDetails, ObstacleResult, Reference,
     Solution, SolveError, SolveErrorKind, Timing, Warning, WarningCode,

@@ -20,7 +20,7 @@ use crate::model::{Method, Problem};
 
 /// The ε-region of a friction DOF in Table 1: where its value c lies relative to [−ε, ε].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum EpsilonRegion {
+pub(crate) enum EpsilonRegion {
     /// c < −ε: gradient −g.
     Negative,
     /// |c| ≤ ε: gradient g c / ε.
@@ -30,7 +30,7 @@ pub(super) enum EpsilonRegion {
 }
 
 impl EpsilonRegion {
-    fn from_digit(d: u64) -> EpsilonRegion {
+    pub(crate) fn from_digit(d: u64) -> EpsilonRegion {
         match d {
             0 => EpsilonRegion::Middle,
             1 => EpsilonRegion::Positive,
@@ -39,7 +39,7 @@ impl EpsilonRegion {
     }
 
     /// How far c is outside the region, in units of ε (0 when inside).
-    pub(super) fn violation(self, c: f64, epsilon: f64) -> f64 {
+    pub(crate) fn violation(self, c: f64, epsilon: f64) -> f64 {
         let outside = match self {
             EpsilonRegion::Negative => c + epsilon,
             EpsilonRegion::Middle => c.abs() - epsilon,
@@ -70,12 +70,36 @@ impl EpsilonRegion {
 }
 
 /// Number of cases 9^k, or `None` on overflow.
-fn case_count(obstacles: usize) -> Option<u64> {
+pub(crate) fn case_count(obstacles: usize) -> Option<u64> {
     9u64.checked_pow(u32::try_from(obstacles).ok()?)
 }
 
+/// The regions of case number `case` in the enumeration's order: digit q of `case` in base 3
+/// is friction DOF q's region (0 middle, 1 positive, 2 negative).
+pub(crate) fn case_regions(case: u64, regions: &mut [EpsilonRegion]) {
+    let mut code = case;
+    for r in regions.iter_mut() {
+        *r = EpsilonRegion::from_digit(code % 3);
+        code /= 3;
+    }
+}
+
+/// How far the values `c` of a case lie outside the case's own `regions`, in units of ε (0:
+/// the case is consistent, the method's test); infinite when a value is not finite (a NaN
+/// lies in no region).
+pub(crate) fn case_violation(regions: &[EpsilonRegion], c: &[f64], epsilon: f64) -> f64 {
+    if c.iter().any(|v| !v.is_finite()) {
+        return f64::INFINITY;
+    }
+    regions
+        .iter()
+        .zip(c)
+        .map(|(r, &c)| r.violation(c, epsilon))
+        .fold(0.0, f64::max)
+}
+
 /// Solves one case: (K + D) c = b̃ − d, with D = g/ε on middle DOFs, d = ±g on outer ones.
-fn solve_case(
+pub(crate) fn solve_case(
     stiffness: &[f64],
     load: &[f64],
     g: &[f64],
@@ -130,11 +154,7 @@ pub(super) fn solve(
         if case % 4096 == 0 {
             check_cancel(options, Method::Regularized)?;
         }
-        let mut code = case;
-        for r in regions.iter_mut() {
-            *r = EpsilonRegion::from_digit(code % 3);
-            code /= 3;
-        }
+        case_regions(case, &mut regions);
         let Some(c) = solve_case(
             &factored.friction_stiffness,
             &factored.friction_load,
@@ -144,11 +164,7 @@ pub(super) fn solve(
         ) else {
             continue;
         };
-        let violation = regions
-            .iter()
-            .zip(&c)
-            .map(|(r, &c)| r.violation(c, epsilon))
-            .fold(0.0, f64::max);
+        let violation = case_violation(&regions, &c, epsilon);
         if best.as_ref().is_none_or(|(v, _, _)| violation < *v) {
             best = Some((violation, regions.clone(), c));
             if violation == 0.0 {
@@ -196,7 +212,7 @@ pub(super) fn solve(
 }
 
 /// The g/ε additions to K's diagonal of the case with these regions (43).
-pub(super) fn middle_additions(
+pub(crate) fn middle_additions(
     regions: &[EpsilonRegion],
     g: &[f64],
     epsilon: f64,
@@ -268,7 +284,13 @@ pub(super) fn regularized_output(
 }
 
 /// Most cases whose condition numbers are all computed (one obstacle: 9).
-const CONDITIONED_CASES: u64 = 9;
+pub(crate) const CONDITIONED_CASES: u64 = 9;
+
+/// Are the condition numbers of every one of `cases` case matrices computed on a mesh of
+/// `unknowns` unknowns (else only the kept case's and the all-middle one's)?
+pub(crate) fn conditions_every_case(cases: u64, unknowns: usize) -> bool {
+    cases <= CONDITIONED_CASES && unknowns <= crate::linalg::condition::DENSE_LIMIT
+}
 
 /// The diagonal additions of the cases whose condition numbers are reported: every case when
 /// there are at most [`CONDITIONED_CASES`] and the matrices are small enough for exact
@@ -283,17 +305,11 @@ fn condition_cases(
 ) -> Vec<Vec<(usize, f64)>> {
     let dim = g.len();
     let additions = |regions: &[EpsilonRegion]| middle_additions(regions, g, epsilon);
-    if cases <= CONDITIONED_CASES && unknowns <= crate::linalg::condition::DENSE_LIMIT {
+    if conditions_every_case(cases, unknowns) {
         (0..cases)
             .map(|case| {
-                let mut code = case;
-                let regions: Vec<EpsilonRegion> = (0..dim)
-                    .map(|_| {
-                        let r = EpsilonRegion::from_digit(code % 3);
-                        code /= 3;
-                        r
-                    })
-                    .collect();
+                let mut regions = vec![EpsilonRegion::Middle; dim];
+                case_regions(case, &mut regions);
                 additions(&regions)
             })
             .collect()

@@ -41,6 +41,7 @@ mod scene;
 #[cfg(unix)]
 mod serve;
 mod serve_attacks;
+mod study;
 #[cfg(unix)]
 mod terminal;
 mod ties;

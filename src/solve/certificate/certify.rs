@@ -269,7 +269,7 @@ fn motion_resolution(
 /// stopping tolerance, 64·2k ulps of the terms of its gradient (`linalg::boxqp`); on the
 /// stiffness route also the loss of the factorization of A, 0.1·cond(D^-1/2 A D^-1/2)·eps as
 /// in [`motion_resolution`]. `flexibility` measures its own single-shooting loss on top.
-fn friction_data_rounding(
+pub(crate) fn friction_data_rounding(
     problem: &Problem,
     method: Method,
     stiffness_scaled: Option<ConditionNumber>,

@@ -14,5 +14,7 @@ mod equilibrium;
 mod reference;
 mod warnings;
 
+pub(crate) use certify::friction_data_rounding;
 pub(super) use certify::{certified_condensed, certify};
+pub(crate) use equilibrium::{FORCE_ULPS, MOTION_ULPS};
 pub(super) use reference::MeshReference;

@@ -92,6 +92,7 @@ use super::solution::{
 use crate::fem::{Mesh, NodalField};
 use crate::model::{Method, Problem};
 use search::{NEWTON_REVERSAL_FRACTIONS, solve_with_newton_phases};
+pub(crate) use structure::shooting_matrix;
 
 /// The result of the condensed method, in SI units.
 #[derive(Debug, Clone, PartialEq)]
@@ -144,6 +145,7 @@ mod nodes;
 mod refinement;
 mod scaling;
 mod search;
+mod structure;
 mod system;
 #[cfg(test)]
 mod tests;

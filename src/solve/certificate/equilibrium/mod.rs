@@ -52,6 +52,7 @@ use pieces::{balance_residual, piece_forces, piece_scales};
 use states::friction_states;
 
 pub(in crate::solve) use states::Judging;
+pub(crate) use states::{FORCE_ULPS, MOTION_ULPS};
 
 /// What the certificate learns from the pieces.
 #[derive(Debug, Clone, PartialEq)]

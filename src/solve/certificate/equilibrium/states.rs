@@ -13,10 +13,10 @@ use crate::solve::FrictionState;
 use crate::solve::friction_accuracy::FrictionErrors;
 
 /// Ulps of the local magnitudes within which a motion is not resolved.
-const MOTION_ULPS: f64 = 64.0;
+pub(crate) const MOTION_ULPS: f64 = 64.0;
 
 /// Ulps of the local forces within which |λ| = g (at the threshold).
-const FORCE_ULPS: f64 = 64.0;
+pub(crate) const FORCE_ULPS: f64 = 64.0;
 
 /// How a method's answer is judged.
 #[derive(Debug, Clone, Copy, PartialEq)]
