@@ -13,6 +13,7 @@ use crate::solve::{Method, SolveOptions, WarningCode, solve};
 
 mod args;
 mod error;
+mod history;
 
 pub use args::*;
 pub use error::CliError;
@@ -547,10 +548,12 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
             )));
         }
     }
+    history::check_format(args.format, args.history)?;
     let mesh = Mesh::new(&problem, settings.elements);
     let options = SolveOptions {
         epsilon: settings.epsilon,
         condition: args.condition,
+        history: args.history,
         ..SolveOptions::default()
     };
     let context = SolveContext {
@@ -569,6 +572,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
             let text = match args.format {
                 Format::Json => json_text(&solution_json(&context, &solution, !args.no_nodes, &at)),
                 Format::Table => solution_table(&context, &solution, &at, true),
+                Format::Csv => history::csv_text(&solution),
             };
             let _ = stdout.write_all(text.as_bytes());
             // Exactly when the user is told, by the `non-finite` warning.

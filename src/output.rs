@@ -1,4 +1,5 @@
-//! What `beamfric solve` prints: the JSON document (schema in the README) and the human table.
+//! What `beamfric solve` prints: the JSON document (schema in the README) and the human table;
+//! `history` the convergence history of `--history`.
 //! Non-finite numbers become `null` in JSON and `n/a` in tables, always with a warning.
 
 use serde::Serialize;
@@ -8,6 +9,10 @@ use crate::fem::{Mesh, PointValues};
 use crate::format::{duration, printable, sci};
 use crate::linalg::condition::ConditionNumber;
 use crate::solve::{Method, Reference, Solution, SolveError};
+
+mod history;
+
+pub use history::{history_csv, history_json};
 
 /// What the output needs to know besides the solution.
 pub struct SolveContext<'a> {
@@ -76,6 +81,9 @@ pub fn solution_json(
         "details": to_value(&solution.details),
         "warnings": to_value(&solution.warnings),
     });
+    if let Some(history) = &solution.history {
+        document["history"] = history_json(history);
+    }
     if nodes {
         document["nodes"] = json!({
             "x": numbers(&context.mesh.nodes),

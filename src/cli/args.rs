@@ -515,6 +515,8 @@ pub struct CheckArgs {
 pub enum Format {
     Json,
     Table,
+    /// The convergence history, one row per iterate (with --history).
+    Csv,
 }
 
 /// `beamfric solve`.
@@ -541,6 +543,10 @@ pub struct SolveArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     pub format: Format,
+    /// Record the method's convergence history: under "history" in JSON, one row per
+    /// iterate with --format csv.
+    #[arg(long)]
+    pub history: bool,
     /// Condition numbers: exact for N ≤ 200 and a cheap lower bound above (auto), Lanczos
     /// estimates at any size (full), or none (off).
     #[arg(long, value_enum, default_value_t = ConditionLevel::Auto)]

@@ -13,12 +13,17 @@
 //! At 2k = 1022 one Cholesky factorization of a free block is up to a second of work: the
 //! factorizations and the line search ask `stop` as they go (`linalg::stop`), not only once
 //! per iteration.
+//!
+//! [`solve_box_qp_observed`] hands every iterate to a [`QpObserver`] (the convergence history
+//! of `solve::history`); without one ([`solve_box_qp_until`]) nothing extra is computed.
 
 mod mprgp;
+mod watch;
 
 use super::dense::Cholesky;
 use super::stop::{Stop, Stopped};
 use mprgp::mprgp;
+use watch::Watch;
 
 /// Largest dimension solved by the active-set method alone.
 pub const ACTIVE_SET_LIMIT: usize = 32;
@@ -47,12 +52,37 @@ pub struct QpResult {
     pub converged: bool,
 }
 
+/// Sees the iterates of the box QP, in the caller's variables.
+pub trait QpObserver {
+    /// One iterate: x, the bound state of each variable (the active-set method's working set
+    /// where it has one, else where x lies), the projected-gradient norm
+    /// ‖y − P(y − ∇f(y))‖∞ / ‖D z‖∞ of the problem scaled to unit diagonal (x = D y; 0 at the
+    /// solution) and the objective ½xᵀHx − zᵀx.
+    fn iterate(&mut self, x: &[f64], state: &[BoundState], projected_gradient: f64, value: f64);
+}
+
 /// Solves min ½ xᵀHx − zᵀx, |x_i| ≤ g_i (`h` row-major n×n SPD, `g` ≥ 0), giving up
 /// (unconverged) as soon as `stop` says so, asked every millisecond or so of work: the explorer
 /// cancels a solve whose result is no longer wanted.
 pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> QpResult {
+    solve_box_qp_observed(h, z, g, stop, None)
+}
+
+/// [`solve_box_qp_until`], showing `observer` the starting point x = 0 and every iterate after
+/// it (active-set changes, projected Newton and MPRGP steps; a fallback to MPRGP restarts from
+/// x = 0 without showing it again). The last one shown is the answer.
+pub fn solve_box_qp_observed(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    stop: Stop,
+    observer: Option<&mut dyn QpObserver>,
+) -> QpResult {
     let n = z.len();
     if n == 0 {
+        if let Some(observer) = observer {
+            observer.iterate(&[], &[], 0.0, 0.0);
+        }
         return QpResult {
             x: vec![],
             state: vec![],
@@ -73,10 +103,22 @@ pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> QpResu
             converged: false,
         };
     }
+    let scaled = Scaled {
+        h: &hs,
+        z: &zs,
+        g: &gs,
+    };
+    let watch = &mut Watch {
+        observer,
+        scaling: &d,
+    };
+    if watch.observer.is_some() {
+        watch.see(&scaled, &vec![0.0; n], None);
+    }
     let mut finished = if n <= ACTIVE_SET_LIMIT {
-        active_set(&hs, &zs, &gs, vec![0.0; n], stop)
-    } else if let Some((start, steps)) = projected_newton(&hs, &zs, &gs, stop)
-        && let certified = active_set(&hs, &zs, &gs, start, stop)
+        active_set(&scaled, vec![0.0; n], stop, watch)
+    } else if let Some((start, steps)) = projected_newton(&scaled, stop, watch)
+        && let certified = active_set(&scaled, start, stop, watch)
         && certified.converged
     {
         QpResult {
@@ -85,8 +127,8 @@ pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> QpResu
         }
     } else {
         // MPRGP finds the active set; the active-set method finishes exactly from there.
-        let (start, steps) = mprgp(&hs, &zs, &gs, stop);
-        let mut polished = active_set(&hs, &zs, &gs, start, stop);
+        let (start, steps) = mprgp(&hs, &zs, &gs, stop, &mut |x| watch.see(&scaled, x, None));
+        let mut polished = active_set(&scaled, start, stop, watch);
         polished.iterations += steps;
         polished
     };
@@ -94,6 +136,13 @@ pub fn solve_box_qp_until(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> QpResu
         *x *= d;
     }
     finished
+}
+
+/// The scaled problem: H with unit diagonal, z and the bounds g.
+struct Scaled<'a> {
+    h: &'a [f64],
+    z: &'a [f64],
+    g: &'a [f64],
 }
 
 fn gradient(h: &[f64], z: &[f64], x: &[f64]) -> Vec<f64> {
@@ -125,7 +174,8 @@ fn gradient_tolerance(h: &[f64], z: &[f64], x: &[f64], i: usize) -> f64 {
 /// The primal active-set method from `start`: minimise on the face of the current free
 /// variables, stop at the first bound in the way, and release the bound with the worst
 /// multiplier once at the face's minimiser.
-fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>, stop: Stop) -> QpResult {
+fn active_set(problem: &Scaled, start: Vec<f64>, stop: Stop, watch: &mut Watch) -> QpResult {
+    let Scaled { h, z, g } = *problem;
     let n = z.len();
     let mut x = start;
     let mut state = clamp_to_box(g, &mut x);
@@ -157,13 +207,18 @@ fn active_set(h: &[f64], z: &[f64], g: &[f64], start: Vec<f64>, stop: Stop) -> Q
                 } else {
                     -g[i]
                 };
+                watch.see(problem, &x, Some(&state));
                 continue;
             }
         }
         // At the subproblem's minimiser: release the bound with the worst multiplier.
         match worst_multiplier(h, z, g, &x, &state) {
-            Some(i) => state[i] = BoundState::Free,
+            Some(i) => {
+                state[i] = BoundState::Free;
+                watch.see(problem, &x, Some(&state));
+            }
             None => {
+                watch.see(problem, &x, Some(&state));
                 return QpResult {
                     x,
                     state,
@@ -303,7 +358,8 @@ const PROJECTED_NEWTON_MAX_STEPS: usize = 200;
 /// Cholesky solves where the primal active-set method needs one solve per bound. Returns the
 /// iterate at the first step that reached the minimiser of its face (the caller certifies it),
 /// with the number of steps, or `None` on a singular block or after too many steps.
-fn projected_newton(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> Option<(Vec<f64>, usize)> {
+fn projected_newton(problem: &Scaled, stop: Stop, watch: &mut Watch) -> Option<(Vec<f64>, usize)> {
+    let Scaled { h, z, g } = *problem;
     let n = z.len();
     let objective = |x: &[f64]| -> f64 {
         let hx: f64 = (0..n)
@@ -394,6 +450,7 @@ fn projected_newton(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> Option<(Vec<
         if x.iter().any(|v| !v.is_finite()) {
             return None;
         }
+        watch.see(problem, &x, None);
         if face_minimum && length == 1.0 {
             return Some((x, step));
         }

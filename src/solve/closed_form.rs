@@ -246,5 +246,7 @@ pub(super) fn solve(
         dual_condition: None,
         regularized_cases: Vec::new(),
         friction_accuracy: None,
+        // A formula, not an iteration.
+        history: None,
     })
 }

@@ -5,11 +5,10 @@
 //! O(n) work and memory.
 
 use super::options::SolveOptions;
-use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
+use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_box_qp, dual_output};
 use super::solution::{SolveError, Timing};
 use super::stiffness_route::{assemble_and_factor, indefinite_warning};
 use crate::fem::Mesh;
-use crate::linalg::boxqp::solve_box_qp_until;
 use crate::linalg::dense::mat_vec;
 use crate::model::{Method, Problem};
 
@@ -27,7 +26,7 @@ pub(super) fn solve(
     timing.factorization += clock.lap();
 
     let g = problem.thresholds();
-    let qp = solve_box_qp_until(&s, &z0, &g, &|| options.cancel.is_cancelled());
+    let (qp, history) = dual_box_qp((&s, &z0, &g), Method::Dual, options);
     check_cancel(options, Method::Dual)?;
     let lambda = &qp.x;
     timing.friction_stage = clock.lap();
@@ -42,11 +41,8 @@ pub(super) fn solve(
         .into_iter()
         .chain(indefinite_k)
         .collect();
-    Ok(dual_output(
-        field,
-        (&qp, &s, &z0),
-        None,
-        (timing, warnings),
-        options,
-    ))
+    Ok(MethodOutput {
+        history,
+        ..dual_output(field, (&qp, &s, &z0), None, (timing, warnings), options)
+    })
 }

@@ -9,12 +9,11 @@
 use faer::Col;
 
 use super::options::SolveOptions;
-use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
+use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_box_qp, dual_output};
 use super::solution::{SolveError, SolveErrorKind, Timing};
 use super::stiffness_route::breakdown;
 use crate::fem::{Mesh, NodalField, StiffnessMatrix, load_vector};
 use crate::linalg::BlockMatrix;
-use crate::linalg::boxqp::solve_box_qp_until;
 use crate::linalg::faer_stepwise::{
     llt_in_place_until, llt_inverse_until, mat_vec_until, zeros_until,
 };
@@ -101,7 +100,11 @@ pub(super) fn solve(
         .map(|ij| inverse[(dofs[ij / dim], dofs[ij % dim])])
         .collect();
     let z0: Vec<f64> = dofs.iter().map(|&d| inverse_b[d]).collect();
-    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &stop);
+    let (qp, history) = dual_box_qp(
+        (&s, &z0, &problem.thresholds()),
+        Method::DualInverse,
+        options,
+    );
     check_cancel(options, Method::DualInverse)?;
     let lambda = qp.x.clone();
     timing.friction_stage = clock.lap();
@@ -118,11 +121,8 @@ pub(super) fn solve(
     }
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(
-        field,
-        (&qp, &s, &z0),
-        None,
-        (timing, Vec::new()),
-        options,
-    ))
+    Ok(MethodOutput {
+        history,
+        ..dual_output(field, (&qp, &s, &z0), None, (timing, Vec::new()), options)
+    })
 }

@@ -22,7 +22,6 @@ use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, check_cancel, dual_output};
 use super::solution::{SolveError, Timing};
 use crate::fem::{Mesh, NodalField};
-use crate::linalg::boxqp::solve_box_qp_until;
 use crate::model::Method;
 use crate::model::Problem;
 
@@ -221,9 +220,11 @@ pub(super) fn solve(
     } = fit(&shooting, dim);
     timing.factorization = clock.lap();
 
-    let qp = solve_box_qp_until(&s, &z0, &problem.thresholds(), &|| {
-        options.cancel.is_cancelled()
-    });
+    let (qp, history) = super::shared::dual_box_qp(
+        (&s, &z0, &problem.thresholds()),
+        Method::Flexibility,
+        options,
+    );
     check_cancel(options, Method::Flexibility)?;
     let lambda = qp.x.clone();
     timing.friction_stage = clock.lap();
@@ -265,11 +266,14 @@ pub(super) fn solve(
     field.slope[last] = 0.0;
     timing.reconstruction = clock.lap();
 
-    Ok(dual_output(
-        field,
-        (&qp, &s, &z0),
-        Some(&lost),
-        (timing, Vec::new()),
-        options,
-    ))
+    Ok(MethodOutput {
+        history,
+        ..dual_output(
+            field,
+            (&qp, &s, &z0),
+            Some(&lost),
+            (timing, Vec::new()),
+            options,
+        )
+    })
 }

@@ -4,7 +4,8 @@
 //! [`solve`] runs a method and then certifies its answer the same way for every method
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
 //! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
-//! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
+//! solve), `solution` (what comes back), `history` (the convergence history recorded when
+//! asked), `certificate` (the common checks), `shared` (what the
 //! method modules share), `stiffness_route` (the factorization of A that `dual` and the
 //! regularised methods share); the method modules depend on those, never on this dispatcher.
 
@@ -15,6 +16,7 @@ mod dual;
 mod dual_inverse;
 mod flexibility;
 mod friction_accuracy;
+mod history;
 mod options;
 mod regularized;
 mod regularized_newton;
@@ -30,6 +32,9 @@ pub use crate::model::Method;
 pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{
     CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
+};
+pub use history::{
+    History, IterationRecord, MAX_RECORDED_ITERATIONS, ProgressMeasure, iterate_field,
 };
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 /// What the studies (`crate::study`) read of the methods' insides: the regularised method's
@@ -111,6 +116,7 @@ fn works(
 ) -> bool {
     let quick = SolveOptions {
         condition: ConditionLevel::Off,
+        history: false,
         ..options.clone()
     };
     certified(problem, mesh, method, &quick, reference).is_ok_and(|s| {

@@ -1,6 +1,7 @@
 //! How to solve: the options every method reads (ε of (40) for the regularised methods, the
 //! limits of the enumeration of (43) and of the dense inverse of (49), which condition numbers
-//! and whether a reference) and their default limits, and the cancellation of a solve.
+//! and whether a reference, whether to record the convergence history) and their default
+//! limits, and the cancellation of a solve.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -61,6 +62,9 @@ pub struct SolveOptions {
     pub condition: ConditionLevel,
     /// Compare against a reference (closed form or flexibility) and report the error.
     pub reference: bool,
+    /// Record the iterative methods' convergence history ([`super::History`]); when false
+    /// nothing is recorded or allocated for it.
+    pub history: bool,
     /// Stops a solve whose result is no longer wanted, from inside its long loops.
     pub cancel: Cancellation,
 }
@@ -115,6 +119,7 @@ impl Default for SolveOptions {
             max_dense_unknowns: MAX_DENSE_UNKNOWNS,
             condition: ConditionLevel::Auto,
             reference: true,
+            history: false,
             cancel: Cancellation::NEVER,
         }
     }

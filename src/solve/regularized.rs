@@ -280,6 +280,8 @@ pub(super) fn regularized_output(
         dual_condition: None,
         regularized_cases: condition_cases,
         friction_accuracy,
+        // `regularized` enumerates and does not iterate; `regularized-newton` sets its own.
+        history: None,
     }
 }
 

@@ -7,6 +7,7 @@
 //! iteration converges from c = 0 in a few steps. The cost grows with k polynomially: the
 //! exponential cost of the paper's method is the enumeration's, not ε's.
 
+use super::history::{DofState, ProgressMeasure, Recorder};
 use super::options::SolveOptions;
 use super::regularized::{EpsilonRegion, middle_additions, regularized_forces, regularized_output};
 use super::shared::check_cancel;
@@ -100,40 +101,25 @@ pub(super) fn solve(
     );
     let g = problem.thresholds();
 
-    let kc = |c: &[f64]| -> Vec<f64> {
-        (0..dim)
-            .map(|i| (0..dim).map(|j| k[i * dim + j] * c[j]).sum())
-            .collect()
+    let eps_problem = EpsilonProblem {
+        k,
+        b,
+        g: &g,
+        epsilon,
     };
-    // ∇φ(c) = K c − b̃ + g ω̃'_ε(c): the optimality condition (43) as a function.
-    let gradient = |c: &[f64]| -> Vec<f64> {
-        let kc = kc(c);
-        (0..dim)
-            .map(|i| {
-                kc[i] - b[i] + EpsilonRegion::of(c[i], epsilon).multiplier(c[i], g[i], epsilon)
-            })
-            .collect()
-    };
-    // Scale-free convergence: every row of ∇φ within rounding of its own terms,
-    // Σ_j |K_ij c_j| + |b_i| + |g_i ω̃'_ε(c_i)| (a threshold of 1e20 on one row or a load of
-    // 1e-300 leaves the other rows' test unchanged).
-    let row_converged = |c: &[f64], grad: &[f64]| -> bool {
-        (0..dim).all(|i| {
-            let terms: f64 = (0..dim).map(|j| (k[i * dim + j] * c[j]).abs()).sum::<f64>()
-                + b[i].abs()
-                + EpsilonRegion::of(c[i], epsilon)
-                    .multiplier(c[i], g[i], epsilon)
-                    .abs();
-            grad[i].abs() <= 64.0 * dim as f64 * f64::EPSILON * terms
-        })
-    };
+    let mut recorder = Recorder::when(
+        options.history,
+        Method::RegularizedNewton,
+        ProgressMeasure::SemismoothResidual,
+    );
     let mut c = vec![0.0; dim];
+    eps_problem.record(recorder.as_mut(), &c);
     let mut iterations = 0;
     let mut converged = dim == 0;
     while !converged && iterations < MAX_ITERATIONS {
         check_cancel(options, Method::RegularizedNewton)?;
         iterations += 1;
-        let grad = gradient(&c);
+        let grad = eps_problem.gradient(&c);
         let mut matrix = k.clone();
         for q in 0..dim {
             if EpsilonRegion::of(c[q], epsilon) == EpsilonRegion::Middle {
@@ -151,16 +137,19 @@ pub(super) fn solve(
         let mut direction = grad.clone();
         factor.solve_in_place(&mut direction);
         direction.iter_mut().for_each(|d| *d = -*d);
-        let t = exact_line_search(&c, &direction, &grad, &kc(&direction), &g, epsilon);
+        let kd = eps_problem.times_k(&direction);
+        let t = exact_line_search(&c, &direction, &grad, &kd, &g, epsilon);
         let next: Vec<f64> = c.iter().zip(&direction).map(|(c, d)| c + t * d).collect();
         let moved = c
             .iter()
             .zip(&next)
             .any(|(a, b)| EpsilonRegion::of(*a, epsilon) != EpsilonRegion::of(*b, epsilon));
         c = next;
+        eps_problem.record(recorder.as_mut(), &c);
         // The model is exact inside a fixed pattern of regions: a full step that keeps the
         // pattern lands on the solution.
-        converged = (!moved && t == 1.0) || row_converged(&c, &gradient(&c));
+        converged =
+            (!moved && t == 1.0) || eps_problem.rows_converged(&c, &eps_problem.gradient(&c));
     }
     let regions: Vec<EpsilonRegion> = c.iter().map(|&c| EpsilonRegion::of(c, epsilon)).collect();
     timing.friction_stage = clock.lap();
@@ -184,10 +173,104 @@ pub(super) fn solve(
         newton_iterations: Some(iterations),
         ..MethodDetails::default()
     };
-    Ok(regularized_output(
+    let output = regularized_output(
         (field, lambda),
         (&friction_stiffness, &c, options),
         (timing, warnings, details),
         condition_cases,
-    ))
+    );
+    Ok(MethodOutput {
+        history: recorder.map(Recorder::finish),
+        ..output
+    })
+}
+
+/// The ε-problem on the friction DOFs: K, b̃, the thresholds and ε.
+struct EpsilonProblem<'a> {
+    k: &'a [f64],
+    b: &'a [f64],
+    g: &'a [f64],
+    epsilon: f64,
+}
+
+impl EpsilonProblem<'_> {
+    /// K c.
+    fn times_k(&self, c: &[f64]) -> Vec<f64> {
+        let dim = c.len();
+        (0..dim)
+            .map(|i| (0..dim).map(|j| self.k[i * dim + j] * c[j]).sum())
+            .collect()
+    }
+
+    /// g ω̃'_ε(c) at DOF i, the friction force of (41).
+    fn multiplier(&self, c: &[f64], i: usize) -> f64 {
+        EpsilonRegion::of(c[i], self.epsilon).multiplier(c[i], self.g[i], self.epsilon)
+    }
+
+    /// ∇φ(c) = K c − b̃ + g ω̃'_ε(c): the optimality condition (43) as a function.
+    fn gradient(&self, c: &[f64]) -> Vec<f64> {
+        let kc = self.times_k(c);
+        (0..c.len())
+            .map(|i| kc[i] - self.b[i] + self.multiplier(c, i))
+            .collect()
+    }
+
+    /// The size of the terms of row i of ∇φ: Σ_j |K_ij c_j| + |b_i| + |g_i ω̃'_ε(c_i)|.
+    fn row_terms(&self, c: &[f64], i: usize) -> f64 {
+        let dim = c.len();
+        (0..dim)
+            .map(|j| (self.k[i * dim + j] * c[j]).abs())
+            .sum::<f64>()
+            + self.b[i].abs()
+            + self.multiplier(c, i).abs()
+    }
+
+    /// Scale-free convergence: every row of ∇φ within rounding of its own terms (a threshold
+    /// of 1e20 on one row or a load of 1e-300 leaves the other rows' test unchanged).
+    fn rows_converged(&self, c: &[f64], grad: &[f64]) -> bool {
+        let dim = c.len();
+        (0..dim).all(|i| grad[i].abs() <= 64.0 * dim as f64 * f64::EPSILON * self.row_terms(c, i))
+    }
+
+    /// Records the iterate c: the largest row of ∇φ relative to its terms (the measure of
+    /// [`Self::rows_converged`]), φ(c) = ½cᵀKc − b̃ᵀc + Σ gᵢ ω̃_ε(cᵢ), the ε-regions and the
+    /// forces as the method reports them. Nothing without a recorder.
+    fn record(&self, recorder: Option<&mut Recorder>, c: &[f64]) {
+        let Some(recorder) = recorder else {
+            return;
+        };
+        let (grad, kc, epsilon) = (self.gradient(c), self.times_k(c), self.epsilon);
+        let residual = (0..c.len())
+            .map(|i| {
+                let terms = self.row_terms(c, i);
+                if terms > 0.0 {
+                    grad[i].abs() / terms
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0f64, f64::max);
+        let huber = |z: f64| {
+            if z.abs() <= epsilon {
+                z * z / (2.0 * epsilon)
+            } else {
+                z.abs() - 0.5 * epsilon
+            }
+        };
+        let objective: f64 = (0..c.len())
+            .map(|i| 0.5 * c[i] * kc[i] - self.b[i] * c[i] + self.g[i] * huber(c[i]))
+            .sum();
+        let regions: Vec<EpsilonRegion> =
+            c.iter().map(|&v| EpsilonRegion::of(v, epsilon)).collect();
+        let states: Vec<DofState> = regions
+            .iter()
+            .map(|region| match region {
+                EpsilonRegion::Middle => DofState::Inside,
+                EpsilonRegion::Negative => DofState::AtLower,
+                EpsilonRegion::Positive => DofState::AtUpper,
+            })
+            .collect();
+        let forces = regularized_forces((&regions, c, self.g, epsilon), (self.k, self.b));
+        recorder.record(residual, Some(objective), &states, forces);
+    }
 }

@@ -5,10 +5,11 @@
 use std::time::{Duration, Instant};
 
 use super::friction_accuracy::{EntryErrors, FrictionAccuracy, friction_accuracy};
+use super::history::{History, ProgressMeasure, Recorder};
 use super::options::{ConditionLevel, SolveOptions};
 use super::solution::{FrictionState, MethodDetails, Timing, Warning, WarningCode};
 use crate::fem::NodalField;
-use crate::linalg::boxqp::QpResult;
+use crate::linalg::boxqp::{QpObserver, QpResult, solve_box_qp_observed};
 use crate::linalg::condition::{ConditionNumber, dense_condition_until};
 
 /// What a method module hands back before the common certification.
@@ -34,6 +35,8 @@ pub(crate) struct MethodOutput {
     /// certificate to judge the states with (`None` for the others, and when the QP's free
     /// block is not positive definite).
     pub friction_accuracy: Option<FrictionAccuracy>,
+    /// The convergence history, when asked for and the method iterates.
+    pub history: Option<History>,
 }
 
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
@@ -137,7 +140,23 @@ pub(crate) fn dual_output(
         // A cancelled solve ends right after the method: no account is needed then.
         friction_accuracy: friction_accuracy(s, z0, qp, lost, &|| options.cancel.is_cancelled())
             .unwrap_or(None),
+        // The caller's recorder, if any, sets it.
+        history: None,
     }
+}
+
+/// The box QP of (49) for the three dual methods, recording its iterates when
+/// [`SolveOptions::history`] asks for it: the answer and the history.
+pub(crate) fn dual_box_qp(
+    (s, z0, g): (&[f64], &[f64], &[f64]),
+    method: crate::model::Method,
+    options: &SolveOptions,
+) -> (QpResult, Option<History>) {
+    let stop = || options.cancel.is_cancelled();
+    let mut recorder = Recorder::when(options.history, method, ProgressMeasure::ProjectedGradient);
+    let observer = recorder.as_mut().map(|r| r as &mut dyn QpObserver);
+    let qp = solve_box_qp_observed(s, z0, g, &stop, observer);
+    (qp, recorder.map(Recorder::finish))
 }
 
 /// cond₂(S) of a dense 2k×2k matrix, when asked for. A cancelled solve gets none, and

@@ -8,6 +8,7 @@ use std::time::Duration;
 
 use serde::Serialize;
 
+use super::history::History;
 use crate::fem::NodalField;
 use crate::linalg::condition::ConditionNumber;
 use crate::model::Method;
@@ -408,6 +409,9 @@ pub struct Solution {
     pub error: Option<ErrorReport>,
     pub warnings: Vec<Warning>,
     pub details: MethodDetails,
+    /// The convergence history, when [`super::SolveOptions::history`] asked for it and the
+    /// method iterates (`None` for `regularized` and `closed-form`).
+    pub history: Option<History>,
 }
 
 impl Solution {

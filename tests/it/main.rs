@@ -23,6 +23,7 @@ mod figure;
 mod fitting;
 mod fuzz;
 mod headless;
+mod history;
 mod lessons;
 mod markers;
 mod mouse;

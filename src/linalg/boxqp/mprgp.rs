@@ -5,8 +5,15 @@
 use super::gradient;
 use crate::linalg::stop::Stop;
 
-/// MPRGP on the scaled problem; returns the iterate and the number of steps.
-pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> (Vec<f64>, usize) {
+/// MPRGP on the scaled problem; returns the iterate and the number of steps. `seen` is shown
+/// every iterate after a step (the caller's watch, which does nothing without an observer).
+pub(super) fn mprgp(
+    h: &[f64],
+    z: &[f64],
+    g: &[f64],
+    stop: Stop,
+    seen: &mut dyn FnMut(&[f64]),
+) -> (Vec<f64>, usize) {
     let n = z.len();
     let problem = Mprgp::new(h, g);
     let x = vec![0.0; n];
@@ -37,6 +44,7 @@ pub(super) fn mprgp(h: &[f64], z: &[f64], g: &[f64], stop: Stop) -> (Vec<f64>, u
         if !moved {
             return (it.x, step);
         }
+        seen(&it.x);
     }
     (it.x, max_steps)
 }

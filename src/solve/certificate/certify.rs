@@ -42,6 +42,7 @@ pub(in crate::solve) fn certify(
         dual_condition,
         regularized_cases,
         friction_accuracy,
+        history,
     } = output;
     if let Some(w) = mesh_raised_warning(mesh) {
         warnings.insert(0, w);
@@ -103,6 +104,7 @@ pub(in crate::solve) fn certify(
         error: None,
         warnings,
         details,
+        history,
     };
     debug_assert!(
         reference.is_some() || (method == Method::Condensed && !options.reference),

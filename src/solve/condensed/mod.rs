@@ -84,6 +84,7 @@
 //! search's step), `search` (the Newton phases and the monotone search), `nodes` (every node
 //! from its piece).
 
+use super::history::{ProgressMeasure, Recorder};
 use super::options::SolveOptions;
 use super::shared::{MethodOutput, Stopwatch, cancelled};
 use super::solution::{
@@ -165,7 +166,7 @@ pub fn solve_condensed_while(
     mesh: &Mesh,
     keep_going: &mut dyn FnMut() -> bool,
 ) -> Result<CondensedSolution, CondensedFailure> {
-    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS, keep_going)
+    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS, keep_going, None)
 }
 
 /// `solve` entry point: the condensed solution as the common [`MethodOutput`].
@@ -177,19 +178,30 @@ pub(super) fn solve(
     let mut timing = Timing::default();
     let mut clock = Stopwatch::start();
     let mut keep_going = || !options.cancel.is_cancelled();
-    let solution =
-        solve_condensed_while(problem, mesh, &mut keep_going).map_err(|failure| match failure {
-            CondensedFailure::Singular { column } => SolveError {
-                method: Method::Condensed,
-                kind: SolveErrorKind::Breakdown,
-                reason: format!(
-                    "the multiple-shooting system is singular to working precision (column \
+    let mut recorder = Recorder::when(
+        options.history,
+        Method::Condensed,
+        ProgressMeasure::KktResidual,
+    );
+    let solution = solve_with_newton_phases(
+        problem,
+        mesh,
+        &NEWTON_REVERSAL_FRACTIONS,
+        &mut keep_going,
+        recorder.as_mut(),
+    )
+    .map_err(|failure| match failure {
+        CondensedFailure::Singular { column } => SolveError {
+            method: Method::Condensed,
+            kind: SolveErrorKind::Breakdown,
+            reason: format!(
+                "the multiple-shooting system is singular to working precision (column \
                      {column})"
-                ),
-                suggestion: Method::Flexibility,
-            },
-            CondensedFailure::Stopped => cancelled(Method::Condensed),
-        })?;
+            ),
+            suggestion: Method::Flexibility,
+        },
+        CondensedFailure::Stopped => cancelled(Method::Condensed),
+    })?;
     timing.friction_stage = clock.lap();
     let mut warnings = Vec::new();
     if !solution.converged {
@@ -215,5 +227,6 @@ pub(super) fn solve(
         dual_condition: None,
         regularized_cases: Vec::new(),
         friction_accuracy: None,
+        history: recorder.map(Recorder::finish),
     })
 }

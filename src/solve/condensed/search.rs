@@ -1,6 +1,7 @@
 //! The search for the friction pattern: semismooth Newton phases, then a monotone search (exact
 //! line search on the convex objective, feature-sign fallback) that can neither cycle nor
-//! stall.
+//! stall. When a convergence history is asked for, every pattern solve is recorded as one
+//! iterate ([`record_pattern`]).
 
 use std::collections::HashSet;
 
@@ -13,6 +14,7 @@ use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
 use crate::solve::FrictionState;
+use crate::solve::history::{DofState, Recorder};
 
 /// Most solves of one semismooth Newton phase.
 const NEWTON_STEPS: usize = 40;
@@ -48,7 +50,8 @@ fn fingerprint(pattern: &[Pattern]) -> u64 {
 
 /// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone):
 /// the system in dimensionless units, the search for a consistent pattern
-/// ([`PatternSearch::run`]), then the answer in SI units ([`condensed_solution`]).
+/// ([`PatternSearch::run`]), then the answer in SI units ([`condensed_solution`]). Every
+/// pattern solve goes to `recorder`, if any.
 ///
 /// [`solve_condensed_while`]: super::solve_condensed_while
 pub(super) fn solve_with_newton_phases(
@@ -56,6 +59,7 @@ pub(super) fn solve_with_newton_phases(
     mesh: &Mesh,
     newton_phases: &[f64],
     keep_going: &mut dyn FnMut() -> bool,
+    mut recorder: Option<&mut Recorder>,
 ) -> Result<CondensedSolution, CondensedFailure> {
     let scales = Scales::of(problem);
     // The first Newton phase's σ fraction; without Newton phases, the first variant's (a
@@ -72,7 +76,12 @@ pub(super) fn solve_with_newton_phases(
     {
         search.pattern = guess;
     }
-    let (solution, converged) = search.run(keep_going)?;
+    let mut observe = |solution: &PatternSolution, pattern: &[Pattern]| {
+        if let Some(recorder) = recorder.as_deref_mut() {
+            record_pattern(recorder, (problem, &scales, &system), solution, pattern);
+        }
+    };
+    let (solution, converged) = search.run(keep_going, &mut observe)?;
     condensed_solution(
         (problem, mesh, &scales),
         &system,
@@ -172,16 +181,19 @@ impl<'a> PatternSearch<'a> {
     }
 
     /// The search loop: solves patterns until one is consistent or the solves run out; the
-    /// last solution and whether its pattern is consistent.
+    /// last solution and whether its pattern is consistent. `observe` sees every pattern
+    /// solved with its (final, possibly refined) solution.
     fn run(
         &mut self,
         keep_going: &mut dyn FnMut() -> bool,
+        observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
     ) -> Result<(PatternSolution, bool), CondensedFailure> {
         loop {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
             let (solution, changes) = self.solve_and_decide()?;
+            observe(&solution, &self.pattern);
             if changes.is_empty() {
                 return Ok((solution, true));
             }
@@ -358,7 +370,27 @@ fn condensed_solution(
             ]
         })
         .collect();
-    let friction = problem
+    let friction = physical_friction(problem, scales, solution, pattern);
+    let field = nodal_field(mesh, system, solution, scales, keep_going)?;
+    Ok(CondensedSolution {
+        field,
+        friction,
+        states,
+        solves,
+        counts: system.counts.get(),
+        converged,
+    })
+}
+
+/// The friction forces of a pattern's solution in SI units, (force [N], moment [N m]) per
+/// obstacle: a moving DOF's exactly its threshold, a stuck one's solved force clamped to it.
+fn physical_friction(
+    problem: &Problem,
+    scales: &Scales,
+    solution: &PatternSolution,
+    pattern: &[Pattern],
+) -> Vec<[f64; 2]> {
+    problem
         .obstacles
         .iter()
         .enumerate()
@@ -377,14 +409,55 @@ fn condensed_solution(
                 physical(1, o.swivel_threshold, scales.moment()),
             ]
         })
+        .collect()
+}
+
+/// Records one pattern solve: the KKT residual of (38)'s friction conditions on it — the
+/// worst of a stuck force's excess over its threshold, relative to the largest force of its
+/// kind (or the threshold, if larger), and a moving DOF's motion against its force's sign,
+/// relative to the largest motion of its kind — the pattern as the states, and the forces in
+/// SI units as the answer would report them.
+fn record_pattern(
+    recorder: &mut Recorder,
+    (problem, scales, system): (&Problem, &Scales, &ShootingSystem),
+    solution: &PatternSolution,
+    pattern: &[Pattern],
+) {
+    let ratio = |violation: f64, scale: f64| {
+        if violation > 0.0 && scale > 0.0 {
+            violation / scale
+        } else {
+            0.0
+        }
+    };
+    let residual = (0..pattern.len())
+        .map(|i| {
+            let d = i % 2;
+            let g = system.thresholds[i / 2][d];
+            match pattern[i] {
+                Pattern::Stuck => ratio(
+                    solution.lambda[i].abs() - g,
+                    solution.largest_force[d].max(g),
+                ),
+                Pattern::Positive => ratio(
+                    -system.friction_value(solution, i),
+                    solution.largest_motion[d],
+                ),
+                Pattern::Negative => ratio(
+                    system.friction_value(solution, i),
+                    solution.largest_motion[d],
+                ),
+            }
+        })
+        .fold(0.0f64, f64::max);
+    let states: Vec<DofState> = pattern
+        .iter()
+        .map(|state| match state {
+            Pattern::Stuck => DofState::Inside,
+            Pattern::Negative => DofState::AtLower,
+            Pattern::Positive => DofState::AtUpper,
+        })
         .collect();
-    let field = nodal_field(mesh, system, solution, scales, keep_going)?;
-    Ok(CondensedSolution {
-        field,
-        friction,
-        states,
-        solves,
-        counts: system.counts.get(),
-        converged,
-    })
+    let forces = physical_friction(problem, scales, solution, pattern);
+    recorder.record(residual, None, &states, forces);
 }
