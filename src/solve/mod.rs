@@ -3,7 +3,8 @@
 //!
 //! [`solve`] runs a method and then certifies its answer the same way for every method
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
-//! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
+//! same mesh, from the same solve the certificate graded with; [`grade`] certifies an answer
+//! computed elsewhere (`given_answer`, `beamfric grade`). The layout: `options` (how to
 //! solve), `solution` (what comes back), `certificate` (the common checks), `shared` (what the
 //! method modules share), `stiffness_route` (the factorization of A that `dual` and the
 //! regularised methods share); the method modules depend on those, never on this dispatcher.
@@ -15,6 +16,7 @@ mod dual;
 mod dual_inverse;
 mod flexibility;
 mod friction_accuracy;
+mod given_answer;
 mod options;
 mod regularized;
 mod regularized_newton;
@@ -31,6 +33,7 @@ pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{
     CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
 };
+pub use given_answer::{GivenAnswer, GradeError, grade};
 pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
 pub use solution::{
     Conditioning, ErrorReport, FrictionState, KktGrade, MethodDetails, ObstacleResult, Reference,
