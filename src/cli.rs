@@ -35,6 +35,7 @@ macro_rules! say_inline {
     }};
 }
 
+pub mod exchange;
 mod figure;
 
 /// Exit status for bad input (scene, arguments).
@@ -90,6 +91,8 @@ pub fn dispatch(cli: Cli) -> ExitCode {
         Some(Command::Figure(args)) => figure::figure_command(&args),
         Some(Command::Serve(args)) => serve_command(&args),
         Some(Command::Present(args)) => present_command(&args),
+        Some(Command::Export(args)) => exchange::export_command(&args),
+        Some(Command::Grade(args)) => exchange::grade_command(&args),
         None => explore(
             cli.scene.as_deref().unwrap_or("benchmark-1"),
             &cli.lesson,

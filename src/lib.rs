@@ -15,6 +15,8 @@
 //! - [`tui`]: the explorer (terminal UI and headless rendering).
 //! - [`check`]: the stability suite on the presets (`beamfric check`).
 //! - [`report`]: the error-against-run-time report (`beamfric report`).
+//! - [`exchange`]: bring your own method: the discrete problem exported as plain files
+//!   (`beamfric export`), an answer computed elsewhere graded (`beamfric grade`).
 //! - [`cli`], [`output`], [`format`]: the command line and what it prints.
 
 // Numerical kernels index several arrays in lockstep (matrix rows, vectors, bounds); an index
@@ -23,6 +25,7 @@
 
 pub mod check;
 pub mod cli;
+pub mod exchange;
 pub mod fem;
 pub mod figure;
 pub mod format;

@@ -163,7 +163,7 @@ fn heading_lines(lines: &mut Vec<String>, context: &SolveContext, solution: &Sol
     lines.push(String::new());
 }
 
-fn obstacle_lines(lines: &mut Vec<String>, solution: &Solution) {
+pub(crate) fn obstacle_lines(lines: &mut Vec<String>, solution: &Solution) {
     if solution.obstacles.is_empty() {
         return;
     }
@@ -202,7 +202,7 @@ fn point_lines(lines: &mut Vec<String>, at: &[(f64, PointValues)]) {
     }
 }
 
-fn certificate_lines(lines: &mut Vec<String>, solution: &Solution) {
+pub(crate) fn certificate_lines(lines: &mut Vec<String>, solution: &Solution) {
     lines.push(format!(
         "max |u|          {} m",
         sci(solution.max_deflection(), 8)
@@ -229,7 +229,7 @@ fn certificate_lines(lines: &mut Vec<String>, solution: &Solution) {
     });
 }
 
-fn condition_line(lines: &mut Vec<String>, solution: &Solution) {
+pub(crate) fn condition_line(lines: &mut Vec<String>, solution: &Solution) {
     let c = &solution.conditioning;
     let mut conds = Vec::new();
     let mut push = |name: &str, v: &Option<ConditionNumber>| {
@@ -296,7 +296,7 @@ fn detail_lines(lines: &mut Vec<String>, solution: &Solution, show_time: bool) {
     }
 }
 
-fn warning_lines(lines: &mut Vec<String>, solution: &Solution) {
+pub(crate) fn warning_lines(lines: &mut Vec<String>, solution: &Solution) {
     if solution.warnings.is_empty() {
         lines.push("warnings         none".to_string());
     } else {

@@ -173,6 +173,12 @@ pub enum Command {
     /// Serve as `serve` does, with your own explorer in this terminal presenting: every
     /// student who follows sees its scene and view live. Quitting it stops the server.
     Present(PresentArgs),
+    /// Write the discrete problem (A, b, B, g, the mesh) as Matrix Market, JSON and CSV files
+    /// with a README of the conventions, for your own method.
+    Export(super::exchange::ExportArgs),
+    /// Grade an answer computed elsewhere (forces λ or nodal u, u'; JSON or CSV) with the
+    /// certificate of the built-in methods.
+    Grade(super::exchange::GradeArgs),
 }
 
 /// `beamfric serve`.
@@ -447,7 +453,9 @@ pub const MAX_REPEAT: usize = 100;
 /// (clap quotes what was typed and names the option: "invalid value '-1' for '--elements
 /// <ELEMENTS>': must be a whole number from 1 to 10000000"); any other number reaches the
 /// command, whose check of the range quotes it in the same words as the scene's rules.
-fn count_up_to(max: usize) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
+pub(super) fn count_up_to(
+    max: usize,
+) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync {
     move |text: &str| {
         let digits = text.trim();
         let digits = digits.strip_prefix('+').unwrap_or(digits);

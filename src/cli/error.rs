@@ -31,6 +31,9 @@ pub enum CliError {
     Report(ReportError),
     /// A figure's file cannot be written (the text names it and says why).
     Figure(String),
+    /// An export cannot be written, or an answer cannot be read or graded (the text names
+    /// the file, the field and the rule).
+    Exchange(crate::exchange::ExchangeError),
 }
 
 impl std::fmt::Display for CliError {
@@ -45,6 +48,7 @@ impl std::fmt::Display for CliError {
             CliError::Explore(e) => e.fmt(f),
             CliError::Report(e) => e.fmt(f),
             CliError::Figure(text) => f.write_str(text),
+            CliError::Exchange(e) => e.fmt(f),
         }
     }
 }

@@ -3,7 +3,8 @@
 //!
 //! [`solve`] runs a method and then certifies its answer the same way for every method
 //! (`certificate`); [`solve_with_condensed`] also hands back the `condensed` solution on the
-//! same mesh, from the same solve the certificate graded with. The layout: `options` (how to
+//! same mesh, from the same solve the certificate graded with; [`grade`] certifies an answer
+//! computed elsewhere (`given_answer`, `beamfric grade`). The layout: `options` (how to
 //! solve), `solution` (what comes back), `history` (the convergence history recorded when
 //! asked), `certificate` (the common checks), `shared` (what the
 //! method modules share), `stiffness_route` (the factorization of A that `dual` and the
@@ -16,6 +17,7 @@ mod dual;
 mod dual_inverse;
 mod flexibility;
 mod friction_accuracy;
+mod given_answer;
 mod history;
 mod options;
 mod regularized;
@@ -33,6 +35,7 @@ pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{
     CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
 };
+pub use given_answer::{GivenAnswer, GradeError, grade};
 pub use history::{
     History, IterationRecord, MAX_RECORDED_ITERATIONS, ProgressMeasure, iterate_field,
 };

@@ -17,6 +17,7 @@ mod class_controls;
 mod cli_solve;
 mod condensed;
 mod escaping;
+mod exchange;
 mod explorer;
 mod families;
 mod figure;

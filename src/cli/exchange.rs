@@ -1,0 +1,97 @@
+//! `beamfric export` and `beamfric grade` (bring your own method, issue 24): their arguments
+//! and the thin commands over [`crate::exchange`], which does the work.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+
+use super::args::count_up_to;
+use super::{CliError, EXIT_CHECK_FAILED, Format, load_with_overrides};
+use crate::exchange::{ExportedScene, GradeContext, Verdict, export, grade_file};
+use crate::fem::Mesh;
+use crate::output::json_text;
+use crate::scene::MAX_ELEMENTS;
+
+/// `beamfric export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Number of elements (default: the scene's).
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
+    pub elements: Option<usize>,
+    /// The directory for the files (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Replace the files of an earlier export in DIR.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `beamfric grade`.
+#[derive(Debug, Args)]
+pub struct GradeArgs {
+    /// Scene file or preset name (the one the answer was computed for).
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Number of elements (default: the scene's; the one the answer was computed on).
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
+    pub elements: Option<usize>,
+    /// The answer: forces λ and/or nodal u, u' as JSON or CSV (see
+    /// docs/bring-your-own-method.md); the JSON of `beamfric solve --format json` is one form.
+    #[arg(long, value_name = "FILE")]
+    pub answer: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
+}
+
+/// Runs `beamfric export`.
+pub(super) fn export_command(args: &ExportArgs) -> Result<ExitCode, CliError> {
+    let elements = args.elements;
+    let loaded = load_with_overrides(&args.scene, None, elements, None)?;
+    let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
+    let source = loaded.source.to_string();
+    let command_scene = match elements {
+        Some(n) => format!("--scene {} --elements {n}", args.scene),
+        None => format!("--scene {}", args.scene),
+    };
+    let scene = ExportedScene {
+        title: &loaded.scene.title,
+        source: &source,
+        command_scene: &command_scene,
+    };
+    let written =
+        export(&loaded.problem, &mesh, scene, &args.out, args.force).map_err(CliError::Exchange)?;
+    for path in written {
+        say!("wrote {}", path.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Runs `beamfric grade`: exit 0 for an exact answer, 1 for one graded otherwise.
+pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
+    let elements = args.elements;
+    let loaded = load_with_overrides(&args.scene, None, elements, None)?;
+    let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
+    let graded = grade_file(&loaded.problem, &mesh, &args.answer).map_err(CliError::Exchange)?;
+    let source = loaded.source.to_string();
+    let context = GradeContext {
+        source: &source,
+        title: &loaded.scene.title,
+        mesh: &mesh,
+    };
+    let text = match args.format {
+        Format::Json => json_text(&graded.json(&context)),
+        Format::Table => graded.text(&context),
+    };
+    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    Ok(if graded.verdict == Verdict::Exact {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EXIT_CHECK_FAILED)
+    })
+}
