@@ -74,6 +74,13 @@ pub(super) fn export_command(args: &ExportArgs) -> Result<ExitCode, CliError> {
 
 /// Runs `beamfric grade`: exit 0 for an exact answer, 1 for one graded otherwise.
 pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
+    if args.format == Format::Csv {
+        return Err(CliError::Argument(
+            "grade prints its grade as --format table or --format json (csv is solve's \
+             convergence history)"
+                .into(),
+        ));
+    }
     let elements = args.elements;
     let loaded = load_with_overrides(&args.scene, None, elements, None)?;
     let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
@@ -86,7 +93,7 @@ pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
     };
     let text = match args.format {
         Format::Json => json_text(&graded.json(&context)),
-        Format::Table => graded.text(&context),
+        Format::Table | Format::Csv => graded.text(&context),
     };
     let _ = std::io::stdout().lock().write_all(text.as_bytes());
     Ok(if graded.verdict == Verdict::Exact {

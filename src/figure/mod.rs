@@ -87,13 +87,20 @@ impl From<FigurePanel> for Panel {
     }
 }
 
-impl From<Panel> for FigurePanel {
-    fn from(panel: Panel) -> FigurePanel {
+impl FigurePanel {
+    /// The figure of an explorer panel, for the panels that have one (the panels that show how
+    /// a method works are for the screen only).
+    pub fn of(panel: Panel) -> Option<FigurePanel> {
         match panel {
-            Panel::Deflection => FigurePanel::Deflection,
-            Panel::EpsError => FigurePanel::EpsError,
-            Panel::EpsCond => FigurePanel::EpsCond,
-            Panel::ErrorTime => FigurePanel::ErrorTime,
+            Panel::Deflection => Some(FigurePanel::Deflection),
+            Panel::EpsError => Some(FigurePanel::EpsError),
+            Panel::EpsCond => Some(FigurePanel::EpsCond),
+            Panel::ErrorTime => Some(FigurePanel::ErrorTime),
+            Panel::Figure5
+            | Panel::Iterations
+            | Panel::DualBox
+            | Panel::Cases
+            | Panel::Matrices => None,
         }
     }
 }
@@ -146,7 +153,7 @@ mod tests {
     fn panels_parse_by_name() {
         for panel in FigurePanel::ALL {
             assert_eq!(panel.name().parse::<FigurePanel>(), Ok(panel));
-            assert_eq!(FigurePanel::from(Panel::from(panel)), panel);
+            assert_eq!(FigurePanel::of(Panel::from(panel)), Some(panel));
         }
         let refused = "plot".parse::<FigurePanel>().unwrap_err();
         assert!(refused.contains("eps-cond"), "{refused}");

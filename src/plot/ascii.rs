@@ -63,6 +63,7 @@ fn superscript(c: char) -> Option<char> {
         '⁸' => '8',
         '⁹' => '9',
         '⁻' => '-',
+        'ᵀ' => 'T',
         _ => return None,
     })
 }

@@ -6,21 +6,31 @@
 
 mod ascii;
 mod axes;
+mod cases_table;
 mod chart;
+mod dual_box;
+mod figure5;
+mod iterations_chart;
 mod markers;
 mod plot_area;
+mod spy;
 mod study_charts;
 mod text;
 mod theme;
 
 pub use ascii::{ascii_char, spell_ascii, transliterate};
 pub use axes::{Scale, cell, linear_scale, log_scale, tick_label, to_unit};
+pub use cases_table::cases_table;
 pub use chart::{
     KeyEntry, PanelFrame, Piece, bounds_of, curve_key, curve_marker, key_layout, log_points,
     marker_char, notice, pack, panel_with_key, point_marker,
 };
+pub use dual_box::{DualBoxView, dual_box_chart, position_words};
+pub use figure5::figure5_chart;
+pub use iterations_chart::{iterations_chart, iterations_plot};
 pub use markers::MarkerSet;
 pub use plot_area::{AxisKind, AxisSpec, Markers, PlotArea};
+pub use spy::spy_panel;
 pub use study_charts::{
     CurrentRun, StudyChart, chart_buffer, eps_condition_chart, eps_error_chart, error_time_chart,
 };

@@ -23,7 +23,7 @@ use crate::study::{EpsPoint, MeshPoint};
 const PLOT_ROWS: u16 = 5;
 
 /// The marker line of the current ε or n.
-fn current_line(theme: &Theme) -> &'static str {
+pub(super) fn current_line(theme: &Theme) -> &'static str {
     if theme.look.ascii { ":" } else { "┆" }
 }
 
@@ -45,7 +45,7 @@ fn log_axes(x: [f64; 2], y: [f64; 2], x_title: String) -> (AxisSpec, AxisSpec) {
 
 /// The plot area of an ε chart (log axes, ε below), with the current ε marked by a vertical
 /// line; `None` when the panel is too small to plot in.
-fn epsilon_plot(
+pub(super) fn epsilon_plot(
     frame: &mut Frame,
     theme: &Theme,
     plot: Rect,
@@ -67,7 +67,7 @@ fn epsilon_plot(
 }
 
 /// The sweep point at exactly the current ε (the sweep includes it), if any.
-fn point_at(points: &[EpsPoint], epsilon: Option<f64>) -> Option<&EpsPoint> {
+pub(super) fn point_at(points: &[EpsPoint], epsilon: Option<f64>) -> Option<&EpsPoint> {
     let epsilon = epsilon?;
     points.iter().find(|p| p.epsilon == epsilon)
 }

@@ -195,11 +195,37 @@ pub enum Panel {
     EpsCond,
     /// Error against run time for every method over mesh sizes.
     ErrorTime,
+    /// Figure 5 as one panel: the regularisation error and cond₂ of the case matrices against
+    /// ε on one shared ε axis.
+    #[serde(rename = "figure-5")]
+    Figure5,
+    /// The method's convergence history, iteration by iteration.
+    Iterations,
+    /// The dual (49) restricted to the selected obstacle: the box, level curves, iterates.
+    DualBox,
+    /// The regularised method's cases of Table 1.
+    Cases,
+    /// The structure of the matrices: A, S = B A⁻¹ Bᵀ and the condensed system.
+    Matrices,
 }
 
 impl Panel {
     /// Every panel, in display order.
-    pub const ALL: [Panel; 4] = [
+    pub const ALL: [Panel; 9] = [
+        Panel::Deflection,
+        Panel::EpsError,
+        Panel::EpsCond,
+        Panel::ErrorTime,
+        Panel::Figure5,
+        Panel::Iterations,
+        Panel::DualBox,
+        Panel::Cases,
+        Panel::Matrices,
+    ];
+
+    /// The panels of a scene that does not list its own: the overview of the answer and its
+    /// trade-offs. The others (how the method works) are a key away (`v`).
+    pub const DEFAULT: [Panel; 4] = [
         Panel::Deflection,
         Panel::EpsError,
         Panel::EpsCond,
@@ -213,6 +239,11 @@ impl Panel {
             Panel::EpsError => "eps-error",
             Panel::EpsCond => "eps-cond",
             Panel::ErrorTime => "error-time",
+            Panel::Figure5 => "figure-5",
+            Panel::Iterations => "iterations",
+            Panel::DualBox => "dual-box",
+            Panel::Cases => "cases",
+            Panel::Matrices => "matrices",
         }
     }
 }
@@ -221,18 +252,41 @@ impl Panel {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ViewSpec {
-    #[serde(default = "all_panels")]
+    #[serde(default = "default_panels")]
     pub panels: Vec<Panel>,
+    /// The parameter selected when the scene opens, by its field name (`solver.epsilon`,
+    /// `obstacle[1].sliding`, … one of [`Scene::parameter_fields`]); the first one if absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub select: Option<String>,
 }
 
-fn all_panels() -> Vec<Panel> {
-    Panel::ALL.to_vec()
+impl Scene {
+    /// The fields the explorer lists as parameters, in its order: loads, modulus, the
+    /// section's dimensions, each obstacle's position and thresholds, ε, elements, method.
+    pub fn parameter_fields(&self) -> Vec<String> {
+        let mut fields: Vec<String> = vec!["load.f0".into(), "load.f1".into(), "beam.young".into()];
+        for (name, _) in self.beam.section.dimensions() {
+            fields.push(format!("beam.section.{name}"));
+        }
+        for i in 1..=self.obstacles.len() {
+            for what in ["x", "sliding", "swivel"] {
+                fields.push(format!("obstacle[{i}].{what}"));
+            }
+        }
+        fields.extend(["solver.epsilon", "mesh.elements", "solver.method"].map(String::from));
+        fields
+    }
+}
+
+fn default_panels() -> Vec<Panel> {
+    Panel::DEFAULT.to_vec()
 }
 
 impl Default for ViewSpec {
     fn default() -> Self {
         ViewSpec {
-            panels: all_panels(),
+            panels: default_panels(),
+            select: None,
         }
     }
 }

@@ -342,6 +342,19 @@ impl Validator<'_> {
                 format!("is empty: list at least one of {}", names.join(", ")),
             ));
         }
+        if let Some(select) = &scene.view.select {
+            let fields = scene.parameter_fields();
+            if !fields.contains(select) {
+                return Err(self.error(
+                    "view.select",
+                    format!(
+                        "= \"{}\": must name a parameter of this scene, one of {}",
+                        crate::format::printable(select),
+                        fields.join(", ")
+                    ),
+                ));
+            }
+        }
         Ok(Settings {
             elements,
             method: scene.solver.method,

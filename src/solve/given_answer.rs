@@ -90,6 +90,7 @@ pub fn grade(
         dual_condition: None,
         regularized_cases: Vec::new(),
         friction_accuracy: None,
+        history: None,
     };
     let reference = MeshReference::new(problem, mesh, options.cancel.clone());
     let mut solution = certify(problem, mesh, GRADED_AS, options, output, Some(&reference))

@@ -97,12 +97,8 @@ fn frames_after_key_sequences() {
             "benchmark-1",
             "Down Down Down Down Down Left Left Left Left Left Left Left Left Left Left",
         ),
-        // ε: regularised method, ε two decades down.
-        (
-            "epsilon",
-            "lesson-epsilon",
-            "Down Down Down Down Down Down Down Down S-Left S-Left",
-        ),
+        // ε: regularised method, ε two decades down (the preset opens on the ε row).
+        ("epsilon", "lesson-epsilon", "S-Left S-Left"),
         ("typed-value", "benchmark-1", "Enter 3 e 4 Enter"),
         ("rejected-value", "benchmark-1", "Enter a b c Enter"),
         ("add-obstacle", "benchmark-1", "a"),
@@ -285,9 +281,11 @@ fn presets_load_from_the_picker_and_panels_follow_the_scene() {
         app.exploration.source,
         SceneSource::Preset("lesson-epsilon")
     );
+    assert_eq!(app.exploration.panels(), vec![Panel::Figure5]);
+    // It opens on the row it is about.
     assert_eq!(
-        app.exploration.panels(),
-        vec![Panel::EpsError, Panel::EpsCond]
+        app.exploration.selected_row(),
+        beamfric::tui::state::params::Row::Epsilon
     );
     // Panels the scene does not list are neither drawn nor computed.
     assert!(matches!(

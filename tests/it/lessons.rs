@@ -16,10 +16,11 @@ use crate::harness::process::beamfric;
 use crate::harness::pty::PtyProcess;
 
 /// The lessons shipped in `lessons/`.
-const SHIPPED: [&str; 3] = [
+const SHIPPED: [&str; 4] = [
     "lessons/regularisation.toml",
     "lessons/dual-and-fine-meshes.toml",
     "lessons/stiff-and-extreme.toml",
+    "lessons/method-at-work.toml",
 ];
 
 fn shipped(file: &str) -> Arc<Lesson> {

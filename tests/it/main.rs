@@ -27,6 +27,7 @@ mod headless;
 mod history;
 mod lessons;
 mod markers;
+mod method_panels;
 mod mouse;
 mod numerics;
 mod paper_figures;

@@ -107,7 +107,12 @@ fn the_presets_show_what_their_comments_promise() {
     use beamfric::scene::Panel;
     assert_eq!(
         preset_scene("lesson-epsilon").view.panels,
-        vec![Panel::EpsError, Panel::EpsCond]
+        vec![Panel::Figure5]
+    );
+    // Figure 5's lesson opens with ε selected.
+    assert_eq!(
+        preset_scene("lesson-epsilon").view.select.as_deref(),
+        Some("solver.epsilon")
     );
     assert_eq!(
         preset_scene("lesson-mesh").view.panels,

@@ -130,7 +130,10 @@ prop_compose! {
             obstacles,
             mesh: MeshSpec { elements },
             solver: SolverSpec { method, epsilon },
-            view: ViewSpec { panels },
+            view: ViewSpec {
+                panels,
+                select: None,
+            },
         }
     }
 }

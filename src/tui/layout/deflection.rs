@@ -9,9 +9,12 @@ use ratatui::layout::Rect;
 use crate::plot::{
     AxisKind, AxisSpec, KeyEntry, PlotArea, Theme, curve_key, key_layout, marker_char,
 };
+use crate::scene::Panel;
 use crate::solve::Solution;
 use crate::tui::jobs::solve::Solved;
+use crate::tui::jobs::sweeps::IterateField;
 use crate::tui::state::motion::state_word;
+use crate::tui::state::sweeps::SweepView;
 use crate::tui::state::{App, Diagram};
 
 /// The obstacles' states, in the words of the results panel ([`state_word`]),
@@ -32,6 +35,9 @@ pub struct DeflectionData {
     pub length: f64,
     pub curve: Vec<(f64, f64)>,
     pub reference_curve: Vec<(f64, f64)>,
+    /// The selected iterate's curve (the iterations panel's `<` `>`), when one other than the
+    /// last is selected and its field has arrived.
+    pub iterate_curve: Vec<(f64, f64)>,
     pub states: [Vec<(f64, f64)>; 6],
     pub key: Vec<KeyEntry>,
     pub y_range: [f64; 2],
@@ -55,6 +61,8 @@ pub struct Segment {
 pub const SEGMENT_GLYPHS: [(char, char); 3] = [('━', '='), ('═', '~'), ('▀', '^')];
 
 pub const REFERENCE_MARKER: (char, char) = ('·', '.');
+/// The selected iterate's curve.
+pub const ITERATE_MARKER: (char, char) = ('∘', 'o');
 pub const WALL: (char, char) = ('▒', '#');
 /// Rows the deflection chart keeps before its key takes the rest.
 pub const DEFLECTION_ROWS: u16 = 5;
@@ -96,6 +104,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         (false, Some(r)) => finite(xs.iter().map(|&x| (x, value_of(r, x))).collect()),
         _ => Vec::new(),
     };
+    let (iterate_curve, iterate_key) = iterate_curve(app, theme, &xs);
     if curve.is_empty() {
         return Err("no finite values to draw (see the warnings)".into());
     }
@@ -103,6 +112,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
     let (min, max) = curve
         .iter()
         .chain(&reference_curve)
+        .chain(&iterate_curve)
         .fold((0.0f64, 0.0f64), |(a, b), &(_, y)| (a.min(y), b.max(y)));
     let method = solution.method;
     let mut key = vec![KeyEntry {
@@ -123,6 +133,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
             short: None,
         });
     }
+    key.extend(iterate_key);
     key.push(KeyEntry {
         marker: marker_char(theme, WALL.0, WALL.1),
         name: "clamped".into(),
@@ -166,6 +177,7 @@ pub fn deflection_data(app: &App, theme: &Theme, area: Rect) -> Result<Deflectio
         length: l,
         curve,
         reference_curve,
+        iterate_curve,
         states,
         key,
         y_range: [min, max],
@@ -253,9 +265,44 @@ pub fn deflection_plot(data: &DeflectionData, plot: Rect) -> Option<PlotArea> {
     PlotArea::new(plot, &x_axis, &y_axis)
 }
 
+/// The selected iterate's curve at `xs` and its key entry, when the iterations panel selects
+/// one other than the last and its field has arrived (not with the difference u − u_ref).
+fn iterate_curve(app: &App, theme: &Theme, xs: &[f64]) -> (Vec<(f64, f64)>, Option<KeyEntry>) {
+    let Some(iterate) = iterate_field(app).filter(|_| !app.show_difference) else {
+        return (Vec::new(), None);
+    };
+    let curve: Vec<(f64, f64)> = xs
+        .iter()
+        .map(|&x| (x, diagram_point(app, iterate.field.at(&iterate.mesh, x))))
+        .filter(|(_, y)| y.is_finite())
+        .collect();
+    let key = (!curve.is_empty()).then(|| KeyEntry {
+        marker: marker_char(theme, ITERATE_MARKER.0, ITERATE_MARKER.1),
+        name: format!("iterate {} (< >)", iterate.iteration),
+        style: theme.series(3),
+        short: None,
+    });
+    (curve, key)
+}
+
+/// The selected iterate's field, when the iterations panel has one other than the last.
+fn iterate_field(app: &App) -> Option<&IterateField> {
+    match app
+        .exploration
+        .sweep_view::<IterateField>(Panel::Iterations)
+    {
+        SweepView::Ready(field) => Some(field),
+        _ => None,
+    }
+}
+
 /// The value the deflection panel shows at `x`: u, M or T.
 fn diagram_value(app: &App, shown: &Solved, solution: &Solution, x: f64) -> f64 {
-    let p = solution.field.at(&shown.mesh, x);
+    diagram_point(app, solution.field.at(&shown.mesh, x))
+}
+
+/// What the deflection panel shows of a point of a field: u, M or T.
+fn diagram_point(app: &App, p: crate::fem::PointValues) -> f64 {
     match app.exploration.diagram {
         Diagram::Deflection => p.deflection,
         Diagram::Moment => p.moment,

@@ -7,6 +7,7 @@
 
 use ratatui::layout::Rect;
 
+use crate::plot::{Theme, iterations_plot};
 use crate::scene::Panel;
 use crate::tui::state::App;
 use crate::tui::state::Mode;
@@ -25,6 +26,9 @@ pub enum Target {
     Parameters,
     /// An obstacle's marker on the deflection chart (within a column of it).
     Obstacle(usize),
+    /// An iterate on the iterations chart (an index into the history shown), the nearest to
+    /// the pointer's column inside the plot.
+    Iterate(usize),
     /// A panel (an index into the scene's panels); `title` on its top border, where the title is.
     Panel { index: usize, title: bool },
     /// The status lines, where the warnings are.
@@ -84,6 +88,11 @@ pub fn target(app: &App, x: u16, y: u16) -> Target {
             {
                 return Target::Obstacle(index);
             }
+            if panel == Panel::Iterations
+                && let Some(index) = iterate_at(app, area, x, y)
+            {
+                return Target::Iterate(index);
+            }
             let index = app
                 .exploration
                 .panels()
@@ -113,6 +122,25 @@ fn obstacle_at(app: &App, area: Rect, x: u16, y: u16) -> Option<usize> {
         .enumerate()
         .map(|(i, o)| (i, columns.column_of(o.x).abs_diff(x)))
         .filter(|(_, distance)| *distance <= 1)
+        .min_by_key(|(_, distance)| *distance)
+        .map(|(i, _)| i)
+}
+
+/// The iterate nearest column `x` on the iterations chart in `area`, when `x`, `y` is inside
+/// its plot.
+fn iterate_at(app: &App, area: Rect, x: u16, y: u16) -> Option<usize> {
+    let solution = app.exploration.solution()?.as_ref().ok()?;
+    let history = solution.history.as_ref()?;
+    let theme = Theme::new(app.look, app.palette, app.markers);
+    let plot = iterations_plot(&theme, area, history, app.exploration.iterate)?;
+    if !plot.graph.contains(ratatui::layout::Position { x, y }) {
+        return None;
+    }
+    history
+        .iterations
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| Some((i, plot.column(r.iteration as f64)?.abs_diff(x))))
         .min_by_key(|(_, distance)| *distance)
         .map(|(i, _)| i)
 }

@@ -90,6 +90,9 @@ pub fn prepare(
     };
     let mut app = settled(App::new(loaded, app_options)?);
     update(&mut app, Msg::Resize(options.width, options.height));
+    // What is on screen at this size may ask for another solve (the iterations panel asks for
+    // the history).
+    settle(&mut app);
     for key in keys {
         if app.ending.is_some() {
             break;

@@ -24,6 +24,67 @@ pub enum Diagram {
     Shear,
 }
 
+/// A set of panels the explorer can show instead of the scene's own (`v` cycles them): how
+/// the method works rather than what it answers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PanelSet {
+    /// The method's iterations, with the deflection (where a selected iterate's u(x) shows).
+    Iterations,
+    /// The dual's box for the selected obstacle, beside the iterations.
+    DualBox,
+    /// The regularised method's cases of Table 1, beside Figure 5.
+    Cases,
+    /// The paper's Figure 5 in one panel, with the deflection.
+    Figure5,
+    /// What the matrices look like.
+    Matrices,
+}
+
+impl PanelSet {
+    /// Every set, in the order `v` shows them after the scene's own panels.
+    pub const ALL: [PanelSet; 5] = [
+        PanelSet::Iterations,
+        PanelSet::DualBox,
+        PanelSet::Cases,
+        PanelSet::Figure5,
+        PanelSet::Matrices,
+    ];
+
+    /// The scene's own panels, then each set in turn, then the scene's again.
+    pub fn after(set: Option<PanelSet>) -> Option<PanelSet> {
+        match set {
+            None => Some(PanelSet::ALL[0]),
+            Some(set) => {
+                let index = PanelSet::ALL.iter().position(|s| *s == set).unwrap_or(0);
+                PanelSet::ALL.get(index + 1).copied()
+            }
+        }
+    }
+
+    /// The panels shown, the first focused when one fits at a time.
+    pub fn panels(self) -> &'static [Panel] {
+        match self {
+            PanelSet::Iterations => &[Panel::Iterations, Panel::Deflection],
+            PanelSet::DualBox => &[Panel::DualBox, Panel::Iterations],
+            PanelSet::Cases => &[Panel::Cases, Panel::Figure5],
+            PanelSet::Figure5 => &[Panel::Figure5, Panel::Deflection],
+            PanelSet::Matrices => &[Panel::Matrices],
+        }
+    }
+
+    /// What the set shows, for the message when it comes up.
+    pub fn description(set: Option<PanelSet>) -> &'static str {
+        match set {
+            None => "the scene's own panels",
+            Some(PanelSet::Iterations) => "the method's iterations",
+            Some(PanelSet::DualBox) => "the dual's box (49) and the iterations",
+            Some(PanelSet::Cases) => "the cases of Table 1 and Figure 5",
+            Some(PanelSet::Figure5) => "Figure 5 in one panel",
+            Some(PanelSet::Matrices) => "the matrices A, S and the condensed system",
+        }
+    }
+}
+
 /// The shared part of the explorer's state.
 #[derive(Debug, Clone)]
 pub struct Exploration {
@@ -45,8 +106,13 @@ pub struct Exploration {
     /// One slot per sweep of [`SWEEPS`], by the same index.
     pub sweeps: Vec<SweepSlot>,
     pub diagram: Diagram,
-    /// The panel shown when only one fits (index into the scene's panels).
+    /// The panel shown when only one fits (index into [`Exploration::panels`]).
     pub focus: usize,
+    /// A set of panels shown instead of the scene's own, if one was chosen (`v`).
+    pub panel_set: Option<PanelSet>,
+    /// The iterate the iterations panel selects (`<` `>`), counted from the starting point;
+    /// `None` for the last one, whatever their number.
+    pub iterate: Option<usize>,
     /// Index into [`Exploration::rows`].
     pub selected: usize,
     /// The lesson and its step shown (`--lesson`): followers see it, a fork keeps it.
@@ -78,6 +144,13 @@ impl Exploration {
     /// A loaded scene (its obstacles in order), nothing solved yet.
     pub fn new(loaded: LoadedScene) -> Exploration {
         let wanted = SolveRequest::for_scene(&loaded.scene, &loaded.problem, loaded.settings);
+        let selected = loaded
+            .scene
+            .view
+            .select
+            .as_ref()
+            .and_then(|field| rows(&loaded.scene).iter().position(|r| r.field() == *field))
+            .unwrap_or(0);
         Exploration {
             loaded: loaded.scene.clone(),
             loaded_problem: (loaded.problem.clone(), loaded.settings),
@@ -89,7 +162,9 @@ impl Exploration {
             sweeps: vec![SweepSlot::default(); SWEEPS.len()],
             diagram: Diagram::Deflection,
             focus: 0,
-            selected: 0,
+            panel_set: None,
+            iterate: None,
+            selected,
             lesson: None,
         }
     }
@@ -105,8 +180,12 @@ impl Exploration {
         rows[self.selected.min(rows.len() - 1)]
     }
 
-    /// The panels the scene asks for, in display order, without repeats.
+    /// The panels shown: the chosen set's, in its order, or those the scene asks for, in
+    /// display order, without repeats.
     pub fn panels(&self) -> Vec<Panel> {
+        if let Some(set) = self.panel_set {
+            return set.panels().to_vec();
+        }
         let mut panels: Vec<Panel> = Panel::ALL
             .into_iter()
             .filter(|p| self.scene.view.panels.contains(p))

@@ -18,5 +18,5 @@ pub mod sweeps;
 pub use app::{
     App, Discard, Drag, Ending, JoinInfo, Look, Mode, Options, Palette, SavePolicy, StepEdits,
 };
-pub use exploration::{Diagram, Exploration, LessonPlace};
+pub use exploration::{Diagram, Exploration, LessonPlace, PanelSet};
 pub use history::{History, UNDO_BYTES, UNDO_LIMIT};

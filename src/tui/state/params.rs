@@ -202,20 +202,72 @@ fn set_number(scene: &mut Scene, row: Row, value: f64) {
     }
 }
 
-/// A log-scale step of `value` by `factor` up (direction +1) or down (−1); zero steps to ±1.
-fn log_step(value: f64, direction: i32, factor: f64) -> f64 {
+/// A log-scale step of `value` up (direction +1) or down (−1) in magnitude, fine (×10^0.1) or
+/// coarse (×10); zero steps to ±1. A coarse step shifts the decimal exponent of the value as
+/// written (5e4 → 5e5, 1e-16 → 1e-15), so it lands on the number a user would type and never
+/// drifts (sixteen steps from 1e-16 reach exactly 1). A fine step from a point of the grid
+/// 10^(j/10) moves to the next point of that grid (ten of them make exactly one decade); from
+/// any other value it multiplies by 10^0.1.
+fn log_step(value: f64, direction: i32, coarse: bool) -> f64 {
     if value == 0.0 {
         return f64::from(direction.signum());
     }
     let up = (direction > 0) == (value > 0.0);
-    if up { value * factor } else { value / factor }
+    let magnitude = value.abs();
+    let stepped = if coarse {
+        decade_shift(magnitude, if up { 1 } else { -1 })
+    } else {
+        tenth_decade_step(magnitude, up)
+    };
+    stepped.copysign(value)
+}
+
+/// `magnitude` (> 0) with its decimal exponent moved by `decades`, digits kept.
+fn decade_shift(magnitude: f64, decades: i32) -> f64 {
+    let written = format!("{magnitude:e}");
+    let shifted = written.split_once('e').and_then(|(digits, exponent)| {
+        let exponent: i32 = exponent.parse().ok()?;
+        format!("{digits}e{}", exponent + decades)
+            .parse::<f64>()
+            .ok()
+    });
+    shifted.unwrap_or(magnitude * 10f64.powi(decades))
+}
+
+/// One fine step of `magnitude` (> 0): along the grid 10^(j/10) when it lies on it.
+fn tenth_decade_step(magnitude: f64, up: bool) -> f64 {
+    let tenths = magnitude.log10() * 10.0;
+    let nearest = tenths.round();
+    let on_grid = tenths.is_finite()
+        && nearest.abs() < 1e4
+        && (grid_point(nearest as i32) / magnitude - 1.0).abs() < 1e-12;
+    if on_grid {
+        grid_point(nearest as i32 + if up { 1 } else { -1 })
+    } else {
+        let factor = 10f64.powf(0.1);
+        if up {
+            magnitude * factor
+        } else {
+            magnitude / factor
+        }
+    }
+}
+
+/// 10^(j/10), as the decimal number written with the shortest digits of 10^((j mod 10)/10):
+/// the same double however it is reached, and exactly 10^(j/10) at every decade.
+fn grid_point(tenths: i32) -> f64 {
+    let decade = tenths.div_euclid(10);
+    let within = tenths.rem_euclid(10);
+    let digits = 10f64.powf(f64::from(within) / 10.0);
+    format!("{digits}e{decade}")
+        .parse()
+        .unwrap_or(f64::INFINITY)
 }
 
 /// The scene after one step of `row` (fine or coarse) in `direction` (+1 or −1). Not yet
 /// validated.
 pub fn step(scene: &Scene, row: Row, direction: i32, coarse: bool) -> Scene {
     let mut next = scene.clone();
-    let factor = if coarse { 10.0 } else { 10f64.powf(0.1) };
     match row {
         Row::Method => {
             let all = Method::ALL;
@@ -252,7 +304,7 @@ pub fn step(scene: &Scene, row: Row, direction: i32, coarse: bool) -> Scene {
         }
         _ => {
             if let Some(value) = row.number(scene) {
-                set_number(&mut next, row, log_step(value, direction, factor));
+                set_number(&mut next, row, log_step(value, direction, coarse));
             }
         }
     }

@@ -61,7 +61,14 @@ fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
     } else {
         scene.title.clone()
     };
-    let title = crate::figure::figure_title(&scene_title, FigurePanel::from(panel), against);
+    let Some(figure_panel) = FigurePanel::of(panel) else {
+        return Err(format!(
+            "the {} panel is for the screen only; e exports the deflection, eps-error, eps-cond \
+             and error-time panels (`beamfric figure` too)",
+            panel.name()
+        ));
+    };
+    let title = crate::figure::figure_title(&scene_title, figure_panel, against);
     let computing = |view_notice: String| format!("the panel has no data yet ({view_notice})");
     match panel {
         Panel::Deflection => {
@@ -109,6 +116,10 @@ fn figure_of(app: &App, panel: Panel) -> Result<String, String> {
                 method: scene.solver.method,
             };
             Ok(error_time_figure(points, against, Some(current), &title))
+        }
+        // Refused above: no figure of their own.
+        Panel::Figure5 | Panel::Iterations | Panel::DualBox | Panel::Cases | Panel::Matrices => {
+            Err(format!("the {} panel has no figure", panel.name()))
         }
     }
 }

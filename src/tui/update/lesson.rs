@@ -63,6 +63,7 @@ pub(super) fn go_to_step(app: &mut App, place: LessonPlace, target: usize) {
         step: target,
     });
     app.exploration.focus = step.focus;
+    app.exploration.panel_set = None;
     app.message = None;
     if let Some(edits) = app.step_edits.remove(&target) {
         if try_apply_keeping_undo(app, edits.scene, false) {

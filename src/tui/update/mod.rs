@@ -17,6 +17,7 @@ mod edit;
 mod export;
 mod follow;
 mod lesson;
+mod method_view;
 mod normal;
 mod pointer;
 mod prompts;
@@ -28,6 +29,7 @@ mod typing;
 use std::sync::Arc;
 use std::time::Instant;
 
+use crate::scene::Panel;
 use crate::tui::input::decode::{DroppedPaste, PASTE_LIMIT};
 use crate::tui::input::keymap::{Action, Key, action_for, lesson_action, paste_actions};
 use crate::tui::input::pointer::Pointer;
@@ -138,6 +140,7 @@ pub fn update(app: &mut App, msg: Msg) {
             if app.mouse {
                 pointer::apply(app, pointer);
                 keep_selection_in_view(app);
+                refresh_sweeps(app);
             }
         }
         Msg::Resize(width, height) => resize(app, width, height),
@@ -183,6 +186,8 @@ fn paste_dropped_note(dropped: DroppedPaste) -> String {
 fn act(app: &mut App, action: Action) {
     apply(app, action);
     keep_selection_in_view(app);
+    // A panel may look at the selected row (the dual's box: its obstacle).
+    refresh_sweeps(app);
 }
 
 /// The terminal has a new size: what is visible may have changed, and the sweeps follow.
@@ -287,17 +292,48 @@ fn scroll_page(app: &App) -> u16 {
 /// Marks the sweeps whose inputs changed as pending (or idle when no visible panel needs
 /// them). Their data for older inputs is never drawn as current: it is kept only to be drawn
 /// marked as out of date until the new data arrives.
+///
+/// The keystroke's own solve records its iterations only while the iterations panel is on
+/// screen (or, for a follower, while the presenter's solve records them): hidden, the
+/// per-keystroke path pays nothing for them.
 fn refresh_sweeps(app: &mut App) {
     let panels = visible_panels(app);
+    let following = app.is_following();
     let exploration = &mut app.exploration;
+    // A follower keeps the presenter's request when it asks for the history anyway, so that
+    // the presenter's solve serves both instead of one of the student's own.
+    let presenter_records = following && exploration.wanted.options.history;
+    // An iterate drawn over u(x) (selected, the deflection on screen, the iterations one Tab
+    // away at a small size) needs the history too.
+    let iterate_drawn = exploration.iterate.is_some()
+        && panels.contains(&Panel::Deflection)
+        && exploration.panels().contains(&Panel::Iterations);
+    exploration.wanted.options.history =
+        panels.contains(&Panel::Iterations) || iterate_drawn || presenter_records;
     let context = SweepContext {
         problem: &exploration.problem,
         elements: exploration.scene.mesh.elements,
         epsilon: exploration.scene.solver.epsilon,
         show_timings: app.show_timings,
+        obstacle: exploration.selected_row().obstacle(),
+        max_cases: exploration.wanted.options.max_cases,
+        iterate: selected_iterate(exploration),
     };
     for (slot, sweep) in exploration.sweeps.iter_mut().zip(SWEEPS) {
-        let needed = sweep.panels().iter().any(|p| panels.contains(p));
-        slot.refresh(needed, sweep.inputs(context));
+        let needed = sweep.panels().iter().any(|p| panels.contains(p)) && sweep.needed(&context);
+        slot.refresh(needed, sweep.inputs(context.clone()));
     }
+}
+
+/// The iterate the iterations panel selects, when it is not the last of the current solve's
+/// history: its number and forces.
+fn selected_iterate(exploration: &Exploration) -> Option<(usize, Vec<[f64; 2]>)> {
+    let index = exploration.iterate?;
+    if !exploration.is_current() {
+        return None;
+    }
+    let solution = exploration.solution()?.as_ref().ok()?;
+    let records = &solution.history.as_ref()?.iterations;
+    let record = records.get(index).filter(|_| index + 1 < records.len())?;
+    Some((record.iteration, record.forces.clone()))
 }

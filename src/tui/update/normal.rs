@@ -77,6 +77,8 @@ pub(super) fn apply(app: &mut App, action: Action) {
             app.show_timings = !app.show_timings;
             refresh_sweeps(app);
         }
+        Action::NextPanelSet => super::method_view::next_panel_set(app),
+        Action::StepIterate(direction) => super::method_view::step_iterate(app, direction),
         Action::NextPanel => {
             let count = app.exploration.panels().len().max(1);
             app.exploration.focus = (app.exploration.focus + 1) % count;

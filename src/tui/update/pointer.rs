@@ -54,7 +54,14 @@ fn normal(app: &mut App, pointer: Pointer) {
         Pointer::Drag { x, .. } => drag(app, x),
         Pointer::Release { .. } => app.drag = None,
         Pointer::Scroll { x, y, up } => {
-            if matches!(target(app, x, y), Target::Row(_) | Target::Parameters) {
+            let over = target(app, x, y);
+            if matches!(over, Target::Iterate(_)) {
+                if app.is_following() {
+                    app.message = Some(FOLLOWING.into());
+                    return;
+                }
+                super::method_view::step_iterate(app, if up { 1 } else { -1 });
+            } else if matches!(over, Target::Row(_) | Target::Parameters) {
                 if app.is_following() {
                     app.message = Some(FOLLOWING.into());
                     return;
@@ -96,6 +103,16 @@ fn click(app: &mut App, x: u16, y: u16, double: bool) {
             if double || title {
                 toggle_zoom(app);
             }
+        }
+        Target::Iterate(_) if app.is_following() => app.message = Some(FOLLOWING.into()),
+        Target::Iterate(index) => {
+            let last = app
+                .exploration
+                .solution()
+                .and_then(|s| s.as_ref().ok()?.history.as_ref())
+                .map_or(0, |h| h.iterations.len().saturating_sub(1));
+            app.exploration.iterate = (index < last).then_some(index);
+            refresh_sweeps(app);
         }
         Target::Status => show_warnings(app),
         _ => {}

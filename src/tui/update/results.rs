@@ -22,6 +22,8 @@ pub(super) fn solved(app: &mut App, solved: Solved) {
     }
     app.exploration.shown = Some(solved);
     app.busy_since = None;
+    // The iterate the iterations panel selects belongs to this solve's history.
+    super::refresh_sweeps(app);
 }
 
 /// Takes a finished sweep if it belongs to the current state.

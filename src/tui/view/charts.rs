@@ -11,12 +11,13 @@ use ratatui::widgets::{Dataset, GraphType};
 
 use crate::plot::{
     CurrentRun, PanelFrame, Theme, curve_marker, eps_condition_chart, eps_error_chart,
-    error_time_chart, marker_char, notice, panel_with_key, point_marker,
+    error_time_chart, figure5_chart, marker_char, notice, panel_with_key, point_marker,
 };
 use crate::scene::Panel;
 use crate::study::{EpsPoint, MeshPoint};
 use crate::tui::layout::deflection::{
-    DEFLECTION_ROWS, REFERENCE_MARKER, STATE_MARKERS, WALL, deflection_data, deflection_plot,
+    DEFLECTION_ROWS, ITERATE_MARKER, REFERENCE_MARKER, STATE_MARKERS, WALL, deflection_data,
+    deflection_plot,
 };
 use crate::tui::state::sweeps::SweepView;
 use crate::tui::state::{App, Diagram};
@@ -73,6 +74,30 @@ pub(super) fn draw_panel(
                 }
                 SweepView::Notice(text) => notice(frame, theme, panel, text),
             }
+        }
+        Panel::Figure5 => {
+            let view = app.exploration.sweep_view::<Vec<EpsPoint>>(Panel::Figure5);
+            let panel = frame_of(format!(
+                " Figure 5: error and cond2 vs ε{title_suffix}{} ",
+                updating(&view)
+            ));
+            match view {
+                SweepView::Ready(points) | SweepView::Outdated(points) => {
+                    let epsilon = Some(app.scene().solver.epsilon);
+                    figure5_chart(frame, theme, panel, points, epsilon)
+                }
+                SweepView::Notice(text) => notice(frame, theme, panel, text),
+            }
+        }
+        Panel::Iterations | Panel::DualBox | Panel::Cases | Panel::Matrices => {
+            super::method_panels::draw(
+                frame,
+                app,
+                theme,
+                panel,
+                frame_of(String::new()),
+                title_suffix,
+            )
         }
         Panel::ErrorTime => {
             let view = app
@@ -142,6 +167,7 @@ fn deflection(
     let walls = [vec![(0.0, 0.0), (0.0, 1.0)], vec![(1.0, 0.0), (1.0, 1.0)]];
     let curve = unit(&data.curve);
     let reference_curve = unit(&data.reference_curve);
+    let iterate_curve = unit(&data.iterate_curve);
     let states: Vec<Vec<(f64, f64)>> = data.states.iter().map(|s| unit(s)).collect();
     let mut datasets = Vec::new();
     for wall_points in &walls {
@@ -160,6 +186,13 @@ fn deflection(
             .graph_type(GraphType::Line)
             .style(theme.series(6))
             .data(&reference_curve),
+    );
+    datasets.push(
+        Dataset::default()
+            .marker(point_marker(theme, ITERATE_MARKER.0, ITERATE_MARKER.1))
+            .graph_type(GraphType::Line)
+            .style(theme.series(3))
+            .data(&iterate_curve),
     );
     datasets.push(
         Dataset::default()

@@ -8,6 +8,7 @@
 mod charts;
 pub mod fit;
 mod lesson;
+mod method_panels;
 mod overlays;
 mod results;
 mod status;

@@ -41,6 +41,10 @@ pub enum Action {
     NextDiagram,
     /// The next panel when one is shown at a time.
     NextPanel,
+    /// The next set of panels: the scene's own, the method at work, Figure 5, the matrices.
+    NextPanelSet,
+    /// The iterations panel's selected iterate: one back (−1) or on (+1).
+    StepIterate(i8),
     ToggleTimings,
     /// The deflection panel: u and the reference u_ref, or the difference u − u_ref.
     ToggleDifference,

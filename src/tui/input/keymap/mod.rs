@@ -350,7 +350,7 @@ mod tests {
         assert_eq!(
             hint_line(false),
             "?:help q:quit ↑↓:select ←→:change Enter:type m:method w:warnings p:preset \
-             Tab:panel b:diagram [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom c:compare e:export T:theme M:markers"
+             Tab:panel b:diagram v:view [ ]:coarse a:add d:delete s:save u:undo r:reset t:time z:zoom c:compare e:export T:theme M:markers"
         );
     }
 

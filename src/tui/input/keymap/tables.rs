@@ -179,6 +179,27 @@ pub const NORMAL: &[Binding] = &[
         }),
     },
     bind!(
+        Key::Char('v'),
+        Action::NextPanelSet,
+        "next view: the scene's panels, then how the method works: its iterations, the \
+         dual's box (49), the cases of Table 1, Figure 5 in one panel, the matrices",
+        "view",
+        9,
+    ),
+    Binding {
+        keys: &[
+            (Key::Char('<'), Action::StepIterate(-1)),
+            (Key::Char('>'), Action::StepIterate(1)),
+        ],
+        aliases: &[
+            (Key::Char(','), Action::StepIterate(-1)),
+            (Key::Char('.'), Action::StepIterate(1)),
+        ],
+        help: "the iterations panel: the previous / next iterate (drawn over u(x) and in the \
+               dual's box)",
+        hint: None,
+    },
+    bind!(
         Key::Char('z'),
         Action::ToggleZoom,
         "zoom the focused panel, or back (or double-click it)",

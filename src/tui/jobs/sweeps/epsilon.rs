@@ -17,7 +17,7 @@ pub struct EpsilonSweep;
 
 impl PanelSweep for EpsilonSweep {
     fn panels(&self) -> &'static [Panel] {
-        &[Panel::EpsError, Panel::EpsCond]
+        &[Panel::EpsError, Panel::EpsCond, Panel::Figure5]
     }
 
     fn computing(&self) -> &'static str {
@@ -26,10 +26,8 @@ impl PanelSweep for EpsilonSweep {
 
     fn inputs(&self, context: SweepContext) -> SweepInputs {
         SweepInputs {
-            problem: context.problem.clone(),
-            elements: context.elements,
             epsilon: Some(context.epsilon),
-            repeat: None,
+            ..SweepInputs::of_problem(context)
         }
     }
 

@@ -26,10 +26,9 @@ impl PanelSweep for MeshSweep {
 
     fn inputs(&self, context: SweepContext) -> SweepInputs {
         SweepInputs {
-            problem: context.problem.clone(),
-            elements: context.elements,
             epsilon: Some(context.epsilon),
             repeat: Some(if context.show_timings { 3 } else { 1 }),
+            ..SweepInputs::of_problem(context)
         }
     }
 

@@ -8,19 +8,34 @@
 //! outdated one. A new sweep-backed panel is one module implementing [`PanelSweep`], one line
 //! in [`SWEEPS`], and one chart.
 
+mod cases;
+mod dual_box;
 mod epsilon;
+mod iterate;
+mod matrices;
 mod mesh;
 mod sweep;
 
 use crate::scene::Panel;
 use crate::study::{Cancel, Cancelled};
 
+pub use cases::CasesSweep;
+pub use dual_box::{DualBoxSweep, DualPicture};
 pub use epsilon::{EPS_POINTS, EpsilonSweep};
+pub use iterate::{IterateField, IterateSweep};
+pub use matrices::{MatricesSweep, SPY_GRID};
 pub use mesh::{MESH_MAX, MESH_POINTS, MeshSweep};
 pub use sweep::{PanelSweep, SweepContext, SweepData, SweepInputs, SweepRequest, SweepResult};
 
 /// Every sweep, by index: the state's slots and the worker's lanes use the same index.
-pub static SWEEPS: [&dyn PanelSweep; 2] = [&EpsilonSweep, &MeshSweep];
+pub static SWEEPS: [&dyn PanelSweep; 6] = [
+    &EpsilonSweep,
+    &MeshSweep,
+    &DualBoxSweep,
+    &CasesSweep,
+    &MatricesSweep,
+    &IterateSweep,
+];
 
 /// The sweep a panel shows, if any.
 pub fn sweep_of(panel: Panel) -> Option<usize> {

@@ -24,15 +24,42 @@ pub struct SweepInputs {
     pub epsilon: Option<f64>,
     /// Median over this many runs (when run times are shown).
     pub repeat: Option<usize>,
+    /// The obstacle a panel looks at (the dual's box: the selected one).
+    pub obstacle: Option<usize>,
+    /// The enumeration's limit of cases (the cases of Table 1).
+    pub max_cases: Option<u64>,
+    /// An iterate of the solve shown: its number and its friction forces (N, N m).
+    pub iterate: Option<(usize, Vec<[f64; 2]>)>,
+}
+
+impl SweepInputs {
+    /// Inputs of the problem and mesh alone; a sweep adds what else it depends on.
+    pub fn of_problem(context: SweepContext) -> SweepInputs {
+        SweepInputs {
+            problem: context.problem.clone(),
+            elements: context.elements,
+            epsilon: None,
+            repeat: None,
+            obstacle: None,
+            max_cases: None,
+            iterate: None,
+        }
+    }
 }
 
 /// What a sweep's inputs are taken from: the explorer's current state.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct SweepContext<'a> {
     pub problem: &'a Problem,
     pub elements: usize,
     pub epsilon: f64,
     pub show_timings: bool,
+    /// The obstacle of the selected parameter row, if it is one's.
+    pub obstacle: Option<usize>,
+    /// The enumeration's limit of cases.
+    pub max_cases: u64,
+    /// The iterate the iterations panel selects, when not the last: number and forces.
+    pub iterate: Option<(usize, Vec<[f64; 2]>)>,
 }
 
 /// A sweep behind one or more panels.
@@ -43,6 +70,11 @@ pub trait PanelSweep: Sync {
     fn computing(&self) -> &'static str;
     /// What its result depends on, in this state.
     fn inputs(&self, context: SweepContext) -> SweepInputs;
+    /// Whether this state needs it at all while one of its panels is visible (by default it
+    /// does).
+    fn needed(&self, _context: &SweepContext) -> bool {
+        true
+    }
     /// Computes it; `Ok(Err(why))` when the sweep cannot run for these inputs.
     fn compute(
         &self,
