@@ -4,6 +4,7 @@
 //! ```text
 //! cargo bench --bench many_obstacles                 # criterion: median solve per family and k
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
+//! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
 //! ```
 //!
 //! `report` prints, per family and k, the fastest of three solves and what the search did
@@ -14,8 +15,10 @@
 
 use std::time::{Duration, Instant};
 
-use beamfric::check::families::{Family, family_problem};
-use beamfric::solve::solve_condensed;
+use beamfric::check::families::{Family, family_problem, family_scene};
+use beamfric::fem::Mesh;
+use beamfric::model::Problem;
+use beamfric::solve::{CondensedSolution, solve_condensed, solve_condensed_from};
 use criterion::{BenchmarkId, Criterion};
 
 const ELEMENTS: usize = 10_000;
@@ -67,6 +70,24 @@ fn criterion_runs() {
         }
     }
     group.finish();
+    // The explorer's re-solve after one notch of the middle obstacle's sliding threshold,
+    // from the pattern before the change.
+    let mut warm = c.benchmark_group("warm");
+    warm.sample_size(10);
+    warm.measurement_time(Duration::from_secs(4));
+    for family in families() {
+        for k in sizes() {
+            let ((problem, mesh), (changed, changed_mesh)) = notched(family, k, 1);
+            let before = solve_condensed(&problem, &mesh).unwrap();
+            warm.bench_function(BenchmarkId::new(family.name(), k), |b| {
+                b.iter(|| {
+                    solve_condensed_from(&changed, &changed_mesh, &before.pattern, &mut || true)
+                        .unwrap()
+                })
+            });
+        }
+    }
+    warm.finish();
     c.final_summary();
 }
 
@@ -118,10 +139,89 @@ fn report() {
     }
 }
 
+/// One notch of the explorer's threshold keys (a fine step, ×10^0.1).
+const NOTCH: f64 = 1.258_925_411_794_167_2;
+
+/// The family's scene at k, and the same scene with the middle obstacle's sliding threshold
+/// stepped one notch `direction` (+1 up, −1 down), both with their meshes.
+fn notched(family: Family, k: usize, direction: i32) -> ((Problem, Mesh), (Problem, Mesh)) {
+    let scene = family_scene(family, k, seed(), ELEMENTS);
+    let mut changed = scene.clone();
+    changed.obstacles[k / 2].sliding *= NOTCH.powi(direction);
+    let with_mesh = |scene: &beamfric::scene::Scene| {
+        let problem = scene.problem().expect("a generated scene is valid");
+        let mesh = Mesh::new(&problem, ELEMENTS);
+        (problem, mesh)
+    };
+    (with_mesh(&scene), with_mesh(&changed))
+}
+
+/// The fastest of three runs of `solve`, and its last solution.
+fn fastest_of_three(solve: &mut dyn FnMut() -> CondensedSolution) -> (f64, CondensedSolution) {
+    let mut fastest = f64::INFINITY;
+    let mut last = None;
+    for _ in 0..3 {
+        let start = Instant::now();
+        let solution = solve();
+        fastest = fastest.min(start.elapsed().as_secs_f64());
+        last = Some(solution);
+    }
+    (fastest, last.expect("three runs"))
+}
+
+/// The warm-start table: per family and k, one threshold stepped one notch up and one down,
+/// solved from scratch and from the pattern before the change; the two answers must agree.
+fn warm_report() {
+    println!(
+        "| family | k | notch | cold time | cold pattern solves + interior steps | warm time | \
+         warm pattern solves | warm refinements | same states | max |Δu| / max |u| |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for family in families() {
+        for k in sizes() {
+            for direction in [1, -1] {
+                let ((problem, mesh), (changed, changed_mesh)) = notched(family, k, direction);
+                let before = solve_condensed(&problem, &mesh).expect("the scene solves");
+                let (cold_time, cold) =
+                    fastest_of_three(&mut || solve_condensed(&changed, &changed_mesh).unwrap());
+                let (warm_time, warm) = fastest_of_three(&mut || {
+                    solve_condensed_from(&changed, &changed_mesh, &before.pattern, &mut || true)
+                        .unwrap()
+                });
+                let largest = cold
+                    .field
+                    .deflection
+                    .iter()
+                    .fold(0f64, |m, u| m.max(u.abs()));
+                let difference = cold
+                    .field
+                    .deflection
+                    .iter()
+                    .zip(&warm.field.deflection)
+                    .fold(0f64, |m, (a, b)| m.max((a - b).abs()));
+                println!(
+                    "| {} | {k} | {} | {:.2} ms | {} + {} | {:.2} ms | {} | {} | {} | {:.1e} |",
+                    family.name(),
+                    if direction > 0 { "up" } else { "down" },
+                    1e3 * cold_time,
+                    cold.counts.pattern_solves,
+                    cold.counts.interior_steps,
+                    1e3 * warm_time,
+                    warm.counts.pattern_solves,
+                    warm.counts.refinements,
+                    cold.states == warm.states && warm.converged,
+                    difference / largest,
+                );
+            }
+        }
+    }
+}
+
 fn main() {
     let tool = std::env::args().skip(1).find(|arg| !arg.starts_with('-'));
     match tool.as_deref() {
         Some("report") => report(),
+        Some("warm") => warm_report(),
         _ => criterion_runs(),
     }
 }

@@ -33,7 +33,8 @@ use certificate::MeshReference;
 pub use crate::model::Method;
 pub use closed_form::{ClosedForm, closed_form};
 pub use condensed::{
-    CondensedFailure, CondensedSolution, SolveCounts, solve_condensed, solve_condensed_while,
+    CondensedFailure, CondensedSolution, FrictionPattern, SolveCounts, solve_condensed,
+    solve_condensed_from, solve_condensed_while,
 };
 pub use given_answer::{GivenAnswer, GradeError, grade};
 pub use history::{

@@ -35,3 +35,97 @@ fn the_check_passes_every_family_at_k_200() {
         assert!(report.passed(), "{}: {:?}", report.case, report.failures);
     }
 }
+
+#[test]
+fn the_interior_point_guess_asks_to_go_on_before_every_step() {
+    // Cancelling a many-obstacle solve must not wait for the interior-point guess to finish
+    // (at k = 4000 its 11–23 steps are about 2.3 ms each): `keep_going` is asked before every
+    // one of its steps as well as before every pattern solve, and a "no" at any of them stops
+    // the solve there.
+    use beamfric::check::families::family_problem;
+    use beamfric::solve::{CondensedFailure, solve_condensed_while};
+    let (problem, mesh) = family_problem(Family::Random, 200, 1, 400);
+    let mut asked = 0usize;
+    let solution = solve_condensed_while(&problem, &mesh, &mut || {
+        asked += 1;
+        true
+    })
+    .expect("the random family solves");
+    let counts = solution.counts;
+    assert!(counts.interior_steps > 0, "k = 200 starts from the guess");
+    assert!(
+        asked >= counts.interior_steps + counts.pattern_solves,
+        "asked {asked} times for {} interior steps and {} pattern solves",
+        counts.interior_steps,
+        counts.pattern_solves
+    );
+    // A "no" at the second question (inside the guess) stops the solve.
+    let mut questions = 0usize;
+    let stopped = solve_condensed_while(&problem, &mesh, &mut || {
+        questions += 1;
+        questions < 2
+    });
+    assert_eq!(stopped.unwrap_err(), CondensedFailure::Stopped);
+    assert_eq!(questions, 2, "nothing asked after the no");
+}
+
+#[test]
+fn a_warm_start_changes_the_work_never_the_answer() {
+    // The explorer's re-solve after one notch (×10^0.1) of one threshold, from the pattern
+    // before the change, must give the cold solve's answer; so must a start that has nothing
+    // to do with the scene (another family's pattern), and a start for another number of
+    // obstacles is ignored. On the clustered-mixed family the change stays local: one
+    // pattern solve settles it where the cold solve needs the interior-point guess first.
+    use beamfric::fem::Mesh;
+    use beamfric::solve::{solve_condensed, solve_condensed_from};
+    let (k, elements) = (200, 400);
+    let solve = |scene: &beamfric::scene::Scene| {
+        let problem = scene.problem().unwrap();
+        let mesh = Mesh::new(&problem, elements);
+        (problem, mesh)
+    };
+    let unrelated = {
+        let (problem, mesh) = solve(&family_scene(Family::Random, k, 7, elements));
+        solve_condensed(&problem, &mesh).unwrap().pattern
+    };
+    let fewer = {
+        let (problem, mesh) = solve(&family_scene(Family::Random, k / 2, 7, elements));
+        solve_condensed(&problem, &mesh).unwrap().pattern
+    };
+    for family in Family::ALL {
+        let scene = family_scene(family, k, 3, elements);
+        let (problem, mesh) = solve(&scene);
+        let before = solve_condensed(&problem, &mesh).unwrap();
+        for notch in [1.0f64, -1.0] {
+            let mut changed = scene.clone();
+            changed.obstacles[k / 2].sliding *= 10f64.powf(0.1 * notch);
+            let (problem, mesh) = solve(&changed);
+            let cold = solve_condensed(&problem, &mesh).unwrap();
+            assert!(cold.converged, "{} {notch}", family.name());
+            for (start, what) in [
+                (&before.pattern, "the pattern before"),
+                (&unrelated, "an unrelated pattern"),
+                (&fewer, "a pattern for fewer obstacles"),
+            ] {
+                let warm = solve_condensed_from(&problem, &mesh, start, &mut || true).unwrap();
+                let context = format!("{} notch {notch}, from {what}", family.name());
+                assert!(warm.converged, "{context}");
+                assert_eq!(warm.states, cold.states, "{context}");
+                let largest = cold
+                    .field
+                    .deflection
+                    .iter()
+                    .fold(0f64, |m, u| m.max(u.abs()));
+                for (a, b) in warm.field.deflection.iter().zip(&cold.field.deflection) {
+                    assert!((a - b).abs() <= 1e-12 * largest, "{context}: {a} vs {b}");
+                }
+            }
+            if family == Family::ClusteredMixed {
+                let warm =
+                    solve_condensed_from(&problem, &mesh, &before.pattern, &mut || true).unwrap();
+                assert_eq!(warm.counts.pattern_solves, 1, "one notch, one solve");
+                assert_eq!(warm.counts.interior_steps, 0, "no interior-point guess");
+            }
+        }
+    }
+}

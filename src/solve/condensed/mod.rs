@@ -55,7 +55,11 @@
 //! friction DOFs' motions c and forces r = b − Kc, both linear in the point and known
 //! accurately at every solve, so its slope −rᵀd and curvature dᵀ(r(c) − r(target)) never
 //! multiply a stiffness by a displacement. The answer is the refined solve of the final
-//! pattern, so it satisfies (38) up to the rounding of that one solve.
+//! pattern, so it satisfies (38) up to the rounding of that one solve. A caller that solved a
+//! nearby scene can start from its final pattern ([`solve_condensed_from`], a warm start):
+//! the search gets a few Newton steps from there while they bring it closer, else starts
+//! over as without it; one notch of one threshold at k = 4000 then costs one pattern solve
+//! where the change stays local (`cargo bench --bench many_obstacles -- warm`).
 //!
 //! **Decisions.** A decision is made only where the number is computed accurately: the motion
 //! at the DOF itself and the force at the DOF itself. Each pattern is first solved by
@@ -108,6 +112,8 @@ pub struct CondensedSolution {
     pub solves: usize,
     /// What the search cost, step by step.
     pub counts: SolveCounts,
+    /// The final friction pattern, for [`solve_condensed_from`] after a small change.
+    pub pattern: FrictionPattern,
     /// Did the active-set iteration end with a consistent pattern?
     pub converged: bool,
 }
@@ -127,6 +133,20 @@ pub struct SolveCounts {
     pub refinements: usize,
     /// Steps of the interior-point guess (a factorisation and two solves each).
     pub interior_steps: usize,
+}
+
+/// The friction pattern a condensed solve ended with (which DOFs are held, which move and
+/// their way), to start the next solve from ([`solve_condensed_from`]). Any pattern is a valid
+/// start: the search decides every DOF exactly whatever it starts from, so a start changes
+/// the number of solves, never what they converge to beyond rounding.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FrictionPattern(Vec<system::Pattern>);
+
+impl FrictionPattern {
+    /// The number of friction DOFs (two per obstacle).
+    pub fn dofs(&self) -> usize {
+        self.0.len()
+    }
 }
 
 /// Why the condensed method has no solution.
@@ -166,7 +186,33 @@ pub fn solve_condensed_while(
     mesh: &Mesh,
     keep_going: &mut dyn FnMut() -> bool,
 ) -> Result<CondensedSolution, CondensedFailure> {
-    solve_with_newton_phases(problem, mesh, &NEWTON_REVERSAL_FRACTIONS, keep_going, None)
+    solve_with_newton_phases(
+        problem,
+        mesh,
+        &NEWTON_REVERSAL_FRACTIONS,
+        keep_going,
+        None,
+        None,
+    )
+}
+
+/// [`solve_condensed_while`] from the friction pattern of an earlier solve (a warm start, for
+/// the explorer's re-solve after a small change: the search starts there instead of from the
+/// interior-point guess). A pattern for another number of obstacles is ignored.
+pub fn solve_condensed_from(
+    problem: &Problem,
+    mesh: &Mesh,
+    start: &FrictionPattern,
+    keep_going: &mut dyn FnMut() -> bool,
+) -> Result<CondensedSolution, CondensedFailure> {
+    solve_with_newton_phases(
+        problem,
+        mesh,
+        &NEWTON_REVERSAL_FRACTIONS,
+        keep_going,
+        None,
+        Some(start),
+    )
 }
 
 /// `solve` entry point: the condensed solution as the common [`MethodOutput`].
@@ -189,6 +235,7 @@ pub(super) fn solve(
         &NEWTON_REVERSAL_FRACTIONS,
         &mut keep_going,
         recorder.as_mut(),
+        None,
     )
     .map_err(|failure| match failure {
         CondensedFailure::Singular { column } => SolveError {

@@ -9,7 +9,7 @@ use super::line_search::SearchPoint;
 use super::nodes::nodal_field;
 use super::scaling::Scales;
 use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, ShootingSystem};
-use super::{CondensedFailure, CondensedSolution};
+use super::{CondensedFailure, CondensedSolution, FrictionPattern};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::model::Problem;
@@ -30,6 +30,12 @@ pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 /// report`): random, clustered and mixed go from 13–39 pattern solves (1.1–3.0 ms) to 1
 /// (1.0–1.2 ms); ties from 14 to 22 (12.9 to 16.6 ms).
 const INTERIOR_POINT_FROM: usize = 32;
+/// Most pattern solves from a warm start ([`super::solve_condensed_from`]) before the search
+/// starts over without it. Measured with `cargo bench --bench many_obstacles -- warm` (one
+/// notch of one threshold at k = 1000 and 4000): where the change stays local one solve
+/// settles it; where it does not, semismooth Newton from the old pattern diverges at once
+/// (thousands of DOFs inconsistent after the first step on the random family at k = 4000).
+const WARM_SOLVES: usize = 4;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -60,6 +66,7 @@ pub(super) fn solve_with_newton_phases(
     newton_phases: &[f64],
     keep_going: &mut dyn FnMut() -> bool,
     mut recorder: Option<&mut Recorder>,
+    start: Option<&FrictionPattern>,
 ) -> Result<CondensedSolution, CondensedFailure> {
     let scales = Scales::of(problem);
     // The first Newton phase's σ fraction; without Newton phases, the first variant's (a
@@ -69,24 +76,46 @@ pub(super) fn solve_with_newton_phases(
         .copied()
         .unwrap_or(NEWTON_REVERSAL_FRACTIONS[0]);
     let system = ShootingSystem::new(problem, mesh, &scales, first_fraction);
-    let mut search = PatternSearch::new(&system, problem.obstacles.len(), newton_phases);
-    if !newton_phases.is_empty()
-        && problem.obstacles.len() >= INTERIOR_POINT_FROM
-        && let Some(guess) = system.interior_point_pattern()
-    {
-        search.pattern = guess;
-    }
+    let obstacles = problem.obstacles.len();
     let mut observe = |solution: &PatternSolution, pattern: &[Pattern]| {
         if let Some(recorder) = recorder.as_deref_mut() {
             record_pattern(recorder, (problem, &scales, &system), solution, pattern);
         }
     };
+    // A warm start gets a few Newton steps while they get closer; otherwise the search
+    // starts over as without one (so it costs at most WARM_SOLVES more than a cold solve).
+    let mut warm_solves = 0;
+    if let Some(start) = start.filter(|start| start.dofs() == 2 * obstacles) {
+        let mut attempt = PatternSearch::new(&system, obstacles, newton_phases);
+        attempt.pattern = start.0.clone();
+        attempt.limit = WARM_SOLVES;
+        attempt.only_while_closer = true;
+        let (solution, converged) = attempt.run(keep_going, &mut observe)?;
+        if converged {
+            return condensed_solution(
+                (problem, mesh, &scales),
+                &system,
+                (&solution, &attempt.pattern),
+                (attempt.solves, converged),
+                keep_going,
+            );
+        }
+        warm_solves = attempt.solves;
+        system.reversal_fraction.set(first_fraction);
+    }
+    let mut search = PatternSearch::new(&system, obstacles, newton_phases);
+    if !newton_phases.is_empty()
+        && obstacles >= INTERIOR_POINT_FROM
+        && let Some(guess) = system.interior_point_pattern(keep_going)?
+    {
+        search.pattern = guess;
+    }
     let (solution, converged) = search.run(keep_going, &mut observe)?;
     condensed_solution(
         (problem, mesh, &scales),
         &system,
         (&solution, &search.pattern),
-        (search.solves, converged),
+        (warm_solves + search.solves, converged),
         keep_going,
     )
 }
@@ -106,6 +135,11 @@ struct PatternSearch<'a> {
     solves: usize,
     /// Most linear solves.
     limit: usize,
+    /// A warm start's attempt: give up as soon as a solve leaves no fewer DOFs inconsistent
+    /// than the one before.
+    only_while_closer: bool,
+    /// The inconsistent DOFs of the last solve.
+    last_changes: usize,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
 }
@@ -167,6 +201,8 @@ impl<'a> PatternSearch<'a> {
             banded: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
             solves: 0,
             limit: 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS,
+            only_while_closer: false,
+            last_changes: usize::MAX,
             newton: NewtonPhases {
                 fractions: newton_phases,
                 active: !newton_phases.is_empty(),
@@ -197,9 +233,11 @@ impl<'a> PatternSearch<'a> {
             if changes.is_empty() {
                 return Ok((solution, true));
             }
-            if self.solves >= self.limit {
+            let further = self.only_while_closer && changes.len() >= self.last_changes;
+            if self.solves >= self.limit || further {
                 return Ok((solution, false));
             }
+            self.last_changes = changes.len();
             if self.newton.active {
                 self.newton_step(&changes);
             } else {
@@ -378,6 +416,7 @@ fn condensed_solution(
         states,
         solves,
         counts: system.counts.get(),
+        pattern: FrictionPattern(pattern.to_vec()),
         converged,
     })
 }

@@ -42,7 +42,8 @@ fn the_monotone_search_alone_finds_the_same_solution() {
         let problem = crowded(k, seed);
         let mesh = Mesh::new(&problem, 4 * (k + 1));
         let newton = solve_condensed(&problem, &mesh).unwrap();
-        let monotone = solve_with_newton_phases(&problem, &mesh, &[], &mut || true, None).unwrap();
+        let monotone =
+            solve_with_newton_phases(&problem, &mesh, &[], &mut || true, None, None).unwrap();
         assert!(newton.converged && monotone.converged, "k = {k}");
         assert_eq!(newton.states, monotone.states, "k = {k}");
         let scale = newton
@@ -68,7 +69,8 @@ fn each_newton_variant_first_gives_the_same_solution() {
     let reference = solve_condensed(&problem, &mesh).unwrap();
     for fraction in NEWTON_REVERSAL_FRACTIONS {
         let solution =
-            solve_with_newton_phases(&problem, &mesh, &[fraction], &mut || true, None).unwrap();
+            solve_with_newton_phases(&problem, &mesh, &[fraction], &mut || true, None, None)
+                .unwrap();
         assert!(solution.converged);
         assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
     }
