@@ -65,8 +65,10 @@
 //! at the DOF itself and the force at the DOF itself. Each pattern is first solved by
 //! elimination alone; a decision within 1e-6 of the largest value of its kind waits: Newton
 //! changes the other DOFs first, and when only such decisions are left (or the pattern looks
-//! consistent), the same factors are refined and the decision is taken on the refined values;
-//! the monotone search refines every step with an uncertain decision. The refinement's residual
+//! consistent), the same factors are refined — while such decisions remain, only until each
+//! is settled beyond four times its last correction; the pattern that looks final is refined
+//! to the last bits and decided again — and the decision is taken on the refined values;
+//! the monotone search refines every step with an uncertain decision, fully. The refinement's residual
 //! is that of the exact piece relations in double-double (`linalg::double_double`), so the
 //! refined values are those of the exact discrete problem, and the force is compared with its
 //! threshold in double-double. When the refined |motion|, or |force| − threshold, is within

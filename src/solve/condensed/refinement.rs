@@ -32,19 +32,43 @@ enum Refinement {
 impl ShootingSystem {
     /// The pattern of the previous solve again ([`Accuracy::RefineLast`]): its system is
     /// unchanged, so `banded` still holds its factors and right-hand side; solved from those
-    /// and refined.
+    /// and refined — only until every decision is settled when `decisions_only`
+    /// ([`Accuracy::RefineForDecisions`]).
     ///
     /// [`Accuracy::RefineLast`]: super::system::Accuracy::RefineLast
+    /// [`Accuracy::RefineForDecisions`]: super::system::Accuracy::RefineForDecisions
     pub(super) fn refine_last(
         &self,
         pattern: &[Pattern],
         banded: &BandedSystem,
+        decisions_only: bool,
     ) -> Result<PatternSolution, CondensedFailure> {
         let mut x = banded.rhs().to_vec();
         if !banded.apply_inverse(&mut x) {
             return Err(CondensedFailure::Singular { column: 0 });
         }
-        Ok(self.refined_solution(pattern, banded, x))
+        Ok(self.refined_solution(pattern, banded, x, decisions_only))
+    }
+
+    /// Is every friction DOF's decision settled by `x` with the error estimates
+    /// `correction_size`: a moving DOF's motion, or a stuck DOF's force excess over its
+    /// threshold (in double-double), beyond four times its last correction?
+    fn every_decision_settled(
+        &self,
+        pattern: &[Pattern],
+        x: &[DoubleDouble],
+        correction_size: &[f64],
+    ) -> bool {
+        pattern.iter().enumerate().all(|(i, state)| {
+            let (j, d) = (i / 2, i % 2);
+            let column = Self::column(self.point_of_obstacle[j], d);
+            let error = 4.0 * correction_size[column];
+            let value = match state {
+                Pattern::Stuck => (x[column].abs() - self.thresholds[j][d].into()).value(),
+                Pattern::Positive | Pattern::Negative => x[column].hi,
+            };
+            error.is_finite() && value.abs() > error
+        })
     }
 
     /// Iterative refinement of `x` (a solve of `pattern`'s system, whose factors `banded`
@@ -55,13 +79,15 @@ impl ShootingSystem {
         pattern: &[Pattern],
         banded: &BandedSystem,
         x: Vec<f64>,
+        decisions_only: bool,
     ) -> PatternSolution {
         let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
         // Per component: the last correction (the error estimate once it stops shrinking).
         let mut correction_size = vec![f64::INFINITY; x.len()];
-        let with_f64_factors = self.refine(pattern, &mut x, &mut correction_size, |d| {
-            banded.apply_inverse(d)
-        });
+        let with_f64_factors =
+            self.refine(pattern, &mut x, &mut correction_size, decisions_only, |d| {
+                banded.apply_inverse(d)
+            });
         if with_f64_factors == Refinement::Diverged {
             // The f64 factors are too far from the exact relations: factor those themselves,
             // in double-double (banded_lu_dd), and go on from the last iterate.
@@ -69,7 +95,7 @@ impl ShootingSystem {
             self.count(|c| c.factorizations += 1);
             if matrix.factor().is_ok() {
                 correction_size.fill(f64::INFINITY);
-                self.refine(pattern, &mut x, &mut correction_size, |d| {
+                self.refine(pattern, &mut x, &mut correction_size, decisions_only, |d| {
                     let solved = matrix.solve(d);
                     for (d, s) in d.iter_mut().zip(solved) {
                         *d = s.value();
@@ -110,12 +136,14 @@ impl ShootingSystem {
     }
 
     /// Refinement steps x += A⁻¹ (b − A x) with the exact residual and `apply_inverse` for
-    /// A⁻¹, until no component converges any more or the corrections grow.
+    /// A⁻¹, until no component converges any more or the corrections grow (or, when
+    /// `decisions_only`, every decision is settled).
     fn refine(
         &self,
         pattern: &[Pattern],
         x: &mut [DoubleDouble],
         correction_size: &mut [f64],
+        decisions_only: bool,
         mut apply_inverse: impl FnMut(&mut [f64]) -> bool,
     ) -> Refinement {
         let mut previous_largest = f64::INFINITY;
@@ -149,7 +177,9 @@ impl ShootingSystem {
                 *last = size;
                 *xi = xi.plus(*di);
             }
-            if !converging {
+            if !converging
+                || (decisions_only && self.every_decision_settled(pattern, x, correction_size))
+            {
                 break;
             }
         }

@@ -26,6 +26,10 @@ pub(super) enum Accuracy {
     /// The pattern of the previous solve again (the system is unchanged), refined from its
     /// factors with the exact piece relations: each value to its own last bits.
     RefineLast,
+    /// As [`Accuracy::RefineLast`], but refinement stops as soon as every friction DOF's
+    /// decision is settled (its motion, or its force's excess over the threshold, beyond four
+    /// times its last correction): enough to choose the next pattern, not to answer with.
+    RefineForDecisions,
 }
 
 /// How a friction DOF enters the linear system.
@@ -191,9 +195,9 @@ impl ShootingSystem {
         accuracy: Accuracy,
         banded: &mut BandedSystem,
     ) -> Result<PatternSolution, CondensedFailure> {
-        if accuracy == Accuracy::RefineLast {
+        if accuracy != Accuracy::Plain {
             self.count(|c| c.refinements += 1);
-            return self.refine_last(pattern, banded);
+            return self.refine_last(pattern, banded, accuracy == Accuracy::RefineForDecisions);
         }
         self.count(|c| {
             c.pattern_solves += 1;
