@@ -5,6 +5,7 @@
 //! cargo bench --bench many_obstacles                 # criterion: median solve per family and k
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
+//! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
 //! `report` prints, per family and k, the fastest of three solves and what the search did
@@ -217,9 +218,27 @@ fn warm_report() {
     }
 }
 
+/// Writes every family's scene at every k to `DIR/<family>-<k>.toml`, for `beamfric export`
+/// and another solver (docs/numerics.md compares Clarabel on them).
+fn write_scenes(dir: &str) {
+    std::fs::create_dir_all(dir).expect("the directory can be made");
+    for family in families() {
+        for k in sizes() {
+            let scene = family_scene(family, k, seed(), ELEMENTS);
+            let path = format!("{dir}/{}-{k}.toml", family.name());
+            std::fs::write(&path, scene.to_toml()).expect("the scene can be written");
+            println!("{path}");
+        }
+    }
+}
+
 fn main() {
-    let tool = std::env::args().skip(1).find(|arg| !arg.starts_with('-'));
+    let mut tools = std::env::args().skip(1).filter(|arg| !arg.starts_with('-'));
+    let tool = tools.next();
     match tool.as_deref() {
+        Some("scenes") => {
+            write_scenes(&tools.next().unwrap_or_else(|| "target/tmp/families".into()))
+        }
         Some("report") => report(),
         Some("warm") => warm_report(),
         _ => criterion_runs(),
