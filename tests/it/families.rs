@@ -39,9 +39,9 @@ fn the_check_passes_every_family_at_k_200() {
 #[test]
 fn the_interior_point_guess_asks_to_go_on_before_every_step() {
     // Cancelling a many-obstacle solve must not wait for the interior-point guess to finish
-    // (at k = 4000 its 11–23 steps are about 2.3 ms each): `keep_going` is asked before every
-    // one of its steps as well as before every pattern solve, and a "no" at any of them stops
-    // the solve there.
+    // (at k = 4000 its 13–64 steps are about 1.5 ms each): `keep_going` is asked before every
+    // one of its steps as well as before every pattern solve (the held beam's included), and
+    // a "no" at any of them stops the solve there.
     use beamfric::check::families::family_problem;
     use beamfric::solve::{CondensedFailure, solve_condensed_while};
     let (problem, mesh) = family_problem(Family::Random, 200, 1, 400);
@@ -67,6 +67,29 @@ fn the_interior_point_guess_asks_to_go_on_before_every_step() {
     });
     assert_eq!(stopped.unwrap_err(), CondensedFailure::Stopped);
     assert_eq!(questions, 2, "nothing asked after the no");
+}
+
+#[test]
+fn the_guess_about_the_held_beam_decides_ties_in_two_solves() {
+    // Thresholds equal to the held forces rounded to f64: each DOF's slack is below what f64
+    // resolves of its threshold, about half of them move by that much. The guess works on
+    // the change from the held beam (slacks to their own last bits), so the search only
+    // confirms it: the held solve and the guess's own. Before (a guess about the beam at
+    // rest) this family took 318 pattern solves at k = 1000 (`cargo bench --bench
+    // many_obstacles -- report`).
+    use beamfric::check::families::family_problem;
+    use beamfric::solve::solve_condensed;
+    for (k, elements) in [(200, 400), (600, 1200)] {
+        let (problem, mesh) = family_problem(Family::Ties, k, 1, elements);
+        let solution = solve_condensed(&problem, &mesh).expect("the ties family solves");
+        assert!(solution.converged, "k = {k}");
+        assert!(
+            solution.counts.pattern_solves <= 3,
+            "k = {k}: {} pattern solves, {} interior steps",
+            solution.counts.pattern_solves,
+            solution.counts.interior_steps
+        );
+    }
 }
 
 #[test]

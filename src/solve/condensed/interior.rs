@@ -3,13 +3,22 @@
 //! there are or how they are arranged (issue 26), where an active-set search changes a few
 //! DOFs per solve.
 //!
-//! At a friction DOF with c_i = p_i − q_i (p, q ≥ 0), force λ_i and slacks s⁺ = g − λ,
-//! s⁻ = g + λ, (38) asks for p s⁺ = q s⁻ = 0; the method follows p s⁺ = q s⁻ = μ → 0.
-//! Eliminating p and q from one Newton step leaves, per DOF, c_i = D_i λ_i + r_i with
-//! D_i = p_i/s⁺_i + q_i/s⁻_i: a mixed condition in place of "c = 0" (stuck) or "λ = ±g"
-//! (moving), so every step is one solve of the multiple-shooting system of `system` — the
-//! same band, the same stability on short pieces (`ShootingSystem::solve_mixed`) — and
-//! about 20 steps reach μ of 1e-12 of its start on every family of issue 26.
+//! It works on the change from the held beam (every DOF stuck under the load, its forces
+//! λ_h refined to about 106 bits): force changes δλ within ±g − λ_h, motions c. At a friction
+//! DOF with c_i = p_i − q_i (p, q ≥ 0) and slacks s⁺ = (g − λ_h) − δλ, s⁻ = δλ − (−g − λ_h),
+//! (38) asks for p s⁺ = q s⁻ = 0; the method follows p s⁺ = q s⁻ = μ → 0. Eliminating p and
+//! q from one Newton step leaves, per DOF, c_i = D_i δλ_i + r_i with D_i = p_i/s⁺_i + q_i/s⁻_i:
+//! a mixed condition in place of "c = 0" (stuck) or "λ = ±g" (moving), so every step is one
+//! solve of the (unloaded) multiple-shooting system of `system` — the same band, the same
+//! stability on short pieces (`ShootingSystem::solve_mixed`).
+//!
+//! Why about the held beam: where a threshold equals the held force to rounding (the ties
+//! family of issue 26), g − λ is below what f64 resolves of g, and an iteration on λ itself
+//! can only call the DOF a tie; g − λ_h, taken in double-double, is a number of its own, and
+//! the iteration decides it like any other. The iteration stops when μ is 1e-12 of the
+//! smallest DOF's own scale (its nearest bound times the motions), so that a DOF whose bound
+//! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 13–27
+//! steps on the random and clustered families, 44–64 on ties.
 //!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
 //! exactly; where the guess is poor, it costs solves, never the answer.
@@ -18,27 +27,33 @@ use super::CondensedFailure;
 use super::mixed::Mixed;
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
+use crate::linalg::double_double::DoubleDouble;
 
-/// Most interior-point steps.
-const MOST_STEPS: usize = 40;
+/// Most interior-point steps. Measured on the ties family (`cargo bench --bench
+/// many_obstacles -- report`): at k = 4000 it reaches its μ in 64 steps, and a cap of 40 or
+/// 50 left a guess that cost 1037 or 443 pattern solves.
+const MOST_STEPS: usize = 80;
 
-/// μ relative to its start at which the guess is taken.
+/// μ, relative to the smallest DOF's own scale, at which the guess is taken.
 const CENTRALITY_TOLERANCE: f64 = 1e-12;
 
-/// A motion (as the force it makes) and a slack both below this fraction of the threshold:
-/// the iteration cannot tell the DOF's side (about √ of its final μ).
+/// A motion (as the force it makes) and a slack both below this fraction of the DOF's
+/// nearest bound: the iteration cannot tell the DOF's side (about √ of its final μ).
 const TIE_RESOLUTION: f64 = 1e-5;
 
 /// Fraction of the way to the boundary a step may go.
 const TO_BOUNDARY: f64 = 0.99;
 
-/// A friction DOF with a positive threshold in the interior-point method: its threshold and
-/// the iterate (λ, p, q).
+/// A friction DOF with a positive threshold in the interior-point method: the bounds of its
+/// force change, ±g − λ_h, each to its own last bits, and the iterate (δλ, p, q).
 #[derive(Debug, Clone, Copy)]
 struct FrictionVariable {
     /// Index of the DOF in the pattern (2·obstacle + kind).
     dof: usize,
-    threshold: f64,
+    lower: f64,
+    upper: f64,
+    /// A motion (as the force it makes) and a slack both below this: a tie, held.
+    resolution: f64,
     force: f64,
     positive: f64,
     negative: f64,
@@ -46,10 +61,10 @@ struct FrictionVariable {
 
 impl FrictionVariable {
     fn slack_above(&self) -> f64 {
-        self.threshold - self.force
+        self.upper - self.force
     }
     fn slack_below(&self) -> f64 {
-        self.threshold + self.force
+        self.force - self.lower
     }
     fn complementarity(&self) -> f64 {
         self.positive * self.slack_above() + self.negative * self.slack_below()
@@ -63,6 +78,11 @@ impl FrictionVariable {
     }
 }
 
+/// The distance of 0 from the nearer bound.
+fn nearest((lower, upper): (f64, f64)) -> f64 {
+    lower.abs().min(upper.abs())
+}
+
 /// The Newton step of every friction variable: (Δλ, Δp, Δq).
 type Step = Vec<[f64; 3]>;
 
@@ -71,52 +91,85 @@ struct InteriorPoint<'a> {
     system: &'a ShootingSystem,
     banded: BandedSystem,
     variables: Vec<FrictionVariable>,
+    /// The condition of every DOF without a variable (no friction: its force is given).
+    fixed: Vec<Mixed>,
+    /// μ at which the guess is taken.
+    final_centrality: f64,
 }
 
+/// Per DOF, the bounds of its force change (`None` without friction), and the conditions
+/// with those of the frictionless DOFs set (their force back to zero).
+type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
+
 impl ShootingSystem {
-    /// The interior-point guess of the friction pattern (`None` when a system is singular);
-    /// its steps go to the counts. `keep_going` is asked before every step (one banded
-    /// factorisation, about 2.3 ms at 4000 obstacles) and [`CondensedFailure::Stopped`]
-    /// returned when it says no.
+    /// The interior-point guess of the friction pattern about the held beam, whose forces
+    /// `held` are given to about 106 bits (`None` when a system is singular); its steps go to
+    /// the counts. `keep_going` is asked before every step (one banded factorisation, about
+    /// 1.5 ms at 4000 obstacles) and [`CondensedFailure::Stopped`] returned when it says no.
     pub(super) fn interior_point_pattern(
         &self,
+        held: &[DoubleDouble],
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<Option<Vec<Pattern>>, CondensedFailure> {
-        let dofs = 2 * self.point_of_obstacle.len();
+        let (bounds, fixed) = self.held_bounds(held);
+        // Every held force within its threshold: the held beam is the answer.
+        if bounds
+            .iter()
+            .flatten()
+            .all(|&(lower, upper)| lower < 0.0 && upper > 0.0)
+        {
+            return Ok(Some(vec![Pattern::Stuck; held.len()]));
+        }
+        // Start at no change where the held force is within its bounds, else as far inside
+        // the bound it breaks as it lies outside.
+        let start_force = |(lower, upper): (f64, f64)| {
+            let middle = 0.5 * (lower + upper);
+            if lower < 0.0 && upper > 0.0 {
+                0.0
+            } else if upper <= 0.0 {
+                (upper + upper.min(-f64::MIN_POSITIVE)).max(middle)
+            } else {
+                (lower + lower.max(f64::MIN_POSITIVE)).min(middle)
+            }
+        };
+        let mut start = fixed.clone();
+        for (condition, bound) in start.iter_mut().zip(&bounds) {
+            if let Some(bound) = *bound {
+                condition.force = start_force(bound);
+            }
+        }
         let mut banded = BandedSystem::new(0, super::system::BAND_LOWER, super::system::BAND_UPPER);
-        // The free beam (every force zero): where the iteration starts.
-        let free: Vec<Mixed> = (0..dofs).map(Mixed::free).collect();
-        let Ok((motion, _)) = self.solve_mixed(&free, &mut banded) else {
+        let Ok((motion, _)) = self.solve_mixed(&start, &mut banded) else {
             return Ok(None);
         };
-        let motion_scale = [0, 1].map(|kind| {
-            motion
-                .iter()
-                .skip(kind)
-                .step_by(2)
-                .fold(0.0f64, |m, v| m.max(v.abs()))
-                .max(f64::MIN_POSITIVE)
-        });
-        // A threshold beyond any force the load can make (1e6 times the total load, times the
-        // length for a moment) holds its DOF whatever it is; capped there, it does not set
-        // the scale of μ.
-        let length: f64 = self.pieces.iter().map(|p| p.length).sum();
-        let total_load: f64 = self
-            .pieces
+        // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
+        let motion_scale = largest_of_each_kind(&motion);
+        let scales: Vec<f64> = bounds
             .iter()
-            .map(|p| p.length * p.load_start.abs().max(p.load_end.abs()))
-            .sum();
-        let cap = [1e6 * total_load, 1e6 * total_load * length];
-        let variables = (0..dofs)
-            .filter_map(|dof| {
-                let threshold = self.thresholds[dof / 2][dof % 2].min(cap[dof % 2]);
-                let offset = 0.1 * motion_scale[dof % 2];
-                (threshold > 0.0).then(|| FrictionVariable {
+            .enumerate()
+            .filter_map(|(dof, b)| Some(nearest((*b)?) * 0.1 * motion_scale[dof % 2]))
+            .collect();
+        let mean = scales.iter().sum::<f64>() / scales.len().max(1) as f64;
+        let smallest = scales
+            .iter()
+            .copied()
+            .filter(|&scale| scale > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        // Centred at the mean scale: every complementarity product at least that.
+        let variables = bounds
+            .iter()
+            .enumerate()
+            .filter_map(|(dof, bound)| {
+                let (lower, upper) = (*bound)?;
+                let force = start[dof].force;
+                Some(FrictionVariable {
                     dof,
-                    threshold,
-                    force: 0.0,
-                    positive: motion[dof].max(0.0) + offset,
-                    negative: (-motion[dof]).max(0.0) + offset,
+                    lower,
+                    upper,
+                    resolution: TIE_RESOLUTION * nearest((lower, upper)),
+                    force,
+                    positive: motion[dof].max(0.0) + mean / (upper - force),
+                    negative: (-motion[dof]).max(0.0) + mean / (force - lower),
                 })
             })
             .collect();
@@ -124,6 +177,8 @@ impl ShootingSystem {
             system: self,
             banded,
             variables,
+            fixed,
+            final_centrality: CENTRALITY_TOLERANCE * smallest,
         };
         let steps = method.run(keep_going)?;
         // Each step: a factorisation with its solve, and one more solve with its factors.
@@ -134,6 +189,49 @@ impl ShootingSystem {
         });
         Ok(Some(method.pattern(&motion)))
     }
+
+    /// The bounds ±g − λ_h of every DOF's force change from the held forces `held`, each
+    /// taken in double-double and rounded once; a threshold beyond any force the load can
+    /// make (1e6 times the total load, times the length for a moment) is capped there, so
+    /// that it does not set the scale of μ.
+    fn held_bounds(&self, held: &[DoubleDouble]) -> HeldBounds {
+        let length: f64 = self.pieces.iter().map(|p| p.length).sum();
+        let total_load: f64 = self
+            .pieces
+            .iter()
+            .map(|p| p.length * p.load_start.abs().max(p.load_end.abs()))
+            .sum();
+        let cap = [1e6 * total_load, 1e6 * total_load * length];
+        let mut fixed: Vec<Mixed> = (0..held.len()).map(Mixed::free).collect();
+        let bounds = (0..held.len())
+            .map(|dof| {
+                let threshold = self.thresholds[dof / 2][dof % 2].min(cap[dof % 2]);
+                if threshold > 0.0 {
+                    let threshold = DoubleDouble::from(threshold);
+                    Some((
+                        (-threshold - held[dof]).value(),
+                        (threshold - held[dof]).value(),
+                    ))
+                } else {
+                    fixed[dof].force = -held[dof].value();
+                    None
+                }
+            })
+            .collect();
+        (bounds, fixed)
+    }
+}
+
+/// The largest |value| of each kind (even and odd DOFs), at least the smallest normal.
+fn largest_of_each_kind(values: &[f64]) -> [f64; 2] {
+    [0, 1].map(|kind| {
+        values
+            .iter()
+            .skip(kind)
+            .step_by(2)
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE)
+    })
 }
 
 impl InteriorPoint<'_> {
@@ -150,10 +248,9 @@ impl InteriorPoint<'_> {
         if self.variables.is_empty() {
             return Ok(0);
         }
-        let first = self.centrality();
         for done in 0..MOST_STEPS {
             let mu = self.centrality();
-            if mu.is_nan() || mu <= CENTRALITY_TOLERANCE * first {
+            if mu.is_nan() || mu <= self.final_centrality {
                 return Ok(done);
             }
             if !keep_going() {
@@ -202,8 +299,7 @@ impl InteriorPoint<'_> {
     /// solved by the shooting system (factored anew when `factor`, else with the last
     /// factors); `None` when it is singular.
     fn step(&mut self, targets: &[[f64; 2]], factor: bool) -> Option<Step> {
-        let dofs = 2 * self.system.point_of_obstacle.len();
-        let mut mixed: Vec<Mixed> = (0..dofs).map(Mixed::free).collect();
+        let mut mixed = self.fixed.clone();
         for (v, [above, below]) in self.variables.iter().zip(targets) {
             let weight = v.weight();
             let rho = (above - v.positive * v.slack_above()) / v.slack_above()
@@ -252,9 +348,9 @@ impl InteriorPoint<'_> {
         alpha.max(0.0)
     }
 
-    /// The pattern the iterate describes: a DOF moves where its motion (relative to the
-    /// largest free motion of its kind) exceeds its slack (relative to its threshold); a DOF
-    /// without friction moves the way the free beam does.
+    /// The pattern the iterate describes: a DOF moves where its motion (as the force its
+    /// diagonal stiffness makes of it) exceeds its slack; a DOF without friction moves the
+    /// way it does at the start.
     fn pattern(&self, free_motion: &[f64]) -> Vec<Pattern> {
         let sign = |c: f64| {
             if c >= 0.0 {
@@ -269,8 +365,7 @@ impl InteriorPoint<'_> {
             let stiffness = self.system.diagonal_stiffness(v.dof);
             // Both within what the iteration has settled (a tie): held, for the exact
             // decisions to take.
-            let settled = TIE_RESOLUTION * v.threshold;
-            let tie = v.motion().abs() * stiffness < settled && slack < settled;
+            let tie = v.motion().abs() * stiffness < v.resolution && slack < v.resolution;
             pattern[v.dof] = if !tie && v.motion().abs() * stiffness > slack {
                 sign(v.motion())
             } else {

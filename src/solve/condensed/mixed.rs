@@ -1,8 +1,10 @@
 //! The multiple-shooting system of `system` with a mixed condition c_i = D_i λ_i + r_i at
 //! every friction DOF in place of a pattern's "c = 0" or "λ = ±g": the linear system of one
-//! interior-point step (`interior`). Same band, same unknowns; the DOF's column holds its
-//! force where D is small (a DOF close to stuck: c follows from λ) and its motion where D is
-//! large (close to moving: λ follows from c), so neither is a small difference of large ones.
+//! interior-point step (`interior`). The beam is unloaded: λ here is the change of a force
+//! from the held beam (every DOF stuck under the load), and c the motion that change makes.
+//! Same band, same unknowns; the DOF's column holds its force where D is small (a DOF close
+//! to stuck: c follows from λ) and its motion where D is large (close to moving: λ follows
+//! from c), so neither is a small difference of large ones.
 
 use super::CondensedFailure;
 use super::system::{JUMPS, Pattern, ShootingSystem};
@@ -20,7 +22,7 @@ pub(super) struct Mixed {
 }
 
 impl Mixed {
-    /// No friction at `dof`: λ = 0, c free.
+    /// The force (change) given as 0 and c free; with `force` set, the force given.
     pub(super) fn free(_dof: usize) -> Mixed {
         Mixed {
             weight: f64::INFINITY,
@@ -62,7 +64,8 @@ impl ShootingSystem {
     }
 
     /// Solves the system with the conditions `mixed` (one per friction DOF), factoring it in
-    /// `banded`.
+    /// `banded`. The beam is unloaded: what it solves is the change from the held beam
+    /// (every DOF stuck under the load), which the interior-point guess works on.
     pub(super) fn solve_mixed(
         &self,
         mixed: &[Mixed],
@@ -113,7 +116,7 @@ impl ShootingSystem {
         force_column: &[Option<usize>],
         mut matrix: Option<&mut BandedSystem>,
     ) -> Vec<f64> {
-        let mut rhs = self.mixed_rhs_base();
+        let mut rhs = vec![0.0; 4 * self.pieces.len() - 2];
         let moving = vec![Pattern::Positive; mixed.len()];
         self.assemble_matrix(
             &moving,
@@ -161,19 +164,6 @@ impl ShootingSystem {
         let p = self.point_of_obstacle[i / 2];
         let (_, jump_row, sign) = JUMPS[i % 2];
         (4 * (p - 1) + jump_row, self.dof_column(i), sign)
-    }
-
-    /// The load's part of the right-hand side: −q of every piece's rows.
-    fn mixed_rhs_base(&self) -> Vec<f64> {
-        let pieces = self.pieces.len();
-        let mut rhs = vec![0.0; 4 * pieces - 2];
-        for (p, piece) in self.pieces.iter().enumerate() {
-            let rows = if p + 1 == pieces { 2 } else { 4 };
-            for (r, q) in piece.load_terms().iter().enumerate().take(rows) {
-                rhs[4 * p + r] = -q;
-            }
-        }
-        rhs
     }
 
     /// Motions and forces from a solution `x`.

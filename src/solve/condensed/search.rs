@@ -12,6 +12,7 @@ use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, 
 use super::{CondensedFailure, CondensedSolution, FrictionPattern};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
 use crate::solve::FrictionState;
 use crate::solve::history::{DofState, Recorder};
@@ -24,11 +25,11 @@ const NEWTON_STEPS: usize = 40;
 /// σ = 0 converges in 6–16 solves where 0.5 diverges after a few steps at 4000 obstacles;
 /// 0.5 stays as the second variant for scenes where 0 cycles.
 pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
-/// Fewest obstacles for which the search starts from the interior-point guess (about 12
-/// steps of its own): with fewer, semismooth Newton from all stuck takes a handful of solves.
-/// Measured on the issue-26 families at k = 128 (`cargo bench --bench many_obstacles --
-/// report`): random, clustered and mixed go from 13–39 pattern solves (1.1–3.0 ms) to 1
-/// (1.0–1.2 ms); ties from 14 to 22 (12.9 to 16.6 ms).
+/// Fewest obstacles for which the search starts from the interior-point guess (one refined
+/// solve of the held beam, then 13–64 steps of its own): with fewer, semismooth Newton from
+/// all stuck takes a handful of solves. Measured on the issue-26 families at k = 128 (`cargo
+/// bench --bench many_obstacles -- report`): random, clustered and mixed go from 13–39
+/// pattern solves (1.1–3.0 ms) to 1–2 (0.7–0.9 ms); ties from 14 to 2.
 const INTERIOR_POINT_FROM: usize = 32;
 /// Most pattern solves from a warm start ([`super::solve_condensed_from`]) before the search
 /// starts over without it. Measured with `cargo bench --bench many_obstacles -- warm` (one
@@ -104,11 +105,13 @@ pub(super) fn solve_with_newton_phases(
         system.reversal_fraction.set(first_fraction);
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
-    if !newton_phases.is_empty()
-        && obstacles >= INTERIOR_POINT_FROM
-        && let Some(guess) = system.interior_point_pattern(keep_going)?
-    {
-        search.pattern = guess;
+    if !newton_phases.is_empty() && obstacles >= INTERIOR_POINT_FROM {
+        let held = search.held_forces()?;
+        if held.len() == 2 * obstacles
+            && let Some(guess) = system.interior_point_pattern(&held, keep_going)?
+        {
+            search.pattern = guess;
+        }
     }
     let (solution, converged) = search.run(keep_going, &mut observe)?;
     condensed_solution(
@@ -244,6 +247,19 @@ impl<'a> PatternSearch<'a> {
                 self.monotone_step(&solution, &changes);
             }
         }
+    }
+
+    /// The forces with every DOF held, to about 106 bits (a pattern solve, refined): the
+    /// base point of the interior-point guess. Counted as one of the search's solves.
+    fn held_forces(&mut self) -> Result<Vec<DoubleDouble>, CondensedFailure> {
+        let held = vec![Pattern::Stuck; self.pattern.len()];
+        self.system
+            .solve_pattern(&held, Accuracy::Plain, &mut self.banded)?;
+        self.solves += 1;
+        let refined = self
+            .system
+            .solve_pattern(&held, Accuracy::RefineLast, &mut self.banded)?;
+        Ok(refined.exact.map(|e| e.force).unwrap_or_default())
     }
 
     /// Stage one of a step: solves the current pattern and decides which DOFs must change,
