@@ -4,6 +4,7 @@
 //! as values (so `--elements -1` is refused for its value, quoted, not taken for an option)
 //! and refuse what cannot be a count or a finite number in words.
 
+use std::path::PathBuf;
 use std::sync::LazyLock;
 
 use clap::builder::PossibleValue;
@@ -175,10 +176,45 @@ pub enum Command {
     Present(PresentArgs),
     /// Write the discrete problem (A, b, B, g, the mesh) as Matrix Market, JSON and CSV files
     /// with a README of the conventions, for your own method.
-    Export(super::exchange::ExportArgs),
+    Export(ExportArgs),
     /// Grade an answer computed elsewhere (forces λ or nodal u, u'; JSON or CSV) with the
     /// certificate of the built-in methods.
-    Grade(super::exchange::GradeArgs),
+    Grade(GradeArgs),
+}
+
+/// `beamfric export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Scene file or preset name.
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Number of elements (default: the scene's).
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
+    pub elements: Option<usize>,
+    /// The directory for the files (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Replace the files of an earlier export in DIR.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `beamfric grade`.
+#[derive(Debug, Args)]
+pub struct GradeArgs {
+    /// Scene file or preset name (the one the answer was computed for).
+    #[arg(long, default_value = "benchmark-1")]
+    pub scene: String,
+    /// Number of elements (default: the scene's; the one the answer was computed on).
+    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
+    pub elements: Option<usize>,
+    /// The answer: forces λ and/or nodal u, u' as JSON or CSV (see
+    /// docs/bring-your-own-method.md); the JSON of `beamfric solve --format json` is one form.
+    #[arg(long, value_name = "FILE")]
+    pub answer: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    pub format: Format,
 }
 
 /// `beamfric serve`.

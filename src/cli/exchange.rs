@@ -1,53 +1,14 @@
-//! `beamfric export` and `beamfric grade` (bring your own method, issue 24): their arguments
-//! and the thin commands over [`crate::exchange`], which does the work.
+//! `beamfric export` and `beamfric grade` (bring your own method, issue 24): the thin commands
+//! over [`crate::exchange`], which does the work (their arguments are in `args`).
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Args;
-
-use super::args::count_up_to;
+use super::args::{ExportArgs, GradeArgs};
 use super::{CliError, EXIT_CHECK_FAILED, Format, load_with_overrides};
 use crate::exchange::{ExportedScene, GradeContext, Verdict, export, grade_file};
 use crate::fem::Mesh;
 use crate::output::json_text;
-use crate::scene::MAX_ELEMENTS;
-
-/// `beamfric export`.
-#[derive(Debug, Args)]
-pub struct ExportArgs {
-    /// Scene file or preset name.
-    #[arg(long, default_value = "benchmark-1")]
-    pub scene: String,
-    /// Number of elements (default: the scene's).
-    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
-    pub elements: Option<usize>,
-    /// The directory for the files (created if missing).
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
-    /// Replace the files of an earlier export in DIR.
-    #[arg(long)]
-    pub force: bool,
-}
-
-/// `beamfric grade`.
-#[derive(Debug, Args)]
-pub struct GradeArgs {
-    /// Scene file or preset name (the one the answer was computed for).
-    #[arg(long, default_value = "benchmark-1")]
-    pub scene: String,
-    /// Number of elements (default: the scene's; the one the answer was computed on).
-    #[arg(long, value_parser = count_up_to(MAX_ELEMENTS), allow_negative_numbers = true)]
-    pub elements: Option<usize>,
-    /// The answer: forces λ and/or nodal u, u' as JSON or CSV (see
-    /// docs/bring-your-own-method.md); the JSON of `beamfric solve --format json` is one form.
-    #[arg(long, value_name = "FILE")]
-    pub answer: PathBuf,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
-}
 
 /// Runs `beamfric export`.
 pub(super) fn export_command(args: &ExportArgs) -> Result<ExitCode, CliError> {

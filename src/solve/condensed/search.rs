@@ -106,6 +106,9 @@ pub(super) fn solve_with_newton_phases(
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
     if !newton_phases.is_empty() && obstacles >= INTERIOR_POINT_FROM {
+        if !keep_going() {
+            return Err(CondensedFailure::Stopped);
+        }
         let held = search.held_forces()?;
         if held.len() == 2 * obstacles
             && let Some(guess) = system.interior_point_pattern(&held, keep_going)?
