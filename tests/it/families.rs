@@ -152,3 +152,61 @@ fn a_warm_start_changes_the_work_never_the_answer() {
         }
     }
 }
+
+#[test]
+fn the_guess_is_blind_to_units_and_to_thresholds_of_zero() {
+    // Attacks on the guess about the held beam: the same scene with load and thresholds
+    // scaled by 2^±600 (1e±180: exact in binary, so the dimensionless problem is the same to
+    // the last bit) must give the same states and the same deflections scaled by the same
+    // power of two; a third of the obstacles without any friction (g1 = g2 = 0: no bound
+    // for the guess, a force fixed at zero) must still agree with the 384-bit reference.
+    use beamfric::scene::Scene;
+    use beamfric::solve::solve_condensed;
+    let solve = |scene: &Scene| {
+        let problem = scene.problem().expect("a valid scene");
+        let mesh = beamfric::fem::Mesh::new(&problem, scene.mesh.elements);
+        solve_condensed(&problem, &mesh).expect("the scene solves")
+    };
+    for family in [Family::Ties, Family::ClusteredMixed, Family::Random] {
+        let scene = family_scene(family, 300, 5, 600);
+        let plain = solve(&scene);
+        assert!(plain.converged, "{}", family.name());
+        for exponent in [-600, 600] {
+            let factor = 2f64.powi(exponent);
+            let mut scaled = scene.clone();
+            scaled.load.f0 *= factor;
+            scaled.load.f1 = scaled.load.f1.map(|f| f * factor);
+            for o in &mut scaled.obstacles {
+                o.sliding *= factor;
+                o.swivel *= factor;
+            }
+            let solution = solve(&scaled);
+            let context = format!("{} × 2^{exponent}", family.name());
+            assert!(solution.converged, "{context}");
+            assert_eq!(solution.states, plain.states, "{context}");
+            for (a, b) in solution
+                .field
+                .deflection
+                .iter()
+                .zip(&plain.field.deflection)
+            {
+                assert_eq!(*a, b * factor, "{context}");
+            }
+            assert_eq!(
+                solution.counts.pattern_solves, plain.counts.pattern_solves,
+                "{context}: the same work"
+            );
+        }
+        for (k, seed) in [(40, 1u64), (40, 2)] {
+            let mut frictionless = family_scene(family, k, seed, 200);
+            for o in frictionless.obstacles.iter_mut().step_by(3) {
+                o.sliding = 0.0;
+                o.swivel = 0.0;
+            }
+            let name = format!("{} k={k} seed={seed}, every third g = 0", family.name());
+            if let Err(why) = check_stable(&name, &frictionless) {
+                panic!("{}", why.lines().next().unwrap_or_default());
+            }
+        }
+    }
+}

@@ -90,6 +90,8 @@ type Step = Vec<[f64; 3]>;
 struct InteriorPoint<'a> {
     system: &'a ShootingSystem,
     banded: BandedSystem,
+    /// Per column of `banded`'s system: the DOF whose force it holds.
+    force_column: Vec<Option<usize>>,
     variables: Vec<FrictionVariable>,
     /// The condition of every DOF without a variable (no friction: its force is given).
     fixed: Vec<Mixed>,
@@ -139,7 +141,8 @@ impl ShootingSystem {
             }
         }
         let mut banded = BandedSystem::new(0, super::system::BAND_LOWER, super::system::BAND_UPPER);
-        let Ok((motion, _)) = self.solve_mixed(&start, &mut banded) else {
+        let mut force_column = Vec::new();
+        let Ok((motion, _)) = self.solve_mixed(&start, &mut banded, &mut force_column) else {
             return Ok(None);
         };
         // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
@@ -176,6 +179,7 @@ impl ShootingSystem {
         let mut method = InteriorPoint {
             system: self,
             banded,
+            force_column,
             variables,
             fixed,
             final_centrality: CENTRALITY_TOLERANCE * smallest,
@@ -311,9 +315,12 @@ impl InteriorPoint<'_> {
             };
         }
         let (_, force_changes) = if factor {
-            self.system.solve_mixed(&mixed, &mut self.banded).ok()?
+            self.system
+                .solve_mixed(&mixed, &mut self.banded, &mut self.force_column)
+                .ok()?
         } else {
-            self.system.resolve_mixed(&mixed, &self.banded)?
+            self.system
+                .resolve_mixed(&mixed, &self.banded, &self.force_column)?
         };
         Some(
             self.variables

@@ -41,70 +41,57 @@ impl Mixed {
 pub(super) type MotionsAndForces = (Vec<f64>, Vec<f64>);
 
 impl ShootingSystem {
-    /// The diagonal stiffness at friction DOF i: 12EJ/L³ per adjacent piece for a deflection,
-    /// 4EJ/L for a slope.
-    pub(super) fn diagonal_stiffness(&self, i: usize) -> f64 {
-        let p = self.point_of_obstacle[i / 2];
-        [p - 1, p]
-            .iter()
-            .map(|&q| {
-                let piece = &self.pieces[q];
-                if i.is_multiple_of(2) {
-                    12.0 * piece.stiffness / piece.length.powi(3)
-                } else {
-                    4.0 * piece.stiffness / piece.length
-                }
-            })
-            .sum()
-    }
-
     /// Does DOF i's column hold its force (D small against its compliance)?
     fn force_unknown(&self, i: usize, mixed: &Mixed) -> bool {
         mixed.weight * self.diagonal_stiffness(i) < 1.0
     }
 
     /// Solves the system with the conditions `mixed` (one per friction DOF), factoring it in
-    /// `banded`. The beam is unloaded: what it solves is the change from the held beam
-    /// (every DOF stuck under the load), which the interior-point guess works on.
+    /// `banded`, with which column holds which DOF's force written to `force_column` (for
+    /// [`ShootingSystem::resolve_mixed`] with the same factors). The beam is unloaded: what it
+    /// solves is the change from the held beam (every DOF stuck under the load), which the
+    /// interior-point guess works on.
     pub(super) fn solve_mixed(
         &self,
         mixed: &[Mixed],
         banded: &mut BandedSystem,
+        force_column: &mut Vec<Option<usize>>,
     ) -> Result<MotionsAndForces, CondensedFailure> {
         banded.reset(4 * self.pieces.len() - 2);
-        let force_column = self.force_columns(mixed);
-        let rhs = self.assemble_mixed(mixed, &force_column, Some(banded));
+        self.force_columns(mixed, force_column);
+        let rhs = self.assemble_mixed(mixed, force_column, Some(banded));
         for (row, value) in rhs.into_iter().enumerate() {
             banded.add_rhs(row, value);
         }
         let x = banded
             .solve_unrefined()
             .map_err(|e| CondensedFailure::Singular { column: e.column })?;
-        Ok(self.mixed_values(mixed, &force_column, &x))
+        Ok(self.mixed_values(mixed, force_column, &x))
     }
 
-    /// The same system (the same weights, so the same factors in `banded`) with other
-    /// offsets: one back substitution. `None` without factors.
+    /// The same system (the same weights, so the same factors in `banded` and the same
+    /// `force_column` as the last [`ShootingSystem::solve_mixed`]) with other offsets: one
+    /// back substitution. `None` without factors.
     pub(super) fn resolve_mixed(
         &self,
         mixed: &[Mixed],
         banded: &BandedSystem,
+        force_column: &[Option<usize>],
     ) -> Option<MotionsAndForces> {
-        let force_column = self.force_columns(mixed);
-        let mut x = self.assemble_mixed(mixed, &force_column, None);
+        let mut x = self.assemble_mixed(mixed, force_column, None);
         banded.apply_inverse(&mut x).then_some(())?;
-        Some(self.mixed_values(mixed, &force_column, &x))
+        Some(self.mixed_values(mixed, force_column, &x))
     }
 
-    /// Per column: the friction DOF whose force it holds.
-    fn force_columns(&self, mixed: &[Mixed]) -> Vec<Option<usize>> {
-        let mut columns = vec![None; 4 * self.pieces.len() - 2];
+    /// Per column: the friction DOF whose force it holds, into `columns`.
+    fn force_columns(&self, mixed: &[Mixed], columns: &mut Vec<Option<usize>>) {
+        columns.clear();
+        columns.resize(4 * self.pieces.len() - 2, None);
         for (i, m) in mixed.iter().enumerate() {
             if self.force_unknown(i, m) {
                 columns[self.dof_column(i)] = Some(i);
             }
         }
-        columns
     }
 
     /// The right-hand side of the mixed system, and its matrix into `matrix` when given: the

@@ -58,6 +58,8 @@ pub(super) struct ShootingSystem {
     pub(super) reversal_fraction: std::cell::Cell<f64>,
     /// The work done so far.
     pub(super) counts: std::cell::Cell<SolveCounts>,
+    /// Per friction DOF: its diagonal stiffness ([`ShootingSystem::diagonal_stiffness`]).
+    pub(super) friction_stiffness: Vec<f64>,
 }
 
 /// The states of one solve of a fixed pattern.
@@ -94,7 +96,29 @@ pub(super) struct ExactValues {
 /// m⁺ = m⁻ + λ2 (row 2).
 pub(super) const JUMPS: [(usize, usize, f64); 2] = [(0, 3, -1.0), (1, 2, 1.0)];
 
+/// The diagonal stiffness at point p for a deflection (kind 0: 12EJ/L³ per adjacent piece)
+/// or a slope (kind 1: 4EJ/L).
+fn diagonal_stiffness(pieces: &[Piece], p: usize, kind: usize) -> f64 {
+    [p - 1, p]
+        .iter()
+        .map(|&q| {
+            let piece = &pieces[q];
+            if kind == 0 {
+                12.0 * piece.stiffness / piece.length.powi(3)
+            } else {
+                4.0 * piece.stiffness / piece.length
+            }
+        })
+        .sum()
+}
+
 impl ShootingSystem {
+    /// The diagonal stiffness at friction DOF i: 12EJ/L³ per adjacent piece for a deflection,
+    /// 4EJ/L for a slope.
+    pub(super) fn diagonal_stiffness(&self, i: usize) -> f64 {
+        self.friction_stiffness[i]
+    }
+
     /// The system of `problem` on `mesh` in the units of `scales`, with σ / diagonal stiffness
     /// `reversal_fraction` in the reversal prediction until the search sets another.
     pub(super) fn new(
@@ -166,6 +190,9 @@ impl ShootingSystem {
                 ]
             })
             .collect();
+        let friction_stiffness = (0..2 * point_of_obstacle.len())
+            .map(|i| diagonal_stiffness(&pieces, point_of_obstacle[i / 2], i % 2))
+            .collect();
         ShootingSystem {
             pieces,
             exact_pieces,
@@ -174,6 +201,7 @@ impl ShootingSystem {
             thresholds,
             reversal_fraction: std::cell::Cell::new(reversal_fraction),
             counts: std::cell::Cell::new(SolveCounts::default()),
+            friction_stiffness,
         }
     }
 
