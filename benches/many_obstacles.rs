@@ -5,6 +5,7 @@
 //! cargo bench --bench many_obstacles                 # criterion: median solve per family and k
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
+//! cargo bench --bench many_obstacles -- explorer     # the explorer's whole re-solve, cold and warm
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -220,6 +221,54 @@ fn warm_report() {
 
 /// Writes every family's scene at every k to `DIR/<family>-<k>.toml`, for `beamfric export`
 /// and another solver (docs/numerics.md compares Clarabel on them).
+/// The explorer's whole re-solve (`condensed` with its certificate, as the worker runs it)
+/// after one notch up of the middle obstacle's sliding threshold: from scratch, and from the
+/// pattern of the solve shown before (what the explorer does).
+fn explorer_report() {
+    use beamfric::scene::{Scene, Settings};
+    use beamfric::solve::Method;
+    use beamfric::tui::jobs::solve::{SolveRequest, solve};
+    println!("| family | k | cold re-solve | warm re-solve | same answer |");
+    println!("|---|---|---|---|---|");
+    let request = |scene: &Scene| {
+        let problem = scene.problem().expect("a generated scene is valid");
+        let settings = Settings {
+            elements: ELEMENTS,
+            method: Method::Condensed,
+            epsilon: scene.solver.epsilon,
+        };
+        SolveRequest::for_scene(scene, &problem, settings)
+    };
+    for family in families() {
+        for k in sizes() {
+            let scene = family_scene(family, k, seed(), ELEMENTS);
+            let shown = solve(&request(&scene));
+            let mut changed = scene.clone();
+            changed.obstacles[k / 2].sliding *= NOTCH;
+            let fastest = |request: &SolveRequest| {
+                let mut best = f64::INFINITY;
+                let mut last = None;
+                for _ in 0..3 {
+                    let start = Instant::now();
+                    last = Some(solve(request));
+                    best = best.min(start.elapsed().as_secs_f64());
+                }
+                (best, last.expect("three runs"))
+            };
+            let (cold_time, cold) = fastest(&request(&changed));
+            let (warm_time, warm) = fastest(&request(&changed).starting_from(Some(&shown)));
+            let (c, w) = (cold.solution.unwrap(), warm.solution.unwrap());
+            println!(
+                "| {} | {k} | {:.2} ms | {:.2} ms | {} |",
+                family.name(),
+                1e3 * cold_time,
+                1e3 * warm_time,
+                c.field == w.field && c.obstacles == w.obstacles,
+            );
+        }
+    }
+}
+
 fn write_scenes(dir: &str) {
     std::fs::create_dir_all(dir).expect("the directory can be made");
     for family in families() {
@@ -241,6 +290,7 @@ fn main() {
         }
         Some("report") => report(),
         Some("warm") => warm_report(),
+        Some("explorer") => explorer_report(),
         _ => criterion_runs(),
     }
 }

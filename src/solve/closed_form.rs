@@ -248,5 +248,6 @@ pub(super) fn solve(
         friction_accuracy: None,
         // A formula, not an iteration.
         history: None,
+        friction_pattern: None,
     })
 }

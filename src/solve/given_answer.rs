@@ -91,8 +91,9 @@ pub fn grade(
         regularized_cases: Vec::new(),
         friction_accuracy: None,
         history: None,
+        friction_pattern: None,
     };
-    let reference = MeshReference::new(problem, mesh, options.cancel.clone());
+    let reference = MeshReference::new(problem, mesh, options);
     let mut solution = certify(problem, mesh, GRADED_AS, options, output, Some(&reference))
         .ok_or_else(|| GradeError::Solve(super::shared::cancelled(GRADED_AS)))?;
     // A's conditioning explains a visible error only where the certificate says it does.

@@ -40,7 +40,9 @@ pub use given_answer::{GivenAnswer, GradeError, grade};
 pub use history::{
     History, IterationRecord, MAX_RECORDED_ITERATIONS, ProgressMeasure, iterate_field,
 };
-pub use options::{Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions};
+pub use options::{
+    Cancellation, ConditionLevel, MAX_CASES, MAX_DENSE_UNKNOWNS, SolveOptions, WarmStart,
+};
 /// What the studies (`crate::study`) read of the methods' insides: the regularised method's
 /// cases, the condensed method's system, a dual method's account of its accuracy.
 pub(crate) mod internals {
@@ -67,7 +69,7 @@ pub fn solve(
     method: Method,
     options: &SolveOptions,
 ) -> Result<Solution, SolveError> {
-    let reference = MeshReference::new(problem, mesh, options.cancel.clone());
+    let reference = MeshReference::new(problem, mesh, options);
     solve_graded(problem, mesh, method, options, &reference)
 }
 
@@ -82,7 +84,7 @@ pub fn solve_with_condensed(
     method: Method,
     options: &SolveOptions,
 ) -> (Result<Solution, SolveError>, Option<Solution>) {
-    let reference = MeshReference::new(problem, mesh, options.cancel.clone());
+    let reference = MeshReference::new(problem, mesh, options);
     let solution = solve_graded(problem, mesh, method, options, &reference);
     let condensed = (method != Method::Condensed)
         .then(|| certificate::certified_condensed(reference))

@@ -1,12 +1,14 @@
 //! How to solve: the options every method reads (ε of (40) for the regularised methods, the
 //! limits of the enumeration of (43) and of the dense inverse of (49), which condition numbers
 //! and whether a reference, whether to record the convergence history) and their default
-//! limits, and the cancellation of a solve.
+//! limits, the cancellation of a solve and where the condensed search may start.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use serde::Serialize;
+
+use super::condensed::pattern::FrictionPattern;
 
 /// Which condition numbers to compute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -67,6 +69,38 @@ pub struct SolveOptions {
     pub history: bool,
     /// Stops a solve whose result is no longer wanted, from inside its long loops.
     pub cancel: Cancellation,
+    /// Where the `condensed` search may start (the explorer's re-solve after a small change).
+    pub warm_start: WarmStart,
+}
+
+/// The friction pattern of an earlier `condensed` solve, for the next solve's search to start
+/// from ([`super::solve_condensed_from`]): after a one-notch change at 4000 obstacles in
+/// clusters it settles in one pattern solve instead of an interior-point guess and two
+/// (`cargo bench --bench many_obstacles -- warm`). The search decides every DOF exactly
+/// whatever it starts from: the answer is the one without a start (on every scene of that
+/// benchmark and of the tests to the last bit), only the work differs. Not used while the
+/// convergence history is recorded (the iterations panel shows the search from its own
+/// start), and ignored when it is for another number of obstacles.
+#[derive(Debug, Clone, Default)]
+pub struct WarmStart(Option<Arc<FrictionPattern>>);
+
+impl WarmStart {
+    /// Start from `pattern`.
+    pub fn from_pattern(pattern: Arc<FrictionPattern>) -> WarmStart {
+        WarmStart(Some(pattern))
+    }
+
+    /// The pattern to start from, if any.
+    pub fn pattern(&self) -> Option<&FrictionPattern> {
+        self.0.as_deref()
+    }
+}
+
+/// Equal always: a start changes the work of a solve, not its result.
+impl PartialEq for WarmStart {
+    fn eq(&self, _: &WarmStart) -> bool {
+        true
+    }
 }
 
 /// Whether a solve is still wanted: the explorer's solver sets a generation counter when a
@@ -121,6 +155,7 @@ impl Default for SolveOptions {
             reference: true,
             history: false,
             cancel: Cancellation::NEVER,
+            warm_start: WarmStart::default(),
         }
     }
 }

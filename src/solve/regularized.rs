@@ -282,6 +282,7 @@ pub(super) fn regularized_output(
         friction_accuracy,
         // `regularized` enumerates and does not iterate; `regularized-newton` sets its own.
         history: None,
+        friction_pattern: None,
     }
 }
 

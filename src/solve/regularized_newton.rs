@@ -181,6 +181,7 @@ pub(super) fn solve(
     );
     Ok(MethodOutput {
         history: recorder.map(Recorder::finish),
+        friction_pattern: None,
         ..output
     })
 }

@@ -2,8 +2,10 @@
 //! stopwatch for their stages, the refusal of dense 2k × 2k matrices on too many obstacles,
 //! cancellation, and the common ending of the three dual methods (the box QP of (49)).
 
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use super::condensed::pattern::FrictionPattern;
 use super::friction_accuracy::{EntryErrors, FrictionAccuracy, friction_accuracy};
 use super::history::{History, ProgressMeasure, Recorder};
 use super::options::{ConditionLevel, SolveOptions};
@@ -37,6 +39,8 @@ pub(crate) struct MethodOutput {
     pub friction_accuracy: Option<FrictionAccuracy>,
     /// The convergence history, when asked for and the method iterates.
     pub history: Option<History>,
+    /// `condensed`: its final friction pattern, for a warm start of the next solve.
+    pub friction_pattern: Option<Arc<FrictionPattern>>,
 }
 
 /// Most obstacles for the methods that work with dense 2k × 2k matrices on the friction DOFs
@@ -142,6 +146,7 @@ pub(crate) fn dual_output(
             .unwrap_or(None),
         // The caller's recorder, if any, sets it.
         history: None,
+        friction_pattern: None,
     }
 }
 

@@ -412,6 +412,9 @@ pub struct Solution {
     /// The convergence history, when [`super::SolveOptions::history`] asked for it and the
     /// method iterates (`None` for `regularized` and `closed-form`).
     pub history: Option<History>,
+    /// `condensed`: its final friction pattern, to start the next solve's search from after a
+    /// small change ([`super::WarmStart`]).
+    pub friction_pattern: Option<std::sync::Arc<super::condensed::pattern::FrictionPattern>>,
 }
 
 impl Solution {

@@ -43,6 +43,7 @@ pub(in crate::solve) fn certify(
         regularized_cases,
         friction_accuracy,
         history,
+        friction_pattern,
     } = output;
     if let Some(w) = mesh_raised_warning(mesh) {
         warnings.insert(0, w);
@@ -105,6 +106,7 @@ pub(in crate::solve) fn certify(
         warnings,
         details,
         history,
+        friction_pattern,
     };
     debug_assert!(
         reference.is_some() || (method == Method::Condensed && !options.reference),

@@ -10,7 +10,7 @@ use crate::linalg::stop::Stop;
 use crate::model::{Method, Problem};
 use crate::solve::closed_form::closed_form;
 use crate::solve::condensed;
-use crate::solve::options::{Cancellation, ConditionLevel, SolveOptions};
+use crate::solve::options::{Cancellation, ConditionLevel, SolveOptions, WarmStart};
 use crate::solve::shared::MethodOutput;
 use crate::solve::solution::{ErrorReport, FrictionState, Reference, Solution};
 
@@ -24,6 +24,8 @@ pub(in crate::solve) struct MeshReference<'a> {
     mesh: &'a Mesh,
     /// Gives up (no reference) when the solve is not wanted any more.
     cancel: Cancellation,
+    /// Where the condensed search may start (the solve's own options').
+    warm_start: WarmStart,
     /// The condensed method's output and whether it certified itself; `None` inside: it
     /// failed or was cancelled.
     condensed: OnceCell<Option<CondensedRun>>,
@@ -41,16 +43,17 @@ struct CondensedRun {
 }
 
 impl<'a> MeshReference<'a> {
-    /// Nothing solved yet.
+    /// Nothing solved yet; cancelled and started as the solve of `options`.
     pub(in crate::solve) fn new(
         problem: &'a Problem,
         mesh: &'a Mesh,
-        cancel: Cancellation,
+        options: &SolveOptions,
     ) -> Self {
         MeshReference {
             problem,
             mesh,
-            cancel,
+            cancel: options.cancel.clone(),
+            warm_start: options.warm_start.clone(),
             condensed: OnceCell::new(),
         }
     }
@@ -61,6 +64,7 @@ impl<'a> MeshReference<'a> {
             condition: ConditionLevel::Off,
             reference: false,
             cancel: self.cancel.clone(),
+            warm_start: self.warm_start.clone(),
             ..SolveOptions::default()
         }
     }

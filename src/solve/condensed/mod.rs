@@ -98,6 +98,7 @@ use super::solution::{
 };
 use crate::fem::{Mesh, NodalField};
 use crate::model::{Method, Problem};
+pub use pattern::FrictionPattern;
 use search::{NEWTON_REVERSAL_FRACTIONS, solve_with_newton_phases};
 pub(crate) use structure::shooting_matrix;
 
@@ -137,20 +138,6 @@ pub struct SolveCounts {
     pub interior_steps: usize,
 }
 
-/// The friction pattern a condensed solve ended with (which DOFs are held, which move and
-/// their way), to start the next solve from ([`solve_condensed_from`]). Any pattern is a valid
-/// start: the search decides every DOF exactly whatever it starts from, so a start changes
-/// the number of solves, never what they converge to beyond rounding.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct FrictionPattern(Vec<system::Pattern>);
-
-impl FrictionPattern {
-    /// The number of friction DOFs (two per obstacle).
-    pub fn dofs(&self) -> usize {
-        self.0.len()
-    }
-}
-
 /// Why the condensed method has no solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CondensedFailure {
@@ -165,6 +152,7 @@ mod interior;
 mod line_search;
 mod mixed;
 mod nodes;
+pub(in crate::solve) mod pattern;
 mod refinement;
 mod scaling;
 mod search;
@@ -231,13 +219,15 @@ pub(super) fn solve(
         Method::Condensed,
         ProgressMeasure::KktResidual,
     );
+    // The iterations panel shows the search from its own start, whatever came before.
+    let start = options.warm_start.pattern().filter(|_| recorder.is_none());
     let solution = solve_with_newton_phases(
         problem,
         mesh,
         &NEWTON_REVERSAL_FRACTIONS,
         &mut keep_going,
         recorder.as_mut(),
-        None,
+        start,
     )
     .map_err(|failure| match failure {
         CondensedFailure::Singular { column } => SolveError {
@@ -277,5 +267,6 @@ pub(super) fn solve(
         regularized_cases: Vec::new(),
         friction_accuracy: None,
         history: recorder.map(Recorder::finish),
+        friction_pattern: Some(std::sync::Arc::new(solution.pattern)),
     })
 }

@@ -4,6 +4,7 @@
 //! (3)–(6) at the obstacles, the clamped ends — and one banded solve per pattern. Refinement
 //! is in `refinement`, what a solve says about each DOF in `decisions`.
 
+pub(super) use super::pattern::Pattern;
 use super::scaling::{ExactPiece, Piece, Scales};
 use super::{CondensedFailure, SolveCounts};
 use crate::fem::Mesh;
@@ -30,16 +31,6 @@ pub(super) enum Accuracy {
     /// decision is settled (its motion, or its force's excess over the threshold, beyond four
     /// times its last correction): enough to choose the next pattern, not to answer with.
     RefineForDecisions,
-}
-
-/// How a friction DOF enters the linear system.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(super) enum Pattern {
-    Stuck,
-    /// Moves with λ = +g.
-    Positive,
-    /// Moves with λ = −g.
-    Negative,
 }
 
 /// The dimensionless multiple-shooting system on the special points: the pieces (in f64 and

@@ -2,13 +2,17 @@
 //! (`condensed` on the same mesh, solved once for both the certificate and the chart) that the
 //! deflection panel draws under it. A [`SolveRequest`] says what a solve depends on; a
 //! [`Solved`] carries the request it answers, so an answer to an outdated request is dropped.
+//! After a change the request starts the condensed search from the final friction pattern of
+//! the solve shown ([`SolveRequest::starting_from`], a warm start): less work, the same answer.
+
+use std::sync::Arc;
 
 use crate::fem::Mesh;
 use crate::model::Problem;
 use crate::scene::{Scene, Settings};
 use crate::solve::{
-    ConditionLevel, Method, Solution, SolveError, SolveErrorKind, SolveOptions,
-    solve_with_condensed,
+    ConditionLevel, FrictionPattern, Method, Solution, SolveError, SolveErrorKind, SolveOptions,
+    WarmStart, solve_with_condensed,
 };
 
 /// What a solve depends on: the keystroke's re-solve is asked for by this, computed off the
@@ -44,6 +48,16 @@ impl SolveRequest {
             }
             _ => obstacles <= QUICK_OBSTACLES && self.elements <= QUICK_ELEMENTS,
         }
+    }
+
+    /// This request with the condensed search starting from the final friction pattern of
+    /// `solved` (the solve shown before a small change), if it has one: its own when the
+    /// method is `condensed`, else its reference's. The answer is the same, the work less.
+    pub fn starting_from(mut self, solved: Option<&Solved>) -> SolveRequest {
+        if let Some(pattern) = solved.and_then(Solved::friction_pattern) {
+            self.options.warm_start = WarmStart::from_pattern(pattern);
+        }
+        self
     }
 
     /// The solve a scene needs, with the problem and settings its validation built.
@@ -82,6 +96,14 @@ pub struct Solved {
 }
 
 impl Solved {
+    /// The final friction pattern of the condensed solve in this answer (the method's own or
+    /// its reference's), to start the next solve from.
+    pub fn friction_pattern(&self) -> Option<Arc<FrictionPattern>> {
+        let own = self.solution.as_ref().ok();
+        own.and_then(|s| s.friction_pattern.clone())
+            .or_else(|| self.reference.as_ref()?.friction_pattern.clone())
+    }
+
     /// Was the solve stopped by its cancellation (a newer request), its own or its
     /// reference's? Such a result answers nothing and is dropped.
     pub fn was_cancelled(&self) -> bool {

@@ -17,7 +17,8 @@ use super::refresh_sweeps;
 /// validation built. Nothing is solved here: the runtimes solve what the state wants.
 pub(super) fn request_solve(app: &mut App, problem: Problem, settings: Settings) {
     let exploration = &mut app.exploration;
-    exploration.wanted = SolveRequest::for_scene(&exploration.scene, &problem, settings);
+    exploration.wanted = SolveRequest::for_scene(&exploration.scene, &problem, settings)
+        .starting_from(exploration.shown.as_ref());
     exploration.problem = problem;
     refresh_sweeps(app);
 }
