@@ -33,10 +33,15 @@ pub(super) const NEWTON_REVERSAL_FRACTIONS: [f64; 2] = [0.0, 0.5];
 const INTERIOR_POINT_FROM: usize = 32;
 /// Most pattern solves from a warm start ([`super::solve_condensed_from`]) before the search
 /// starts over without it. Measured with `cargo bench --bench many_obstacles -- warm` (one
-/// notch of one threshold at k = 1000 and 4000): where the change stays local one solve
-/// settles it; where it does not, semismooth Newton from the old pattern diverges at once
-/// (thousands of DOFs inconsistent after the first step on the random family at k = 4000).
-const WARM_SOLVES: usize = 4;
+/// notch of one threshold at k = 1000 and 4000): on clustered scenes one solve settles it; on
+/// random ones the old pattern leaves 1–3 DOFs inconsistent and the monotone search settles
+/// them in 3–12 solves, where semismooth Newton from there went from 3 to 111 inconsistent
+/// DOFs at once (and to thousands without a guard).
+const WARM_SOLVES: usize = 16;
+/// Most DOFs the old pattern may leave inconsistent for a warm start to go on: after one
+/// notch on the ties family it leaves 1750 of 8000 (every force is at its threshold, so one
+/// change moves them all) and the monotone search would take hundreds of solves.
+const WARM_LOCAL: usize = 16;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -83,14 +88,15 @@ pub(super) fn solve_with_newton_phases(
             record_pattern(recorder, (problem, &scales, &system), solution, pattern);
         }
     };
-    // A warm start gets a few Newton steps while they get closer; otherwise the search
-    // starts over as without one (so it costs at most WARM_SOLVES more than a cold solve).
+    // A warm start whose first solve leaves few DOFs inconsistent (the change stayed local)
+    // gets a few steps of the monotone search; otherwise the search starts over as without
+    // one (so it costs one solve, or at most WARM_SOLVES, more than a cold solve).
     let mut warm_solves = 0;
     if let Some(start) = start.filter(|start| start.dofs() == 2 * obstacles) {
-        let mut attempt = PatternSearch::new(&system, obstacles, newton_phases);
+        let mut attempt = PatternSearch::new(&system, obstacles, &[]);
         attempt.pattern = start.0.clone();
         attempt.limit = WARM_SOLVES;
-        attempt.only_while_closer = true;
+        attempt.local_only = Some(WARM_LOCAL);
         let (solution, converged) = attempt.run(keep_going, &mut observe)?;
         if converged {
             return condensed_solution(
@@ -141,11 +147,9 @@ struct PatternSearch<'a> {
     solves: usize,
     /// Most linear solves.
     limit: usize,
-    /// A warm start's attempt: give up as soon as a solve leaves no fewer DOFs inconsistent
-    /// than the one before.
-    only_while_closer: bool,
-    /// The inconsistent DOFs of the last solve.
-    last_changes: usize,
+    /// A warm start's attempt: give up when the first solve leaves more DOFs inconsistent
+    /// than this (the change was not local).
+    local_only: Option<usize>,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
 }
@@ -207,8 +211,7 @@ impl<'a> PatternSearch<'a> {
             banded: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
             solves: 0,
             limit: 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS,
-            only_while_closer: false,
-            last_changes: usize::MAX,
+            local_only: None,
             newton: NewtonPhases {
                 fractions: newton_phases,
                 active: !newton_phases.is_empty(),
@@ -239,17 +242,21 @@ impl<'a> PatternSearch<'a> {
             if changes.is_empty() {
                 return Ok((solution, true));
             }
-            let further = self.only_while_closer && changes.len() >= self.last_changes;
-            if self.solves >= self.limit || further {
+            if self.solves >= self.limit || self.is_not_local(&changes) {
                 return Ok((solution, false));
             }
-            self.last_changes = changes.len();
             if self.newton.active {
                 self.newton_step(&changes);
             } else {
                 self.monotone_step(&solution, &changes);
             }
         }
+    }
+
+    /// A warm start's first solve leaves too many DOFs inconsistent for the change to be a
+    /// local one: the attempt gives up.
+    fn is_not_local(&self, changes: &[(usize, Pattern)]) -> bool {
+        self.solves == 1 && self.local_only.is_some_and(|most| changes.len() > most)
     }
 
     /// The forces with every DOF held, to about 106 bits (a pattern solve, refined): the
@@ -275,6 +282,10 @@ impl<'a> PatternSearch<'a> {
             system.solve_pattern(&self.pattern, Accuracy::Plain, &mut self.banded)?;
         self.solves += 1;
         let mut changes = inconsistent_dofs(system, &solution, &self.pattern);
+        if self.is_not_local(&changes) {
+            // A warm start that gives up here: no refinement to decide anything.
+            return Ok((solution, changes));
+        }
         // Newton steps take the decisions that elimination alone settles first, the others
         // on refined values once nothing else is left to change; the monotone search (which
         // must not be misled by a wrong sign) decides on refined values whenever any
