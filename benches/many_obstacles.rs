@@ -6,6 +6,7 @@
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
 //! cargo bench --bench many_obstacles -- explorer     # the explorer's whole re-solve, cold and warm
+//! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered (slow, open)
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -269,6 +270,32 @@ fn explorer_report() {
     }
 }
 
+/// The arrangement found slow in stop 34 (docs/numerics.md, "An arrangement still slow"): the
+/// ties family with the first obstacle's sliding threshold one notch down, solved cold. Sizes
+/// from `BEAMFRIC_FAMILY_K` (default 100,300,1000: k = 1000 takes about 20 s).
+fn lowered_report() {
+    println!("| k | time | pattern solves | interior steps | converged |");
+    println!("|---|---|---|---|---|");
+    let sizes = std::env::var("BEAMFRIC_FAMILY_K")
+        .map(|_| sizes())
+        .unwrap_or_else(|_| vec![100, 300, 1000]);
+    for k in sizes {
+        let mut scene = family_scene(Family::Ties, k, 14, ELEMENTS);
+        scene.obstacles[0].sliding /= NOTCH;
+        let problem = scene.problem().expect("a generated scene is valid");
+        let mesh = Mesh::new(&problem, ELEMENTS);
+        let start = Instant::now();
+        let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+        println!(
+            "| {k} | {:.1} ms | {} | {} | {} |",
+            1e3 * start.elapsed().as_secs_f64(),
+            solution.counts.pattern_solves,
+            solution.counts.interior_steps,
+            solution.converged
+        );
+    }
+}
+
 fn write_scenes(dir: &str) {
     std::fs::create_dir_all(dir).expect("the directory can be made");
     for family in families() {
@@ -291,6 +318,7 @@ fn main() {
         Some("report") => report(),
         Some("warm") => warm_report(),
         Some("explorer") => explorer_report(),
+        Some("lowered") => lowered_report(),
         _ => criterion_runs(),
     }
 }
