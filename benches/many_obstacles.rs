@@ -272,16 +272,21 @@ fn explorer_report() {
 
 /// The arrangement found slow in stop 34 (docs/numerics.md, "An arrangement still slow"): the
 /// ties family with the first obstacle's sliding threshold one notch down, solved cold. Sizes
-/// from `BEAMFRIC_FAMILY_K` (default 100,300,1000: k = 1000 takes about 20 s).
+/// from `BEAMFRIC_FAMILY_K` (default 100,300,1000), the number of notches from
+/// `BEAMFRIC_NOTCHES` (default 1).
 fn lowered_report() {
     println!("| k | time | pattern solves | interior steps | converged |");
     println!("|---|---|---|---|---|");
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")
         .map(|_| sizes())
         .unwrap_or_else(|_| vec![100, 300, 1000]);
+    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1);
     for k in sizes {
         let mut scene = family_scene(Family::Ties, k, 14, ELEMENTS);
-        scene.obstacles[0].sliding /= NOTCH;
+        scene.obstacles[0].sliding /= NOTCH.powi(notches);
         let problem = scene.problem().expect("a generated scene is valid");
         let mesh = Mesh::new(&problem, ELEMENTS);
         let start = Instant::now();

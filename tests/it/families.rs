@@ -266,3 +266,32 @@ fn the_explorer_starts_the_next_solve_from_the_pattern_shown() {
     update(&mut app, Msg::Solved(Box::new(warm)));
     assert!(app.exploration.is_current());
 }
+
+#[test]
+fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_reference() {
+    // The ties family with obstacle 0's sliding threshold one notch (10^−0.1) down: every
+    // other force sits at its threshold, and in the answer all DOFs but one move, the
+    // moments' signs turning at one obstacle the guess cannot place. Every Newton phase
+    // starts from the guess and the monotone search frees halves of the DOFs over their
+    // thresholds before single ones; before, the second phase started from all stuck and
+    // the search freed one DOF per solve (1705 pattern solves at k = 300, `cargo bench
+    // --bench many_obstacles -- lowered`).
+    use beamfric::solve::solve_condensed;
+    const NOTCH: f64 = 1.258_925_411_794_167_2;
+    let lowered = |k: usize, elements: usize| {
+        let mut scene = family_scene(Family::Ties, k, 14, elements);
+        scene.obstacles[0].sliding /= NOTCH;
+        scene
+    };
+    for k in [40, 100] {
+        check_stable(&format!("lowered ties k={k}"), &lowered(k, 400))
+            .unwrap_or_else(|why| panic!("{why}"));
+    }
+    let scene = lowered(300, 2000);
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = beamfric::fem::Mesh::new(&problem, 2000);
+    let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+    assert!(solution.converged);
+    let solves = solution.counts.pattern_solves;
+    assert!(solves <= 100, "{solves} pattern solves at k = 300");
+}
