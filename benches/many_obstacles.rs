@@ -18,7 +18,7 @@
 
 use std::time::{Duration, Instant};
 
-use beamfric::check::families::{Family, family_problem, family_scene};
+use beamfric::check::families::{Family, NOTCH, family_problem, family_scene, lowered_ties_scene};
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
 use beamfric::solve::{CondensedSolution, solve_condensed, solve_condensed_from};
@@ -141,9 +141,6 @@ fn report() {
         );
     }
 }
-
-/// One notch of the explorer's threshold keys (a fine step, ×10^0.1).
-const NOTCH: f64 = 1.258_925_411_794_167_2;
 
 /// The family's scene at k, and the same scene with the middle obstacle's sliding threshold
 /// stepped one notch `direction` (+1 up, −1 down), both with their meshes.
@@ -270,8 +267,7 @@ fn explorer_report() {
     }
 }
 
-/// The arrangement found slow in stop 34 (docs/numerics.md, "An arrangement still slow"): the
-/// ties family with the first obstacle's sliding threshold one notch down, solved cold. Sizes
+/// The arrangement found slow in stop 34 ([`lowered_ties_scene`]), solved cold. Sizes
 /// from `BEAMFRIC_FAMILY_K` (default 100,300,1000), the number of notches from
 /// `BEAMFRIC_NOTCHES` (default 1).
 fn lowered_report() {
@@ -280,13 +276,13 @@ fn lowered_report() {
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")
         .map(|_| sizes())
         .unwrap_or_else(|_| vec![100, 300, 1000]);
-    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1);
+    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES").map_or(1, |v| {
+        v.trim()
+            .parse()
+            .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
+    });
     for k in sizes {
-        let mut scene = family_scene(Family::Ties, k, 14, ELEMENTS);
-        scene.obstacles[0].sliding /= NOTCH.powi(notches);
+        let scene = lowered_ties_scene(k, notches, ELEMENTS);
         let problem = scene.problem().expect("a generated scene is valid");
         let mesh = Mesh::new(&problem, ELEMENTS);
         let start = Instant::now();

@@ -142,6 +142,18 @@ pub fn family_scene(family: Family, k: usize, seed: u64, elements: usize) -> Sce
     scene
 }
 
+/// One notch of the explorer's fine threshold step (×10^0.1).
+pub const NOTCH: f64 = 1.258_925_411_794_167_2;
+
+/// The ties scene (seed 14) with the first obstacle's sliding threshold `notches` notches
+/// down: every other force at its threshold while that obstacle slides, an arrangement slow
+/// for the pattern search (docs/numerics.md, "An arrangement still slow").
+pub fn lowered_ties_scene(k: usize, notches: i32, elements: usize) -> Scene {
+    let mut scene = family_scene(Family::Ties, k, 14, elements);
+    scene.obstacles[0].sliding /= NOTCH.powi(notches);
+    scene
+}
+
 /// [`family_scene`] validated, with its mesh.
 pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
     let scene = family_scene(family, k, seed, elements);

@@ -276,18 +276,16 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
     // thresholds before single ones; before, the second phase started from all stuck and
     // the search freed one DOF per solve (1705 pattern solves at k = 300, `cargo bench
     // --bench many_obstacles -- lowered`).
+    use beamfric::check::families::lowered_ties_scene;
     use beamfric::solve::solve_condensed;
-    const NOTCH: f64 = 1.258_925_411_794_167_2;
-    let lowered = |k: usize, elements: usize| {
-        let mut scene = family_scene(Family::Ties, k, 14, elements);
-        scene.obstacles[0].sliding /= NOTCH;
-        scene
-    };
     for k in [40, 100] {
-        check_stable(&format!("lowered ties k={k}"), &lowered(k, 400))
-            .unwrap_or_else(|why| panic!("{why}"));
+        check_stable(
+            &format!("lowered ties k={k}"),
+            &lowered_ties_scene(k, 1, 400),
+        )
+        .unwrap_or_else(|why| panic!("{why}"));
     }
-    let scene = lowered(300, 2000);
+    let scene = lowered_ties_scene(300, 1, 2000);
     let problem = scene.problem().expect("a generated scene is valid");
     let mesh = beamfric::fem::Mesh::new(&problem, 2000);
     let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
