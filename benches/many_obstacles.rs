@@ -6,7 +6,7 @@
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
 //! cargo bench --bench many_obstacles -- explorer     # the explorer's whole re-solve, cold and warm
-//! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered (slow, open)
+//! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered (worst found)
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -18,7 +18,9 @@
 
 use std::time::{Duration, Instant};
 
-use beamfric::check::families::{Family, NOTCH, family_problem, family_scene, lowered_ties_scene};
+use beamfric::check::families::{
+    Family, NOTCH, family_problem, family_scene, lowered_ties_scene_at,
+};
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
 use beamfric::solve::{CondensedSolution, solve_condensed, solve_condensed_from};
@@ -267,9 +269,11 @@ fn explorer_report() {
     }
 }
 
-/// The arrangement found slow in stop 34 ([`lowered_ties_scene`]), solved cold. Sizes
+/// The arrangement found slow in stop 34 ([`lowered_ties_scene_at`]), solved cold. Sizes
 /// from `BEAMFRIC_FAMILY_K` (default 100,300,1000), the number of notches from
-/// `BEAMFRIC_NOTCHES` (default 1).
+/// `BEAMFRIC_NOTCHES` (default 1), the threshold from `BEAMFRIC_LOWERED` (default
+/// `sliding:first`; `sliding` or `swivel`, then `first`, `last`, `third` (obstacle k/3) or an
+/// obstacle's index).
 fn lowered_report() {
     println!("| k | time | pattern solves | interior steps | converged |");
     println!("|---|---|---|---|---|");
@@ -281,8 +285,23 @@ fn lowered_report() {
             .parse()
             .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
     });
+    let lowered = std::env::var("BEAMFRIC_LOWERED").unwrap_or_else(|_| "sliding:first".into());
+    let usage = "BEAMFRIC_LOWERED: sliding or swivel, a colon, then first, last, third or an \
+                 obstacle's index, like swivel:third";
+    let (kind, which) = lowered.trim().split_once(':').expect(usage);
+    let swivel = match kind {
+        "sliding" => false,
+        "swivel" => true,
+        _ => panic!("{usage}"),
+    };
     for k in sizes {
-        let scene = lowered_ties_scene(k, notches, ELEMENTS);
+        let obstacle = match which {
+            "first" => 0,
+            "last" => k - 1,
+            "third" => k / 3,
+            index => index.parse().ok().filter(|&i| i < k).expect(usage),
+        };
+        let scene = lowered_ties_scene_at(k, (obstacle, swivel), notches, ELEMENTS);
         let problem = scene.problem().expect("a generated scene is valid");
         let mesh = Mesh::new(&problem, ELEMENTS);
         let start = Instant::now();

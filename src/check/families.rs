@@ -149,8 +149,24 @@ pub const NOTCH: f64 = 1.258_925_411_794_167_2;
 /// down: every other force at its threshold while that obstacle slides, an arrangement slow
 /// for the pattern search (docs/numerics.md, "An arrangement still slow").
 pub fn lowered_ties_scene(k: usize, notches: i32, elements: usize) -> Scene {
+    lowered_ties_scene_at(k, (0, false), notches, elements)
+}
+
+/// [`lowered_ties_scene`] with another threshold lowered: obstacle `obstacle`'s sliding
+/// threshold, or its swivel threshold where `swivel` is true.
+pub fn lowered_ties_scene_at(
+    k: usize,
+    (obstacle, swivel): (usize, bool),
+    notches: i32,
+    elements: usize,
+) -> Scene {
     let mut scene = family_scene(Family::Ties, k, 14, elements);
-    scene.obstacles[0].sliding /= NOTCH.powi(notches);
+    let lowered = &mut scene.obstacles[obstacle];
+    if swivel {
+        lowered.swivel /= NOTCH.powi(notches);
+    } else {
+        lowered.sliding /= NOTCH.powi(notches);
+    }
     scene
 }
 

@@ -293,3 +293,32 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
     let solves = solution.counts.pattern_solves;
     assert!(solves <= 100, "{solves} pattern solves at k = 300");
 }
+
+#[test]
+fn ties_freed_from_the_ends_of_a_stretch_settle_in_tens_of_solves() {
+    // The same arrangement at larger k: the guess holds a stretch of moments that all move
+    // in the answer, and each Newton step frees the next obstacle at each end of it. The
+    // fronts now go on 1, 2, 4, … obstacles per step; before, the Newton phase ended while
+    // freeing two DOFs per solve and the monotone search took 1371 pattern solves (one
+    // notch, k = 1000, 4.3 s) and 7500 (five notches, k = 4000, 110 s) (`cargo bench --bench
+    // many_obstacles -- lowered`).
+    use beamfric::check::families::lowered_ties_scene;
+    use beamfric::solve::solve_condensed;
+    check_stable(
+        "lowered ties k=100, five notches",
+        &lowered_ties_scene(100, 5, 400),
+    )
+    .unwrap_or_else(|why| panic!("{why}"));
+    for (k, notches, most) in [(1000, 1, 150), (4000, 5, 150)] {
+        let scene = lowered_ties_scene(k, notches, 4000);
+        let problem = scene.problem().expect("a generated scene is valid");
+        let mesh = beamfric::fem::Mesh::new(&problem, 4000);
+        let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+        assert!(solution.converged, "k = {k}, {notches} notches");
+        let solves = solution.counts.pattern_solves;
+        assert!(
+            solves <= most,
+            "{solves} pattern solves at k = {k}, {notches} notches"
+        );
+    }
+}

@@ -47,7 +47,9 @@
 //! the pattern is found by semismooth Newton (the primal–dual active set method): every inconsistent DOF changes at once — a stuck force above its threshold
 //! starts to move its way, a moving DOF that reverses is held (or, by the prediction λ + σc
 //! with σ a fraction of its diagonal stiffness, sent to the other bound). Two variants of σ
-//! are tried in turn, each abandoned on a repeated pattern or when it stops improving; then a
+//! are tried in turn, each abandoned on a repeated pattern or when it stops improving (a step
+//! that only frees stuck DOFs counts as improving, and where such steps free a stretch from
+//! its ends, each end goes on twice as far each step: `fronts`); then a
 //! monotone search takes over that can neither cycle nor stall: an exact line search on the
 //! convex, piecewise quadratic J between the current point and the optimum of the next
 //! pattern, adding stuck DOFs only at the optimum of a pattern, and only the worst one when
@@ -88,7 +90,8 @@
 //! banded system of a pattern and its solve), `mixed` and `interior` (the interior-point
 //! guess), `refinement` (double-double refinement and the
 //! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
-//! search's step), `search` (the Newton phases and the monotone search), `nodes` (every node
+//! search's step), `search` (the Newton phases and the monotone search), `fronts` (how far a
+//! Newton step that frees a stretch from its ends goes on), `nodes` (every node
 //! from its piece).
 
 use super::history::{ProgressMeasure, Recorder};
@@ -149,6 +152,7 @@ pub enum CondensedFailure {
 }
 
 mod decisions;
+mod fronts;
 mod interior;
 mod line_search;
 mod mixed;
