@@ -67,6 +67,23 @@ impl BandedSystem {
         self.rhs.resize(size, 0.0);
     }
 
+    /// Makes this a copy of `other`'s matrix (same band) with a zero right-hand side, reusing
+    /// this system's memory: for systems that differ from a common part in a few entries.
+    pub fn reset_to(&mut self, other: &BandedSystem) {
+        assert_eq!(
+            (self.lower, self.upper),
+            (other.lower, other.upper),
+            "the same band"
+        );
+        if let Some(factors) = self.factors.take() {
+            self.factor_storage = factors.entries;
+        }
+        self.size = other.size;
+        self.entries.clone_from(&other.entries);
+        self.rhs.clear();
+        self.rhs.resize(other.size, 0.0);
+    }
+
     /// Number of unknowns.
     pub fn size(&self) -> usize {
         self.size

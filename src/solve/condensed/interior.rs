@@ -24,7 +24,7 @@
 //! exactly; where the guess is poor, it costs solves, never the answer.
 
 use super::CondensedFailure;
-use super::mixed::Mixed;
+use super::mixed::{Mixed, MixedTemplate};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
@@ -89,6 +89,8 @@ type Step = Vec<[f64; 3]>;
 /// The interior-point iteration: the variables and the system their steps are solved with.
 struct InteriorPoint<'a> {
     system: &'a ShootingSystem,
+    /// What every step's system shares with the others.
+    template: MixedTemplate,
     banded: BandedSystem,
     /// Per column of `banded`'s system: the DOF whose force it holds.
     force_column: Vec<Option<usize>>,
@@ -142,7 +144,9 @@ impl ShootingSystem {
         }
         let mut banded = BandedSystem::new(0, super::system::BAND_LOWER, super::system::BAND_UPPER);
         let mut force_column = Vec::new();
-        let Ok((motion, _)) = self.solve_mixed(&start, &mut banded, &mut force_column) else {
+        let template = self.mixed_template();
+        let Ok((motion, _)) = self.solve_mixed(&template, &start, &mut banded, &mut force_column)
+        else {
             return Ok(None);
         };
         // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
@@ -178,6 +182,7 @@ impl ShootingSystem {
             .collect();
         let mut method = InteriorPoint {
             system: self,
+            template,
             banded,
             force_column,
             variables,
@@ -316,11 +321,16 @@ impl InteriorPoint<'_> {
         }
         let (_, force_changes) = if factor {
             self.system
-                .solve_mixed(&mixed, &mut self.banded, &mut self.force_column)
+                .solve_mixed(
+                    &self.template,
+                    &mixed,
+                    &mut self.banded,
+                    &mut self.force_column,
+                )
                 .ok()?
         } else {
             self.system
-                .resolve_mixed(&mixed, &self.banded, &self.force_column)?
+                .resolve_mixed(&self.template, &mixed, &self.banded, &self.force_column)?
         };
         Some(
             self.variables

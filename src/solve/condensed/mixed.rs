@@ -7,7 +7,7 @@
 //! from c), so neither is a small difference of large ones.
 
 use super::CondensedFailure;
-use super::system::{JUMPS, Pattern, ShootingSystem};
+use super::system::{BAND_LOWER, BAND_UPPER, JUMPS, Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
 
 /// The condition at one friction DOF: c − m = D (λ − λ₀) about a base force λ₀ and motion m
@@ -40,7 +40,47 @@ impl Mixed {
 /// Motions c and the changes of the forces λ − λ₀ per friction DOF.
 pub(super) type MotionsAndForces = (Vec<f64>, Vec<f64>);
 
+/// The part of the mixed system every interior-point step shares, assembled once: the moving
+/// pattern's matrix without the friction DOFs' columns, and the entries of those columns in
+/// the order of assembly (each step scales them by its weights). A step then copies the
+/// matrix and goes through a few entries per obstacle instead of assembling every piece
+/// again, with the same sums in the same order: the same bits.
+pub(super) struct MixedTemplate {
+    /// The matrix without the friction DOFs' columns and without the jumps.
+    shared: BandedSystem,
+    /// (row, column, value) in the friction DOFs' columns, in the order of assembly.
+    dof_entries: Vec<(usize, usize, f64)>,
+}
+
 impl ShootingSystem {
+    /// The part of the mixed system shared by every interior-point step.
+    pub(super) fn mixed_template(&self) -> MixedTemplate {
+        let size = 4 * self.pieces.len() - 2;
+        let dofs = 2 * self.point_of_obstacle.len();
+        let mut is_dof_column = vec![false; size];
+        for i in 0..dofs {
+            is_dof_column[self.dof_column(i)] = true;
+        }
+        let mut shared = BandedSystem::new(size, BAND_LOWER, BAND_UPPER);
+        let mut dof_entries = Vec::new();
+        self.assemble_matrix(
+            &vec![Pattern::Positive; dofs],
+            |p| self.pieces[p].transfer_matrix(),
+            |v| v,
+            |row, column, value| {
+                if is_dof_column[column] {
+                    dof_entries.push((row, column, value));
+                } else {
+                    shared.add(row, column, value);
+                }
+            },
+        );
+        MixedTemplate {
+            shared,
+            dof_entries,
+        }
+    }
+
     /// Does DOF i's column hold its force (D small against its compliance)?
     fn force_unknown(&self, i: usize, mixed: &Mixed) -> bool {
         mixed.weight * self.diagonal_stiffness(i) < 1.0
@@ -53,13 +93,14 @@ impl ShootingSystem {
     /// interior-point guess works on.
     pub(super) fn solve_mixed(
         &self,
+        template: &MixedTemplate,
         mixed: &[Mixed],
         banded: &mut BandedSystem,
         force_column: &mut Vec<Option<usize>>,
     ) -> Result<MotionsAndForces, CondensedFailure> {
-        banded.reset(4 * self.pieces.len() - 2);
+        banded.reset_to(&template.shared);
         self.force_columns(mixed, force_column);
-        let rhs = self.assemble_mixed(mixed, force_column, Some(banded));
+        let rhs = self.assemble_mixed(template, mixed, force_column, Some(banded));
         for (row, value) in rhs.into_iter().enumerate() {
             banded.add_rhs(row, value);
         }
@@ -74,11 +115,12 @@ impl ShootingSystem {
     /// back substitution. `None` without factors.
     pub(super) fn resolve_mixed(
         &self,
+        template: &MixedTemplate,
         mixed: &[Mixed],
         banded: &BandedSystem,
         force_column: &[Option<usize>],
     ) -> Option<MotionsAndForces> {
-        let mut x = self.assemble_mixed(mixed, force_column, None);
+        let mut x = self.assemble_mixed(template, mixed, force_column, None);
         banded.apply_inverse(&mut x).then_some(())?;
         Some(self.mixed_values(mixed, force_column, &x))
     }
@@ -94,34 +136,30 @@ impl ShootingSystem {
         }
     }
 
-    /// The right-hand side of the mixed system, and its matrix into `matrix` when given: the
-    /// moving pattern's matrix with c = D λ + r substituted where a force is the unknown, and
-    /// λ = (c − r)/D in the jump where the motion is.
+    /// The right-hand side of the mixed system, and its matrix into `matrix` when given (which
+    /// holds the template's shared part): the moving pattern's matrix with c = D λ + r
+    /// substituted where a force is the unknown, and λ = (c − r)/D in the jump where the
+    /// motion is.
     fn assemble_mixed(
         &self,
+        template: &MixedTemplate,
         mixed: &[Mixed],
         force_column: &[Option<usize>],
         mut matrix: Option<&mut BandedSystem>,
     ) -> Vec<f64> {
         let mut rhs = vec![0.0; 4 * self.pieces.len() - 2];
-        let moving = vec![Pattern::Positive; mixed.len()];
-        self.assemble_matrix(
-            &moving,
-            |p| self.pieces[p].transfer_matrix(),
-            |v| v,
-            |row, column, value| {
-                let entry = match force_column[column] {
-                    Some(i) => {
-                        rhs[row] -= value * mixed[i].offset();
-                        mixed[i].weight * value
-                    }
-                    None => value,
-                };
-                if let Some(m) = matrix.as_deref_mut() {
-                    m.add(row, column, entry);
+        for &(row, column, value) in &template.dof_entries {
+            let entry = match force_column[column] {
+                Some(i) => {
+                    rhs[row] -= value * mixed[i].offset();
+                    mixed[i].weight * value
                 }
-            },
-        );
+                None => value,
+            };
+            if let Some(m) = matrix.as_deref_mut() {
+                m.add(row, column, entry);
+            }
+        }
         for (i, m) in mixed.iter().enumerate() {
             let (row, column, sign) = self.jump_entry(i);
             let entry = if force_column[column].is_some() {
