@@ -277,7 +277,6 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
     // the search freed one DOF per solve (1705 pattern solves at k = 300, `cargo bench
     // --bench many_obstacles -- lowered`).
     use beamfric::check::families::lowered_ties_scene;
-    use beamfric::solve::solve_condensed;
     for k in [40, 100] {
         check_stable(
             &format!("lowered ties k={k}"),
@@ -285,13 +284,17 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
         )
         .unwrap_or_else(|why| panic!("{why}"));
     }
-    let scene = lowered_ties_scene(300, 1, 2000);
-    let problem = scene.problem().expect("a generated scene is valid");
-    let mesh = beamfric::fem::Mesh::new(&problem, 2000);
-    let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
-    assert!(solution.converged);
-    let solves = solution.counts.pattern_solves;
+    let solves = converged_pattern_solves(&lowered_ties_scene(300, 1, 2000), 2000);
     assert!(solves <= 100, "{solves} pattern solves at k = 300");
+}
+
+/// The pattern solves of `condensed` on `scene` with `elements`, which must converge.
+fn converged_pattern_solves(scene: &beamfric::scene::Scene, elements: usize) -> usize {
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = beamfric::fem::Mesh::new(&problem, elements);
+    let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("the scene solves");
+    assert!(solution.converged, "{}: not converged", scene.title);
+    solution.counts.pattern_solves
 }
 
 #[test]
@@ -303,19 +306,13 @@ fn ties_freed_from_the_ends_of_a_stretch_settle_in_tens_of_solves() {
     // notch, k = 1000, 4.3 s) and 7500 (five notches, k = 4000, 110 s) (`cargo bench --bench
     // many_obstacles -- lowered`).
     use beamfric::check::families::lowered_ties_scene;
-    use beamfric::solve::solve_condensed;
     check_stable(
         "lowered ties k=100, five notches",
         &lowered_ties_scene(100, 5, 400),
     )
     .unwrap_or_else(|why| panic!("{why}"));
     for (k, notches, most) in [(1000, 1, 150), (4000, 5, 150)] {
-        let scene = lowered_ties_scene(k, notches, 4000);
-        let problem = scene.problem().expect("a generated scene is valid");
-        let mesh = beamfric::fem::Mesh::new(&problem, 4000);
-        let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
-        assert!(solution.converged, "k = {k}, {notches} notches");
-        let solves = solution.counts.pattern_solves;
+        let solves = converged_pattern_solves(&lowered_ties_scene(k, notches, 4000), 4000);
         assert!(
             solves <= most,
             "{solves} pattern solves at k = {k}, {notches} notches"
