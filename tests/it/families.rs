@@ -319,3 +319,38 @@ fn ties_freed_from_the_ends_of_a_stretch_settle_in_tens_of_solves() {
         );
     }
 }
+
+#[test]
+fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
+    // The last obstacle's sliding threshold ten notches down: all DOFs but one move in the
+    // answer. The monotone search used to start from the Newton phases' pattern with the
+    // fewest inconsistent DOFs and change about one DOF per solve from there: 4540 pattern
+    // solves at k = 1500 (30 s), not converged after 16 144 at k = 2000 (333 s). It now
+    // starts from the solved point with the lowest J: 68 at k = 2000. Obstacle k/3's swivel
+    // threshold two notches down: the monotone search stalls either way, and after 64 solves
+    // the Newton phases run again from the projected Newton guess: 7881 → 841 pattern solves
+    // at k = 4000 (`cargo bench --bench many_obstacles -- lowered`).
+    use beamfric::check::families::lowered_ties_scene_at;
+    let last_sliding = |k: usize| (k - 1, false);
+    let third_swivel = |k: usize| (k / 3, true);
+    for (k, (obstacle, swivel), notches) in
+        [(100, last_sliding(100), 10), (100, third_swivel(100), 2)]
+    {
+        check_stable(
+            &format!("lowered ties k={k}, obstacle {obstacle} swivel {swivel}"),
+            &lowered_ties_scene_at(k, (obstacle, swivel), notches, 400),
+        )
+        .unwrap_or_else(|why| panic!("{why}"));
+    }
+    for (k, lowered, notches, most) in [
+        (2000, last_sliding(2000), 10, 300),
+        (4000, third_swivel(4000), 2, 1500),
+    ] {
+        let scene = lowered_ties_scene_at(k, lowered, notches, 4000);
+        let solves = converged_pattern_solves(&scene, 4000);
+        assert!(
+            solves <= most,
+            "{solves} pattern solves at k = {k}, {lowered:?} {notches} notches down"
+        );
+    }
+}

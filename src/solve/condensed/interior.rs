@@ -103,7 +103,7 @@ struct InteriorPoint<'a> {
 
 /// Per DOF, the bounds of its force change (`None` without friction), and the conditions
 /// with those of the frictionless DOFs set (their force back to zero).
-type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
+pub(super) type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
 
 impl ShootingSystem {
     /// The interior-point guess of the friction pattern about the held beam, whose forces
@@ -203,7 +203,7 @@ impl ShootingSystem {
     /// taken in double-double and rounded once; a threshold beyond any force the load can
     /// make (1e6 times the total load, times the length for a moment) is capped there, so
     /// that it does not set the scale of μ.
-    fn held_bounds(&self, held: &[DoubleDouble]) -> HeldBounds {
+    pub(super) fn held_bounds(&self, held: &[DoubleDouble]) -> HeldBounds {
         let length: f64 = self.pieces.iter().map(|p| p.length).sum();
         let total_load: f64 = self
             .pieces

@@ -123,6 +123,18 @@ impl ShootingSystem {
         }
     }
 
+    /// J of (38) at a point, up to a constant: ½ cᵀK c − bᵀc + Σ g|c| with K c = b − r, so
+    /// −½ cᵀ(b + r) + Σ g|c|, where b (`held`) are the forces with every DOF held.
+    pub(super) fn objective(&self, point: &SearchPoint, held: &[f64]) -> f64 {
+        point
+            .motion
+            .iter()
+            .zip(point.force.iter().zip(held))
+            .enumerate()
+            .map(|(i, (&c, (&r, &b)))| -0.5 * c * (b + r) + self.thresholds[i / 2][i % 2] * c.abs())
+            .sum()
+    }
+
     /// The pattern of a point: moving DOFs with their sign, zeros stuck.
     pub(super) fn signs_of(&self, point: &SearchPoint) -> Vec<Pattern> {
         point

@@ -151,6 +151,7 @@ pub enum CondensedFailure {
     Stopped,
 }
 
+mod answer;
 mod decisions;
 mod fronts;
 mod interior;
@@ -158,6 +159,7 @@ mod line_search;
 mod mixed;
 mod nodes;
 pub(in crate::solve) mod pattern;
+mod projected;
 mod refinement;
 mod scaling;
 mod search;

@@ -5,18 +5,17 @@
 
 use std::collections::HashSet;
 
+use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
 use super::line_search::SearchPoint;
-use super::nodes::nodal_field;
 use super::scaling::Scales;
 use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, ShootingSystem};
 use super::{CondensedFailure, CondensedSolution, FrictionPattern};
 use crate::fem::Mesh;
-use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
+use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
-use crate::solve::FrictionState;
-use crate::solve::history::{DofState, Recorder};
+use crate::solve::history::Recorder;
 
 /// Most solves of one semismooth Newton phase.
 const NEWTON_STEPS: usize = 40;
@@ -43,6 +42,13 @@ const WARM_SOLVES: usize = 16;
 /// notch on the ties family it leaves 1750 of 8000 (every force is at its threshold, so one
 /// change moves them all) and the monotone search would take hundreds of solves.
 const WARM_LOCAL: usize = 16;
+/// Solves of the monotone search before the Newton phases run again from the projected
+/// Newton guess ([`PatternSearch::restart_from_projected_guess`]). Measured on ties with
+/// thresholds lowered (`cargo bench --bench many_obstacles -- lowered`, k = 300 to 4000):
+/// with obstacle 0's sliding threshold one, two or five notches down and the last one's ten,
+/// the monotone search settled in 2–17 solves; with obstacle k/3's swivel threshold two
+/// notches down it took 7607 at k = 4000 (55 s), and the whole search 841 with the restart.
+const MONOTONE_BEFORE_PROJECTED: usize = 64;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -117,11 +123,13 @@ pub(super) fn solve_with_newton_phases(
             return Err(CondensedFailure::Stopped);
         }
         let held = search.held_forces()?;
-        if held.len() == 2 * obstacles
-            && let Some(guess) = system.interior_point_pattern(&held, keep_going)?
-        {
-            search.pattern = guess.clone();
-            search.newton.start = Some(guess);
+        if held.len() == 2 * obstacles {
+            if let Some(guess) = system.interior_point_pattern(&held, keep_going)? {
+                search.pattern = guess.clone();
+                search.newton.start = Some(guess);
+            }
+            search.newton.held_values = Some(held.iter().map(|h| h.value()).collect());
+            search.newton.held = Some(held);
         }
     }
     let (solution, converged) = search.run(keep_going, &mut observe)?;
@@ -167,10 +175,15 @@ struct NewtonPhases<'a> {
     phase_start: usize,
     /// The fewest inconsistent DOFs seen in this phase, and when.
     fewest_changes: (usize, usize),
-    /// Over every Newton phase: the solved pattern with the fewest inconsistent DOFs, where
-    /// the monotone search starts (any start is a point it then only improves; from all stuck
-    /// it frees the DOFs a line search at a time, O(k) solves when hundreds move).
-    best_start: (usize, Option<Vec<Pattern>>),
+    /// Over every Newton phase: the solved pattern whose point has the lowest J (where the
+    /// held forces are known, else the one with the fewest inconsistent DOFs) and that
+    /// measure, where the monotone search starts (any start is a point it then only
+    /// improves; from all stuck it frees the DOFs a line search at a time, O(k) solves when
+    /// hundreds move). Measured on ties with the last obstacle's sliding threshold ten
+    /// notches down (`cargo bench --bench many_obstacles -- lowered`): from the fewest
+    /// inconsistent DOFs it took 4540 pattern solves at k = 1500 and did not converge in
+    /// 16 144 at k = 2000; from the lowest J, 109 and 68.
+    best_start: (f64, Option<Vec<Pattern>>),
     /// Patterns this phase has solved, by fingerprint (hashing 8000 states with SipHash cost
     /// 2 % of a 4000-obstacle solve; a collision would only end a Newton phase early).
     seen: HashSet<u64>,
@@ -181,6 +194,13 @@ struct NewtonPhases<'a> {
     freeing_steps: usize,
     /// Where such steps free a stretch from its ends, the fronts that free it faster.
     fronts: Fronts,
+    /// The held forces, until the monotone search has gone on for
+    /// [`MONOTONE_BEFORE_PROJECTED`] solves: then the projected Newton guess (`projected`) is
+    /// made from them and the phases run again from it, once.
+    held: Option<Vec<DoubleDouble>>,
+    /// The held forces in f64 (b of J), where known: the best start is then the solved
+    /// point with the lowest J, else the pattern with the fewest inconsistent DOFs.
+    held_values: Option<Vec<f64>>,
 }
 
 /// The state of the monotone search.
@@ -195,6 +215,8 @@ struct MonotoneSearch {
     /// many_obstacles -- lowered`, k = 1000): the worst one alone took 2725 pattern solves,
     /// halving 1371.
     fallback: Vec<Vec<Pattern>>,
+    /// The solve it started at.
+    started_at: usize,
 }
 
 /// The DOFs whose state `solution` contradicts, with the pattern each wants.
@@ -224,7 +246,7 @@ impl<'a> PatternSearch<'a> {
             pattern: vec![Pattern::Stuck; dofs],
             banded: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
             solves: 0,
-            limit: 4 * dofs + 64 + newton_phases.len() * NEWTON_STEPS,
+            limit: 4 * dofs + 64 + 2 * newton_phases.len() * NEWTON_STEPS,
             local_only: None,
             newton: NewtonPhases {
                 fractions: newton_phases,
@@ -232,11 +254,13 @@ impl<'a> PatternSearch<'a> {
                 phase: 0,
                 phase_start: 0,
                 fewest_changes: (usize::MAX, 0),
-                best_start: (usize::MAX, None),
+                best_start: (f64::INFINITY, None),
                 seen: HashSet::new(),
                 start: None,
                 freeing_steps: 0,
                 fronts: Fronts::default(),
+                held: None,
+                held_values: None,
             },
             monotone: MonotoneSearch::default(),
         }
@@ -263,8 +287,10 @@ impl<'a> PatternSearch<'a> {
                 return Ok((solution, false));
             }
             if self.newton.active {
-                self.newton_step(&changes);
-            } else {
+                self.newton_step(&solution, &changes);
+            } else if self.solves < self.monotone.started_at + MONOTONE_BEFORE_PROJECTED
+                || !self.restart_from_projected_guess(keep_going)?
+            {
                 self.monotone_step(&solution, &changes);
             }
         }
@@ -345,12 +371,18 @@ impl<'a> PatternSearch<'a> {
     /// on along its fronts (`fronts`): on that arrangement with five notches at k = 4000 the
     /// phase used to end while freeing a stretch two DOFs per solve, and the monotone search
     /// then took 7500 solves (110 s).
-    fn newton_step(&mut self, changes: &[(usize, Pattern)]) {
+    fn newton_step(&mut self, solution: &PatternSolution, changes: &[(usize, Pattern)]) {
         let (solves, dofs) = (self.solves, self.pattern.len());
         let newton = &mut self.newton;
         newton.seen.insert(fingerprint(&self.pattern));
-        if changes.len() < newton.best_start.0 {
-            newton.best_start = (changes.len(), Some(self.pattern.clone()));
+        let measure = match &newton.held_values {
+            Some(held) => self
+                .system
+                .objective(&self.system.search_point(solution), held),
+            None => changes.len() as f64,
+        };
+        if measure < newton.best_start.0 {
+            newton.best_start = (measure, Some(self.pattern.clone()));
         }
         let only_frees = changes
             .iter()
@@ -388,12 +420,51 @@ impl<'a> PatternSearch<'a> {
                 Some(&fraction) => self.system.reversal_fraction.set(fraction),
                 None => {
                     newton.active = false;
+                    self.monotone.started_at = solves;
                     if let Some(start) = newton.best_start.1.take() {
                         self.pattern = start;
                     }
                 }
             }
         }
+    }
+
+    /// When the monotone search has gone on for [`MONOTONE_BEFORE_PROJECTED`] solves: the
+    /// Newton phases again, from the projected Newton guess (`projected`), once, if there
+    /// are held forces to make it from; the monotone search then starts over from the point
+    /// with the lowest J, its own present one or one of theirs. Whether it restarted.
+    fn restart_from_projected_guess(
+        &mut self,
+        keep_going: &mut dyn FnMut() -> bool,
+    ) -> Result<bool, CondensedFailure> {
+        let (Some(held), Some(held_values)) = (self.newton.held.take(), &self.newton.held_values)
+        else {
+            return Ok(false);
+        };
+        let Some(guess) = self.system.projected_newton_pattern(&held, keep_going)? else {
+            return Ok(false);
+        };
+        let present = match self.monotone.current.take() {
+            Some(point) => self.system.objective(&point, held_values),
+            None => f64::INFINITY,
+        };
+        self.monotone = MonotoneSearch::default();
+        let solves = self.solves;
+        let newton = &mut self.newton;
+        newton.best_start = (
+            present,
+            Some(std::mem::replace(&mut self.pattern, guess.clone())),
+        );
+        newton.start = Some(guess);
+        newton.active = true;
+        newton.phase = 0;
+        newton.phase_start = solves;
+        newton.fewest_changes = (usize::MAX, solves);
+        newton.seen.clear();
+        newton.freeing_steps = 0;
+        newton.fronts.reset();
+        self.system.reversal_fraction.set(newton.fractions[0]);
+        Ok(true)
     }
 
     /// Stage two in the monotone search: a step towards the optimum of the current pattern
@@ -470,115 +541,4 @@ impl<'a> PatternSearch<'a> {
         }
         self.monotone.current = Some(c);
     }
-}
-
-/// The last stage: the final pattern's solution in SI units — the friction states, the
-/// friction forces (a moving DOF's exactly its threshold) and every node (asking `keep_going`
-/// as it goes).
-fn condensed_solution(
-    (problem, mesh, scales): (&Problem, &Mesh, &Scales),
-    system: &ShootingSystem,
-    (solution, pattern): (&PatternSolution, &[Pattern]),
-    (solves, converged): (usize, bool),
-    keep_going: &mut dyn FnMut() -> bool,
-) -> Result<CondensedSolution, CondensedFailure> {
-    let states: Vec<[FrictionState; 2]> = (0..problem.obstacles.len())
-        .map(|j| {
-            [
-                system.state(solution, pattern, 2 * j),
-                system.state(solution, pattern, 2 * j + 1),
-            ]
-        })
-        .collect();
-    let friction = physical_friction(problem, scales, solution, pattern);
-    let field = nodal_field(mesh, system, solution, scales, keep_going)?;
-    Ok(CondensedSolution {
-        field,
-        friction,
-        states,
-        solves,
-        counts: system.counts.get(),
-        pattern: FrictionPattern(pattern.to_vec()),
-        converged,
-    })
-}
-
-/// The friction forces of a pattern's solution in SI units, (force [N], moment [N m]) per
-/// obstacle: a moving DOF's exactly its threshold, a stuck one's solved force clamped to it.
-fn physical_friction(
-    problem: &Problem,
-    scales: &Scales,
-    solution: &PatternSolution,
-    pattern: &[Pattern],
-) -> Vec<[f64; 2]> {
-    problem
-        .obstacles
-        .iter()
-        .enumerate()
-        .map(|(j, o)| {
-            let physical = |d: usize, threshold: f64, exponent: i32| match pattern[2 * j + d] {
-                // Exactly the threshold: no round trip through the scaling.
-                Pattern::Positive => threshold,
-                Pattern::Negative => -threshold,
-                Pattern::Stuck => {
-                    let l = times_power_of_two(solution.lambda[2 * j + d], exponent);
-                    l.clamp(-threshold, threshold)
-                }
-            };
-            [
-                physical(0, o.sliding_threshold, scales.force()),
-                physical(1, o.swivel_threshold, scales.moment()),
-            ]
-        })
-        .collect()
-}
-
-/// Records one pattern solve: the KKT residual of (38)'s friction conditions on it — the
-/// worst of a stuck force's excess over its threshold, relative to the largest force of its
-/// kind (or the threshold, if larger), and a moving DOF's motion against its force's sign,
-/// relative to the largest motion of its kind — the pattern as the states, and the forces in
-/// SI units as the answer would report them.
-fn record_pattern(
-    recorder: &mut Recorder,
-    (problem, scales, system): (&Problem, &Scales, &ShootingSystem),
-    solution: &PatternSolution,
-    pattern: &[Pattern],
-) {
-    let ratio = |violation: f64, scale: f64| {
-        if violation > 0.0 && scale > 0.0 {
-            violation / scale
-        } else {
-            0.0
-        }
-    };
-    let residual = (0..pattern.len())
-        .map(|i| {
-            let d = i % 2;
-            let g = system.thresholds[i / 2][d];
-            match pattern[i] {
-                Pattern::Stuck => ratio(
-                    solution.lambda[i].abs() - g,
-                    solution.largest_force[d].max(g),
-                ),
-                Pattern::Positive => ratio(
-                    -system.friction_value(solution, i),
-                    solution.largest_motion[d],
-                ),
-                Pattern::Negative => ratio(
-                    system.friction_value(solution, i),
-                    solution.largest_motion[d],
-                ),
-            }
-        })
-        .fold(0.0f64, f64::max);
-    let states: Vec<DofState> = pattern
-        .iter()
-        .map(|state| match state {
-            Pattern::Stuck => DofState::Inside,
-            Pattern::Negative => DofState::AtLower,
-            Pattern::Positive => DofState::AtUpper,
-        })
-        .collect();
-    let forces = physical_friction(problem, scales, solution, pattern);
-    recorder.record(residual, None, &states, forces);
 }

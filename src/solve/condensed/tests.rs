@@ -75,3 +75,35 @@ fn each_newton_variant_first_gives_the_same_solution() {
         assert_eq!(solution.states, reference.states, "σ fraction {fraction}");
     }
 }
+
+#[test]
+fn the_projected_newton_guess_is_the_answer_on_small_crowded_scenes() {
+    // Within its 60 steps (83 for the two scenes together); at k = 200 (crowded(200, 3)) it
+    // stops at 60 with some DOFs wrong: a guess.
+    use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, ShootingSystem};
+    use crate::linalg::banded_lu::BandedSystem;
+    for (k, seed) in [(40, 2), (60, 7)] {
+        let problem = crowded(k, seed);
+        let mesh = Mesh::new(&problem, 4 * (k + 1));
+        let answer = solve_condensed(&problem, &mesh).unwrap();
+        assert!(answer.converged);
+        let scales = scaling::Scales::of(&problem);
+        let system = ShootingSystem::new(&problem, &mesh, &scales, NEWTON_REVERSAL_FRACTIONS[0]);
+        let held = vec![Pattern::Stuck; 2 * k];
+        let mut banded = BandedSystem::new(0, BAND_LOWER, BAND_UPPER);
+        system
+            .solve_pattern(&held, Accuracy::Plain, &mut banded)
+            .unwrap();
+        let refined = system
+            .solve_pattern(&held, Accuracy::RefineLast, &mut banded)
+            .unwrap();
+        let forces = refined.exact.unwrap().force;
+        let guess = system
+            .projected_newton_pattern(&forces, &mut || true)
+            .unwrap()
+            .unwrap();
+        let moving = guess.iter().filter(|&&p| p != Pattern::Stuck).count();
+        assert!(moving > 0 && moving < 2 * k, "k = {k}: {moving} moving");
+        assert_eq!(guess, answer.pattern.0, "k = {k}");
+    }
+}
