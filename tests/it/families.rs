@@ -327,8 +327,8 @@ fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
     // fewest inconsistent DOFs and change about one DOF per solve from there: 4540 pattern
     // solves at k = 1500 (30 s), not converged after 16 144 at k = 2000 (333 s). It now
     // starts from the solved point with the lowest J: 68 at k = 2000. Obstacle k/3's swivel
-    // threshold two notches down: the monotone search stalls either way, and after 64 solves
-    // the Newton phases run again from the projected Newton guess: 7881 → 841 pattern solves
+    // threshold two notches down: the monotone search stalls either way, and after 32 solves
+    // the Newton phases run again from the projected Newton guess: 7881 → 809 pattern solves
     // at k = 4000 (`cargo bench --bench many_obstacles -- lowered`).
     use beamfric::check::families::lowered_ties_scene_at;
     let last_sliding = |k: usize| (k - 1, false);

@@ -33,7 +33,7 @@ use crate::linalg::double_double::DoubleDouble;
 /// Most projected Newton steps. Measured on ties with obstacle k/3's swivel threshold two
 /// notches down at k = 4000 (`cargo bench --bench many_obstacles -- lowered`), the pattern
 /// solves of the whole search with a cap of 0, 3, 15, 30, 60 and 120 steps: 7284, 5716, 967,
-/// 1058, 841 and 975.
+/// 1058, 841 and 975 (with the restart after 64 monotone solves).
 const MOST_STEPS: usize = 60;
 /// Most halvings of one projected search.
 const MOST_HALVINGS: usize = 40;

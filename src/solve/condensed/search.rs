@@ -47,8 +47,11 @@ const WARM_LOCAL: usize = 16;
 /// thresholds lowered (`cargo bench --bench many_obstacles -- lowered`, k = 300 to 4000):
 /// with obstacle 0's sliding threshold one, two or five notches down and the last one's ten,
 /// the monotone search settled in 2–17 solves; with obstacle k/3's swivel threshold two
-/// notches down it took 7607 at k = 4000 (55 s), and the whole search 841 with the restart.
-const MONOTONE_BEFORE_PROJECTED: usize = 64;
+/// notches down it took 7607 at k = 4000 (55 s). The whole search with the restart after 16,
+/// 32 or 64 solves: that swivel case 793, 809, 841; the last swivel threshold one notch down
+/// at k = 1000 86, 102, 134; the last sliding threshold ten notches down at k = 4000 183,
+/// 109, 109.
+const MONOTONE_BEFORE_PROJECTED: usize = 32;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
