@@ -3,6 +3,7 @@
 //! of a point.
 
 use super::system::{Pattern, PatternSolution, ShootingSystem};
+use crate::linalg::double_double::DoubleDouble;
 
 /// A point of the monotone search on the friction DOFs: the motions c and the forces
 /// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
@@ -125,13 +126,15 @@ impl ShootingSystem {
 
     /// J of (38) at a point, up to a constant: ½ cᵀK c − bᵀc + Σ g|c| with K c = b − r, so
     /// −½ cᵀ(b + r) + Σ g|c|, where b (`held`) are the forces with every DOF held.
-    pub(super) fn objective(&self, point: &SearchPoint, held: &[f64]) -> f64 {
+    pub(super) fn objective(&self, point: &SearchPoint, held: &[DoubleDouble]) -> f64 {
         point
             .motion
             .iter()
             .zip(point.force.iter().zip(held))
             .enumerate()
-            .map(|(i, (&c, (&r, &b)))| -0.5 * c * (b + r) + self.thresholds[i / 2][i % 2] * c.abs())
+            .map(|(i, (&c, (&r, b)))| {
+                -0.5 * c * (b.value() + r) + self.thresholds[i / 2][i % 2] * c.abs()
+            })
             .sum()
     }
 

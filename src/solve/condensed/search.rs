@@ -131,7 +131,6 @@ pub(super) fn solve_with_newton_phases(
                 search.pattern = guess.clone();
                 search.newton.start = Some(guess);
             }
-            search.newton.held_values = Some(held.iter().map(|h| h.value()).collect());
             search.newton.held = Some(held);
         }
     }
@@ -197,13 +196,27 @@ struct NewtonPhases<'a> {
     freeing_steps: usize,
     /// Where such steps free a stretch from its ends, the fronts that free it faster.
     fronts: Fronts,
-    /// The held forces, until the monotone search has gone on for
-    /// [`MONOTONE_BEFORE_PROJECTED`] solves: then the projected Newton guess (`projected`) is
-    /// made from them and the phases run again from it, once.
+    /// The held forces (b of J), where known (from [`INTERIOR_POINT_FROM`] obstacles): the
+    /// best start is then the solved point with the lowest J, else the pattern with the
+    /// fewest inconsistent DOFs; and once the monotone search has gone on for
+    /// [`MONOTONE_BEFORE_PROJECTED`] solves, the projected Newton guess (`projected`) is made
+    /// from them and the phases run again from it.
     held: Option<Vec<DoubleDouble>>,
-    /// The held forces in f64 (b of J), where known: the best start is then the solved
-    /// point with the lowest J, else the pattern with the fewest inconsistent DOFs.
-    held_values: Option<Vec<f64>>,
+    /// That restart has happened (it happens once).
+    restarted: bool,
+}
+
+impl NewtonPhases<'_> {
+    /// Phase `phase` begins at solve `solves`: no stall, no freeing steps, no fronts, no
+    /// pattern seen yet.
+    fn begin_phase(&mut self, phase: usize, solves: usize) {
+        self.phase = phase;
+        self.phase_start = solves;
+        self.fewest_changes = (usize::MAX, solves);
+        self.seen.clear();
+        self.freeing_steps = 0;
+        self.fronts.reset();
+    }
 }
 
 /// The state of the monotone search.
@@ -263,7 +276,7 @@ impl<'a> PatternSearch<'a> {
                 freeing_steps: 0,
                 fronts: Fronts::default(),
                 held: None,
-                held_values: None,
+                restarted: false,
             },
             monotone: MonotoneSearch::default(),
         }
@@ -378,7 +391,7 @@ impl<'a> PatternSearch<'a> {
         let (solves, dofs) = (self.solves, self.pattern.len());
         let newton = &mut self.newton;
         newton.seen.insert(fingerprint(&self.pattern));
-        let measure = match &newton.held_values {
+        let measure = match &newton.held {
             Some(held) => self
                 .system
                 .objective(&self.system.search_point(solution), held),
@@ -408,13 +421,8 @@ impl<'a> PatternSearch<'a> {
             || stalled
             || solves >= newton.phase_start + newton.freeing_steps + NEWTON_STEPS
         {
-            newton.fewest_changes = (usize::MAX, solves);
-            newton.freeing_steps = 0;
-            newton.fronts.reset();
             // Next Newton variant, or the monotone search; both from the start.
-            newton.phase += 1;
-            newton.phase_start = solves;
-            newton.seen.clear();
+            newton.begin_phase(newton.phase + 1, solves);
             self.pattern = match &newton.start {
                 Some(start) => start.clone(),
                 None => vec![Pattern::Stuck; dofs],
@@ -440,15 +448,16 @@ impl<'a> PatternSearch<'a> {
         &mut self,
         keep_going: &mut dyn FnMut() -> bool,
     ) -> Result<bool, CondensedFailure> {
-        let (Some(held), Some(held_values)) = (self.newton.held.take(), &self.newton.held_values)
-        else {
+        let newton = &mut self.newton;
+        let Some(held) = newton.held.as_ref().filter(|_| !newton.restarted) else {
             return Ok(false);
         };
-        let Some(guess) = self.system.projected_newton_pattern(&held, keep_going)? else {
+        newton.restarted = true;
+        let Some(guess) = self.system.projected_newton_pattern(held, keep_going)? else {
             return Ok(false);
         };
         let present = match self.monotone.current.take() {
-            Some(point) => self.system.objective(&point, held_values),
+            Some(point) => self.system.objective(&point, held),
             None => f64::INFINITY,
         };
         self.monotone = MonotoneSearch::default();
@@ -460,12 +469,7 @@ impl<'a> PatternSearch<'a> {
         );
         newton.start = Some(guess);
         newton.active = true;
-        newton.phase = 0;
-        newton.phase_start = solves;
-        newton.fewest_changes = (usize::MAX, solves);
-        newton.seen.clear();
-        newton.freeing_steps = 0;
-        newton.fronts.reset();
+        newton.begin_phase(0, solves);
         self.system.reversal_fraction.set(newton.fractions[0]);
         Ok(true)
     }
