@@ -17,8 +17,8 @@
 //! can only call the DOF a tie; g − λ_h, taken in double-double, is a number of its own, and
 //! the iteration decides it like any other. The iteration stops when μ is 1e-12 of the
 //! smallest DOF's own scale (its nearest bound times the motions), so that a DOF whose bound
-//! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 13–27
-//! steps on the random and clustered families, 44–64 on ties.
+//! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 14–25
+//! steps on the random and clustered families, 33–48 on ties.
 //!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
 //! exactly; where the guess is poor, it costs solves, never the answer.
@@ -30,8 +30,9 @@ use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
 
 /// Most interior-point steps. Measured on the ties family (`cargo bench --bench
-/// many_obstacles -- report`): at k = 4000 it reaches its μ in 64 steps, and a cap of 40 or
-/// 50 left a guess that cost 1037 or 443 pattern solves.
+/// many_obstacles -- report`): at k = 4000 it reaches its μ in 48 steps (64 when the forces
+/// and the motions took one step length), and there a cap of 40 or 50 left a guess that cost
+/// 1037 or 443 pattern solves.
 const MOST_STEPS: usize = 80;
 
 /// μ, relative to the smallest DOF's own scale, at which the guess is taken.
@@ -293,11 +294,14 @@ impl InteriorPoint<'_> {
                 // Rounding has closed a slack: the iterate so far is the guess.
                 return Ok(done + 1);
             }
-            let length = (TO_BOUNDARY * self.largest_step(&step)).min(1.0);
+            // The forces and the motions each go as far as their own bounds allow.
+            let (force_reach, motion_reach) = self.largest_steps(&step);
+            let force_length = (TO_BOUNDARY * force_reach).min(1.0);
+            let motion_length = (TO_BOUNDARY * motion_reach).min(1.0);
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
-                v.force += length * dl;
-                v.positive += length * dp;
-                v.negative += length * dq;
+                v.force += force_length * dl;
+                v.positive += motion_length * dp;
+                v.negative += motion_length * dq;
             }
         }
         Ok(MOST_STEPS)
@@ -363,6 +367,32 @@ impl InteriorPoint<'_> {
             limit(v.slack_below(), dl);
         }
         alpha.max(0.0)
+    }
+
+    /// The largest α ≤ 1 keeping s⁺ and s⁻ non-negative along `step`, and the largest keeping
+    /// p and q non-negative. The iteration takes the two lengths separately, as interior-point
+    /// methods for linear programs take the primal and the dual one: each step's system asks
+    /// for c = D λ + r whatever the iterate's p − q is, so the motions may lag the forces for a
+    /// step. Measured against one common length (`cargo bench --bench many_obstacles --
+    /// report`, k = 128, 1000, 4000): 19, 27, 27 → 16, 25, 21 steps on the random family,
+    /// 15, 16, 16 → 14, 15, 15 on clustered, 19, 21, 27 → 18, 21, 21 on mixed and 44, 53,
+    /// 64 → 33, 43, 48 on ties, with the same 2 pattern solves each.
+    fn largest_steps(&self, step: &Step) -> (f64, f64) {
+        let (mut forces, mut motions) = (1.0f64, 1.0f64);
+        for (v, &[dl, dp, dq]) in self.variables.iter().zip(step) {
+            if dp < 0.0 {
+                motions = motions.min(-v.positive / dp);
+            }
+            if dq < 0.0 {
+                motions = motions.min(-v.negative / dq);
+            }
+            if dl > 0.0 {
+                forces = forces.min(v.slack_above() / dl);
+            } else if dl < 0.0 {
+                forces = forces.min(-v.slack_below() / dl);
+            }
+        }
+        (forces.max(0.0), motions.max(0.0))
     }
 
     /// The pattern the iterate describes: a DOF moves where its motion (as the force its
