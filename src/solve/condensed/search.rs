@@ -52,6 +52,14 @@ const WARM_LOCAL: usize = 16;
 /// at k = 1000 86, 102, 134; the last sliding threshold ten notches down at k = 4000 183,
 /// 109, 109.
 const MONOTONE_BEFORE_PROJECTED: usize = 32;
+/// Uncertain decisions left when a Newton phase (which takes the certain decisions first)
+/// would end, from which it goes on instead, every step refined as far as its decisions need
+/// and all of them taken. Measured on ties with a swivel threshold lowered (`cargo bench
+/// --bench many_obstacles -- lowered`): the certain changes cycle among 2 or 3 DOFs while
+/// thousands of decisions wait on rounding, and the monotone search from there took 801–925
+/// pattern solves (8–33 s) at k = 4000 with obstacle k/3's threshold lowered one, two or
+/// five notches; going on with refined decisions, 258–283 (1.3–3.9 s).
+const REFINED_PHASE_FROM: usize = 16;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -204,6 +212,11 @@ struct NewtonPhases<'a> {
     held: Option<Vec<DoubleDouble>>,
     /// That restart has happened (it happens once).
     restarted: bool,
+    /// Uncertain decisions in the last solve, before any refinement.
+    uncertain_left: usize,
+    /// This phase decides every step on refined values (it has gone on from where it would
+    /// have ended with [`REFINED_PHASE_FROM`] decisions or more uncertain).
+    refined_decisions: bool,
 }
 
 impl NewtonPhases<'_> {
@@ -216,6 +229,7 @@ impl NewtonPhases<'_> {
         self.seen.clear();
         self.freeing_steps = 0;
         self.fronts.reset();
+        self.refined_decisions = false;
     }
 }
 
@@ -262,7 +276,7 @@ impl<'a> PatternSearch<'a> {
             pattern: vec![Pattern::Stuck; dofs],
             banded: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
             solves: 0,
-            limit: 4 * dofs + 64 + 2 * newton_phases.len() * NEWTON_STEPS,
+            limit: 4 * dofs + 64 + 4 * newton_phases.len() * NEWTON_STEPS,
             local_only: None,
             newton: NewtonPhases {
                 fractions: newton_phases,
@@ -277,6 +291,8 @@ impl<'a> PatternSearch<'a> {
                 fronts: Fronts::default(),
                 held: None,
                 restarted: false,
+                uncertain_left: 0,
+                refined_decisions: false,
             },
             monotone: MonotoneSearch::default(),
         }
@@ -346,13 +362,16 @@ impl<'a> PatternSearch<'a> {
             return Ok((solution, changes));
         }
         // Newton steps take the decisions that elimination alone settles first, the others
-        // on refined values once nothing else is left to change; the monotone search (which
-        // must not be misled by a wrong sign) decides on refined values whenever any
-        // decision is uncertain.
+        // on refined values once nothing else is left to change (or, in a phase that goes on
+        // deciding on refined values, every step); the monotone search (which must not be
+        // misled by a wrong sign) decides on refined values whenever any decision is
+        // uncertain.
         let uncertain = system.uncertain(&solution, &self.pattern);
+        let any_uncertain = uncertain.iter().any(|&u| u);
+        self.newton.uncertain_left = uncertain.iter().filter(|&&u| u).count();
         if self.newton.active {
             changes.retain(|&(i, _)| !uncertain[i]);
-        } else if uncertain.iter().any(|&u| u) {
+        } else if any_uncertain {
             changes.clear();
         }
         // Newton steps with uncertain decisions left: refined only as far as the decisions
@@ -361,7 +380,8 @@ impl<'a> PatternSearch<'a> {
         // fully at once. The monotone search steps on the refined values themselves, so it
         // refines them fully (with partial refinement it ran out of solves on one of the 2000
         // generated hard scenes of `cargo bench --bench reference -- scan`, seed 963).
-        if changes.is_empty() && self.newton.active && uncertain.iter().any(|&u| u) {
+        let refine_decisions = changes.is_empty() || self.newton.refined_decisions;
+        if refine_decisions && self.newton.active && any_uncertain {
             solution = system.solve_pattern(
                 &self.pattern,
                 Accuracy::RefineForDecisions,
@@ -378,8 +398,9 @@ impl<'a> PatternSearch<'a> {
     }
 
     /// Stage two in a Newton phase: plain semismooth Newton, every inconsistent DOF changes at
-    /// once. Fast when it works; on a repeated pattern, a stall or too many steps, the next
-    /// variant starts where the first did (from the interior-point guess, else all stuck), or
+    /// once. Fast when it works; on a repeated pattern, a stall or too many steps with many
+    /// decisions still uncertain, the phase goes on deciding on refined values
+    /// ([`REFINED_PHASE_FROM`]); after that, the next variant starts where the first did (from the interior-point guess, else all stuck), or
     /// after the last one the monotone search from the best pattern seen. (From all stuck, the
     /// second variant on ties with one threshold lowered made the best pattern all stuck, and
     /// the monotone search then freed one DOF per solve: 1705 solves at k = 300, 34 from the
@@ -421,6 +442,13 @@ impl<'a> PatternSearch<'a> {
             || stalled
             || solves >= newton.phase_start + newton.freeing_steps + NEWTON_STEPS
         {
+            if !newton.refined_decisions && newton.uncertain_left >= REFINED_PHASE_FROM {
+                // Where only the certain decisions were taken, go on from here once with
+                // every decision taken on refined values.
+                newton.begin_phase(newton.phase, solves);
+                newton.refined_decisions = true;
+                return;
+            }
             // Next Newton variant, or the monotone search; both from the start.
             newton.begin_phase(newton.phase + 1, solves);
             self.pattern = match &newton.start {
