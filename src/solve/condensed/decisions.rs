@@ -86,7 +86,6 @@ impl ShootingSystem {
         i: usize,
     ) -> Pattern {
         // The resolution is asked for only when the value itself does not settle it.
-        let g = self.thresholds[i / 2][i % 2];
         match pattern[i] {
             Pattern::Stuck => {
                 let l = solution.lambda[i];
@@ -110,7 +109,7 @@ impl ShootingSystem {
                 let c = self.friction_value(solution, i);
                 if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
                     moving
-                } else if sign * (sign * g + self.reversal_stiffness(i) * c) < -g {
+                } else if self.reverses_across(i, sign, c, self.reversal_fraction.get()) {
                     // Semismooth Newton's prediction λ + σc: a large reversal goes straight to
                     // the other bound.
                     if moving == Pattern::Positive {
@@ -125,11 +124,35 @@ impl ShootingSystem {
         }
     }
 
-    /// σ of the semismooth Newton prediction λ + σc for a DOF that reverses: a fraction of
-    /// its diagonal stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope).
-    /// With σ = 0 a reversing DOF is first held stuck.
-    fn reversal_stiffness(&self, i: usize) -> f64 {
-        self.reversal_fraction.get() * self.diagonal_stiffness(i)
+    /// Does the semismooth Newton prediction λ + σc take moving DOF i (moving with `sign`,
+    /// now at c against it) across to the other bound? σ is `fraction` of its diagonal
+    /// stiffness (12EJ/L³ per adjacent piece for a deflection, 4EJ/L for a slope); with σ = 0
+    /// a reversing DOF is first held stuck.
+    fn reverses_across(&self, i: usize, sign: f64, c: f64, fraction: f64) -> bool {
+        let g = self.thresholds[i / 2][i % 2];
+        sign * (sign * g + fraction * self.diagonal_stiffness(i) * c) < -g
+    }
+
+    /// Would σ = `fraction` of the diagonal stiffness decide DOF i otherwise than the present
+    /// σ ([`ShootingSystem::wanted`])? Only a moving DOF that reverses depends on σ.
+    pub(super) fn decision_depends_on_fraction(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+        i: usize,
+        fraction: f64,
+    ) -> bool {
+        let sign = match pattern[i] {
+            Pattern::Stuck => return false,
+            Pattern::Positive => 1.0,
+            Pattern::Negative => -1.0,
+        };
+        let c = self.friction_value(solution, i);
+        if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
+            return false;
+        }
+        self.reverses_across(i, sign, c, fraction)
+            != self.reverses_across(i, sign, c, self.reversal_fraction.get())
     }
 
     pub(super) fn state(

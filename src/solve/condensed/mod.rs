@@ -157,6 +157,7 @@ mod fronts;
 mod interior;
 mod line_search;
 mod mixed;
+mod newton_phases;
 mod nodes;
 pub(in crate::solve) mod pattern;
 mod projected;

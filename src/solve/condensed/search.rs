@@ -8,6 +8,7 @@ use std::collections::HashSet;
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
 use super::line_search::SearchPoint;
+use super::newton_phases::NewtonPhases;
 use super::scaling::Scales;
 use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, ShootingSystem};
 use super::{CondensedFailure, CondensedSolution, FrictionPattern};
@@ -174,65 +175,6 @@ struct PatternSearch<'a> {
     monotone: MonotoneSearch,
 }
 
-/// The bookkeeping of the semismooth Newton phases.
-struct NewtonPhases<'a> {
-    /// σ / diagonal stiffness of every phase, in order.
-    fractions: &'a [f64],
-    /// Still in a Newton phase (else in the monotone search).
-    active: bool,
-    /// The current phase and the solve it started at.
-    phase: usize,
-    phase_start: usize,
-    /// The fewest inconsistent DOFs seen in this phase, and when.
-    fewest_changes: (usize, usize),
-    /// Over every Newton phase: the solved pattern whose point has the lowest J (where the
-    /// held forces are known, else the one with the fewest inconsistent DOFs) and that
-    /// measure, where the monotone search starts (any start is a point it then only
-    /// improves; from all stuck it frees the DOFs a line search at a time, O(k) solves when
-    /// hundreds move). Measured on ties with the last obstacle's sliding threshold ten
-    /// notches down (`cargo bench --bench many_obstacles -- lowered`): from the fewest
-    /// inconsistent DOFs it took 4540 pattern solves at k = 1500 and did not converge in
-    /// 16 144 at k = 2000; from the lowest J, 109 and 68.
-    best_start: (f64, Option<Vec<Pattern>>),
-    /// Patterns this phase has solved, by fingerprint (hashing 8000 states with SipHash cost
-    /// 2 % of a 4000-obstacle solve; a collision would only end a Newton phase early).
-    seen: HashSet<u64>,
-    /// Where every Newton phase starts: the interior-point guess, if any, else all stuck.
-    start: Option<Vec<Pattern>>,
-    /// Steps of this phase that only freed stuck DOFs: progress that cannot cycle, so they
-    /// neither count as a stall nor against [`NEWTON_STEPS`] (at most one per DOF).
-    freeing_steps: usize,
-    /// Where such steps free a stretch from its ends, the fronts that free it faster.
-    fronts: Fronts,
-    /// The held forces (b of J), where known (from [`INTERIOR_POINT_FROM`] obstacles): the
-    /// best start is then the solved point with the lowest J, else the pattern with the
-    /// fewest inconsistent DOFs; and once the monotone search has gone on for
-    /// [`MONOTONE_BEFORE_PROJECTED`] solves, the projected Newton guess (`projected`) is made
-    /// from them and the phases run again from it.
-    held: Option<Vec<DoubleDouble>>,
-    /// That restart has happened (it happens once).
-    restarted: bool,
-    /// Uncertain decisions in the last solve, before any refinement.
-    uncertain_left: usize,
-    /// This phase decides every step on refined values (it has gone on from where it would
-    /// have ended with [`REFINED_PHASE_FROM`] decisions or more uncertain).
-    refined_decisions: bool,
-}
-
-impl NewtonPhases<'_> {
-    /// Phase `phase` begins at solve `solves`: no stall, no freeing steps, no fronts, no
-    /// pattern seen yet.
-    fn begin_phase(&mut self, phase: usize, solves: usize) {
-        self.phase = phase;
-        self.phase_start = solves;
-        self.fewest_changes = (usize::MAX, solves);
-        self.seen.clear();
-        self.freeing_steps = 0;
-        self.fronts.reset();
-        self.refined_decisions = false;
-    }
-}
-
 /// The state of the monotone search.
 #[derive(Default)]
 struct MonotoneSearch {
@@ -293,6 +235,7 @@ impl<'a> PatternSearch<'a> {
                 restarted: false,
                 uncertain_left: 0,
                 refined_decisions: false,
+                fraction_mattered: false,
             },
             monotone: MonotoneSearch::default(),
         }
@@ -421,6 +364,13 @@ impl<'a> PatternSearch<'a> {
         if measure < newton.best_start.0 {
             newton.best_start = (measure, Some(self.pattern.clone()));
         }
+        let later = &newton.fractions[(newton.phase + 1).min(newton.fractions.len())..];
+        newton.fraction_mattered |= changes.iter().any(|&(i, _)| {
+            later.iter().any(|&fraction| {
+                self.system
+                    .decision_depends_on_fraction(solution, &self.pattern, i, fraction)
+            })
+        });
         let only_frees = changes
             .iter()
             .all(|&(i, _)| self.pattern[i] == Pattern::Stuck);
@@ -445,12 +395,20 @@ impl<'a> PatternSearch<'a> {
             if !newton.refined_decisions && newton.uncertain_left >= REFINED_PHASE_FROM {
                 // Where only the certain decisions were taken, go on from here once with
                 // every decision taken on refined values.
+                let mattered = newton.fraction_mattered;
                 newton.begin_phase(newton.phase, solves);
                 newton.refined_decisions = true;
+                newton.fraction_mattered = mattered;
                 return;
             }
-            // Next Newton variant, or the monotone search; both from the start.
-            newton.begin_phase(newton.phase + 1, solves);
+            // Next Newton variant (unless it would replay this one), or the monotone search;
+            // both from the start.
+            let next = if newton.fraction_mattered {
+                newton.phase + 1
+            } else {
+                newton.fractions.len()
+            };
+            newton.begin_phase(next, solves);
             self.pattern = match &newton.start {
                 Some(start) => start.clone(),
                 None => vec![Pattern::Stuck; dofs],

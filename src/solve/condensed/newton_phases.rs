@@ -1,0 +1,72 @@
+//! The bookkeeping of the search's semismooth Newton phases (`search`): where each phase
+//! starts and when it ends, the best start found for the monotone search, the restart from
+//! the projected Newton guess. No equation of its own: it steers the pattern solves of (38).
+
+use std::collections::HashSet;
+
+use super::fronts::Fronts;
+use super::system::Pattern;
+use crate::linalg::double_double::DoubleDouble;
+
+/// The bookkeeping of the semismooth Newton phases.
+pub(super) struct NewtonPhases<'a> {
+    /// σ / diagonal stiffness of every phase, in order.
+    pub(super) fractions: &'a [f64],
+    /// Still in a Newton phase (else in the monotone search).
+    pub(super) active: bool,
+    /// The current phase and the solve it started at.
+    pub(super) phase: usize,
+    pub(super) phase_start: usize,
+    /// The fewest inconsistent DOFs seen in this phase, and when.
+    pub(super) fewest_changes: (usize, usize),
+    /// Over every Newton phase: the solved pattern whose point has the lowest J (where the
+    /// held forces are known, else the one with the fewest inconsistent DOFs) and that
+    /// measure, where the monotone search starts (any start is a point it then only
+    /// improves; from all stuck it frees the DOFs a line search at a time, O(k) solves when
+    /// hundreds move). Measured on ties with the last obstacle's sliding threshold ten
+    /// notches down (`cargo bench --bench many_obstacles -- lowered`): from the fewest
+    /// inconsistent DOFs it took 4540 pattern solves at k = 1500 and did not converge in
+    /// 16 144 at k = 2000; from the lowest J, 109 and 68.
+    pub(super) best_start: (f64, Option<Vec<Pattern>>),
+    /// Patterns this phase has solved, by fingerprint (hashing 8000 states with SipHash cost
+    /// 2 % of a 4000-obstacle solve; a collision would only end a Newton phase early).
+    pub(super) seen: HashSet<u64>,
+    /// Where every Newton phase starts: the interior-point guess, if any, else all stuck.
+    pub(super) start: Option<Vec<Pattern>>,
+    /// Steps of this phase that only freed stuck DOFs: progress that cannot cycle, so they
+    /// neither count as a stall nor against `search::NEWTON_STEPS` (at most one per DOF).
+    pub(super) freeing_steps: usize,
+    /// Where such steps free a stretch from its ends, the fronts that free it faster.
+    pub(super) fronts: Fronts,
+    /// The held forces (b of J), where known (from `search::INTERIOR_POINT_FROM` obstacles): the
+    /// best start is then the solved point with the lowest J, else the pattern with the
+    /// fewest inconsistent DOFs; and once the monotone search has gone on for
+    /// `search::MONOTONE_BEFORE_PROJECTED` solves, the projected Newton guess (`projected`) is made
+    /// from them and the phases run again from it.
+    pub(super) held: Option<Vec<DoubleDouble>>,
+    /// That restart has happened (it happens once).
+    pub(super) restarted: bool,
+    /// Uncertain decisions in the last solve, before any refinement.
+    pub(super) uncertain_left: usize,
+    /// This phase decides every step on refined values (it has gone on from where it would
+    /// have ended with `search::REFINED_PHASE_FROM` decisions or more uncertain).
+    pub(super) refined_decisions: bool,
+    /// A later variant's σ would have taken one of this phase's decisions otherwise; if none
+    /// would, the later variants would replay this phase solve for solve, and are skipped.
+    pub(super) fraction_mattered: bool,
+}
+
+impl NewtonPhases<'_> {
+    /// Phase `phase` begins at solve `solves`: no stall, no freeing steps, no fronts, no
+    /// pattern seen yet.
+    pub(super) fn begin_phase(&mut self, phase: usize, solves: usize) {
+        self.phase = phase;
+        self.phase_start = solves;
+        self.fewest_changes = (usize::MAX, solves);
+        self.seen.clear();
+        self.freeing_steps = 0;
+        self.fronts.reset();
+        self.refined_decisions = false;
+        self.fraction_mattered = false;
+    }
+}
