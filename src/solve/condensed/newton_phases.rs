@@ -46,10 +46,11 @@ pub(super) struct NewtonPhases<'a> {
     pub(super) held: Option<Vec<DoubleDouble>>,
     /// That restart has happened (it happens once).
     pub(super) restarted: bool,
-    /// Uncertain decisions in the last solve, before any refinement.
-    pub(super) uncertain_left: usize,
+    /// Uncertain decisions in this phase's last solves (before any refinement), the last
+    /// one last: at most `search::NEWTON_PATIENCE` of them.
+    pub(super) recent_uncertain: Vec<usize>,
     /// This phase decides every step on refined values (it has gone on from where it would
-    /// have ended with `search::REFINED_PHASE_FROM` decisions or more uncertain).
+    /// have ended with `search::REFINED_PHASE_FROM` decisions or more uncertain, not falling).
     pub(super) refined_decisions: bool,
     /// A later variant's σ would have taken one of this phase's decisions otherwise; if none
     /// would, the later variants would replay this phase solve for solve, and are skipped.
@@ -68,5 +69,6 @@ impl NewtonPhases<'_> {
         self.fronts.reset();
         self.refined_decisions = false;
         self.fraction_mattered = false;
+        self.recent_uncertain.clear();
     }
 }

@@ -54,12 +54,14 @@ const WARM_LOCAL: usize = 16;
 /// 109, 109.
 const MONOTONE_BEFORE_PROJECTED: usize = 32;
 /// Uncertain decisions left when a Newton phase (which takes the certain decisions first)
-/// would end, from which it goes on instead, every step refined as far as its decisions need
-/// and all of them taken. Measured on ties with a swivel threshold lowered (`cargo bench
-/// --bench many_obstacles -- lowered`): the certain changes cycle among 2 or 3 DOFs while
-/// thousands of decisions wait on rounding, and the monotone search from there took 801–925
-/// pattern solves (8–33 s) at k = 4000 with obstacle k/3's threshold lowered one, two or
-/// five notches; going on with refined decisions, 258–283 (1.3–3.9 s).
+/// would end, from which it goes on instead (unless their number is falling: below half the
+/// largest of its last [`NEWTON_PATIENCE`] solves), every step refined as far as its
+/// decisions need and all of them taken. Measured on ties with a swivel threshold lowered
+/// (`cargo bench --bench many_obstacles -- lowered`): the certain changes cycle among 2 or 3
+/// DOFs while thousands of decisions wait on rounding, and the monotone search from there
+/// took 801–925 pattern solves (8–33 s) at k = 4000 with obstacle k/3's threshold lowered
+/// one, two or five notches; going on with refined decisions, 258–283 (1.3–3.9 s). Where
+/// the number was falling (fronts at work), going on cost 6–38 more solves.
 const REFINED_PHASE_FROM: usize = 16;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
@@ -233,7 +235,7 @@ impl<'a> PatternSearch<'a> {
                 fronts: Fronts::default(),
                 held: None,
                 restarted: false,
-                uncertain_left: 0,
+                recent_uncertain: Vec::new(),
                 refined_decisions: false,
                 fraction_mattered: false,
             },
@@ -311,7 +313,11 @@ impl<'a> PatternSearch<'a> {
         // uncertain.
         let uncertain = system.uncertain(&solution, &self.pattern);
         let any_uncertain = uncertain.iter().any(|&u| u);
-        self.newton.uncertain_left = uncertain.iter().filter(|&&u| u).count();
+        let recent = &mut self.newton.recent_uncertain;
+        recent.push(uncertain.iter().filter(|&&u| u).count());
+        if recent.len() > NEWTON_PATIENCE {
+            recent.remove(0);
+        }
         if self.newton.active {
             changes.retain(|&(i, _)| !uncertain[i]);
         } else if any_uncertain {
@@ -392,9 +398,13 @@ impl<'a> PatternSearch<'a> {
             || stalled
             || solves >= newton.phase_start + newton.freeing_steps + NEWTON_STEPS
         {
-            if !newton.refined_decisions && newton.uncertain_left >= REFINED_PHASE_FROM {
-                // Where only the certain decisions were taken, go on from here once with
-                // every decision taken on refined values.
+            let recent = &newton.recent_uncertain;
+            let left = recent.last().copied().unwrap_or(0);
+            let falling = 2 * left < recent.iter().copied().max().unwrap_or(0);
+            if !newton.refined_decisions && left >= REFINED_PHASE_FROM && !falling {
+                // Where only the certain decisions were taken and the uncertain ones have
+                // not been falling, go on from here once with every decision taken on
+                // refined values.
                 let mattered = newton.fraction_mattered;
                 newton.begin_phase(newton.phase, solves);
                 newton.refined_decisions = true;
