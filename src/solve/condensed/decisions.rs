@@ -100,28 +100,41 @@ impl ShootingSystem {
                     Pattern::Stuck
                 }
             }
-            moving => {
-                let sign = if moving == Pattern::Positive {
-                    1.0
-                } else {
-                    -1.0
-                };
-                let c = self.friction_value(solution, i);
-                if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
-                    moving
-                } else if self.reverses_across(i, sign, c, self.reversal_fraction.get()) {
-                    // Semismooth Newton's prediction λ + σc: a large reversal goes straight to
-                    // the other bound.
+            moving => match self.reversal(solution, pattern, i) {
+                None => moving,
+                // Semismooth Newton's prediction λ + σc: a large reversal goes straight to the
+                // other bound.
+                Some((sign, c))
+                    if self.reverses_across(i, sign, c, self.reversal_fraction.get()) =>
+                {
                     if moving == Pattern::Positive {
                         Pattern::Negative
                     } else {
                         Pattern::Positive
                     }
-                } else {
-                    Pattern::Stuck
                 }
-            }
+                Some(_) => Pattern::Stuck,
+            },
         }
+    }
+
+    /// A moving DOF whose motion c runs against its sign by more than the solve resolves:
+    /// (sign, c); `None` for a stuck DOF or one that moves on.
+    fn reversal(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+        i: usize,
+    ) -> Option<(f64, f64)> {
+        let sign = match pattern[i] {
+            Pattern::Stuck => return None,
+            Pattern::Positive => 1.0,
+            Pattern::Negative => -1.0,
+        };
+        let c = self.friction_value(solution, i);
+        // The resolution is asked for only when the value itself does not settle it.
+        let moves_on = sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0;
+        (!moves_on).then_some((sign, c))
     }
 
     /// Does the semismooth Newton prediction λ + σc take moving DOF i (moving with `sign`,
@@ -142,17 +155,11 @@ impl ShootingSystem {
         i: usize,
         fraction: f64,
     ) -> bool {
-        let sign = match pattern[i] {
-            Pattern::Stuck => return false,
-            Pattern::Positive => 1.0,
-            Pattern::Negative => -1.0,
-        };
-        let c = self.friction_value(solution, i);
-        if sign * c >= 0.0 || sign * c >= -self.resolution(solution, i).0 {
-            return false;
-        }
-        self.reverses_across(i, sign, c, fraction)
-            != self.reverses_across(i, sign, c, self.reversal_fraction.get())
+        self.reversal(solution, pattern, i)
+            .is_some_and(|(sign, c)| {
+                self.reverses_across(i, sign, c, fraction)
+                    != self.reverses_across(i, sign, c, self.reversal_fraction.get())
+            })
     }
 
     pub(super) fn state(

@@ -59,16 +59,27 @@ pub(super) struct NewtonPhases<'a> {
 
 impl NewtonPhases<'_> {
     /// Phase `phase` begins at solve `solves`: no stall, no freeing steps, no fronts, no
-    /// pattern seen yet.
+    /// pattern seen yet, certain decisions first.
     pub(super) fn begin_phase(&mut self, phase: usize, solves: usize) {
         self.phase = phase;
+        self.restart_progress(solves);
+        self.refined_decisions = false;
+        self.fraction_mattered = false;
+    }
+
+    /// The present phase goes on from solve `solves`, every decision taken on refined values:
+    /// its progress is counted afresh, what its decisions said about σ is kept.
+    pub(super) fn go_on_refined(&mut self, solves: usize) {
+        self.restart_progress(solves);
+        self.refined_decisions = true;
+    }
+
+    fn restart_progress(&mut self, solves: usize) {
         self.phase_start = solves;
         self.fewest_changes = (usize::MAX, solves);
         self.seen.clear();
         self.freeing_steps = 0;
         self.fronts.reset();
-        self.refined_decisions = false;
-        self.fraction_mattered = false;
         self.recent_uncertain.clear();
     }
 }

@@ -312,14 +312,15 @@ impl<'a> PatternSearch<'a> {
         // misled by a wrong sign) decides on refined values whenever any decision is
         // uncertain.
         let uncertain = system.uncertain(&solution, &self.pattern);
-        let any_uncertain = uncertain.iter().any(|&u| u);
-        let recent = &mut self.newton.recent_uncertain;
-        recent.push(uncertain.iter().filter(|&&u| u).count());
-        if recent.len() > NEWTON_PATIENCE {
-            recent.remove(0);
-        }
+        let uncertain_count = uncertain.iter().filter(|&&u| u).count();
+        let any_uncertain = uncertain_count > 0;
         if self.newton.active {
             changes.retain(|&(i, _)| !uncertain[i]);
+            let recent = &mut self.newton.recent_uncertain;
+            recent.push(uncertain_count);
+            if recent.len() > NEWTON_PATIENCE {
+                recent.remove(0);
+            }
         } else if any_uncertain {
             changes.clear();
         }
@@ -349,8 +350,9 @@ impl<'a> PatternSearch<'a> {
     /// Stage two in a Newton phase: plain semismooth Newton, every inconsistent DOF changes at
     /// once. Fast when it works; on a repeated pattern, a stall or too many steps with many
     /// decisions still uncertain, the phase goes on deciding on refined values
-    /// ([`REFINED_PHASE_FROM`]); after that, the next variant starts where the first did (from the interior-point guess, else all stuck), or
-    /// after the last one the monotone search from the best pattern seen. (From all stuck, the
+    /// ([`REFINED_PHASE_FROM`]); after that, the next variant starts where the first did
+    /// (from the interior-point guess, else all stuck; skipped where it would replay this
+    /// one), or after the last one the monotone search from the best pattern seen. (From all stuck, the
     /// second variant on ties with one threshold lowered made the best pattern all stuck, and
     /// the monotone search then freed one DOF per solve: 1705 solves at k = 300, 34 from the
     /// guess.) A step that only frees stuck DOFs is progress, however few it frees, and goes
@@ -405,10 +407,7 @@ impl<'a> PatternSearch<'a> {
                 // Where only the certain decisions were taken and the uncertain ones have
                 // not been falling, go on from here once with every decision taken on
                 // refined values.
-                let mattered = newton.fraction_mattered;
-                newton.begin_phase(newton.phase, solves);
-                newton.refined_decisions = true;
-                newton.fraction_mattered = mattered;
+                newton.go_on_refined(solves);
                 return;
             }
             // Next Newton variant (unless it would replay this one), or the monotone search;
