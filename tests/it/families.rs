@@ -93,6 +93,36 @@ fn the_guess_about_the_held_beam_decides_ties_in_two_solves() {
 }
 
 #[test]
+fn the_guess_hands_over_once_its_pattern_settles() {
+    // On the clustered family every DOF is clearly on its side after a few interior-point
+    // steps and the pattern then stays: the iteration offers it, one solve confirms it, and
+    // the steps that would only drive μ to its tolerance are not taken (before: 14 steps at
+    // k = 200 and 600, with the same 2 pattern solves). The answer is the search's own: an
+    // offered pattern is taken only if its solve is consistent, which
+    // `every_family_agrees_with_the_reference_at_small_k` checks at k = 40, where the
+    // iteration hands over on every family.
+    use beamfric::check::families::family_problem;
+    use beamfric::solve::solve_condensed;
+    for (family, k, elements, most_steps) in [
+        (Family::Clustered, 200, 400, 6),
+        (Family::Clustered, 600, 1200, 6),
+        (Family::Random, 200, 400, 10),
+    ] {
+        let (problem, mesh) = family_problem(family, k, 1, elements);
+        let solution = solve_condensed(&problem, &mesh).expect("the family solves");
+        let counts = solution.counts;
+        assert!(solution.converged, "{} k = {k}", family.name());
+        assert!(
+            counts.interior_steps <= most_steps && counts.pattern_solves <= 3,
+            "{} k = {k}: {} interior steps, {} pattern solves",
+            family.name(),
+            counts.interior_steps,
+            counts.pattern_solves
+        );
+    }
+}
+
+#[test]
 fn a_warm_start_changes_the_work_never_the_answer() {
     // The explorer's re-solve after one notch (×10^0.1) of one threshold, from the pattern
     // before the change, must give the cold solve's answer; so must a start that has nothing

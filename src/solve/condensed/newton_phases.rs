@@ -8,6 +8,20 @@ use super::fronts::Fronts;
 use super::system::Pattern;
 use crate::linalg::double_double::DoubleDouble;
 
+/// A 64-bit fingerprint of a pattern (FNV-1a over the states).
+pub(super) fn fingerprint(pattern: &[Pattern]) -> u64 {
+    pattern
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325u64, |hash, state| {
+            let byte = match state {
+                Pattern::Stuck => 0u64,
+                Pattern::Positive => 1,
+                Pattern::Negative => 2,
+            };
+            (hash ^ byte).wrapping_mul(0x0000_0100_0000_01b3)
+        })
+}
+
 /// The bookkeeping of the semismooth Newton phases.
 pub(super) struct NewtonPhases<'a> {
     /// σ / diagonal stiffness of every phase, in order.

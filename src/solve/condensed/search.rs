@@ -7,10 +7,11 @@ use std::collections::HashSet;
 
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
+use super::interior::InteriorGuess;
 use super::line_search::SearchPoint;
-use super::newton_phases::NewtonPhases;
+use super::newton_phases::{NewtonPhases, fingerprint};
 use super::scaling::Scales;
-use super::system::{Accuracy, BAND_LOWER, BAND_UPPER, Pattern, PatternSolution, ShootingSystem};
+use super::system::{Accuracy, Pattern, PatternSolution, ShootingSystem};
 use super::{CondensedFailure, CondensedSolution, FrictionPattern};
 use crate::fem::Mesh;
 use crate::linalg::banded_lu::BandedSystem;
@@ -43,6 +44,10 @@ const WARM_SOLVES: usize = 16;
 /// notch on the ties family it leaves 1750 of 8000 (every force is at its threshold, so one
 /// change moves them all) and the monotone search would take hundreds of solves.
 const WARM_LOCAL: usize = 16;
+/// Solves of a pattern the interior-point iteration offers ([`InteriorGuess`]): one, so no
+/// Newton or monotone step is taken and the search's state (σ included) is untouched; a
+/// consistent pattern is refined and decided again on the refined values like any other.
+const CROSSOVER_SOLVES: usize = 1;
 /// Solves of the monotone search before the Newton phases run again from the projected
 /// Newton guess ([`PatternSearch::restart_from_projected_guess`]). Measured on ties with
 /// thresholds lowered (`cargo bench --bench many_obstacles -- lowered`, k = 300 to 4000):
@@ -66,20 +71,6 @@ const REFINED_PHASE_FROM: usize = 16;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
-
-/// A 64-bit fingerprint of a pattern (FNV-1a over the states).
-fn fingerprint(pattern: &[Pattern]) -> u64 {
-    pattern
-        .iter()
-        .fold(0xcbf2_9ce4_8422_2325u64, |hash, state| {
-            let byte = match state {
-                Pattern::Stuck => 0u64,
-                Pattern::Positive => 1,
-                Pattern::Negative => 2,
-            };
-            (hash ^ byte).wrapping_mul(0x0000_0100_0000_01b3)
-        })
-}
 
 /// [`solve_condensed_while`] with the given Newton phases (none: the monotone search alone):
 /// the system in dimensionless units, the search for a consistent pattern
@@ -132,25 +123,59 @@ pub(super) fn solve_with_newton_phases(
         system.reversal_fraction.set(first_fraction);
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
+    // A pattern the interior-point iteration settles on is tried at once (one solve); if
+    // it is consistent, that is the answer.
+    let mut crossed = None;
+    let mut crossover_solves = 0;
     if !newton_phases.is_empty() && obstacles >= INTERIOR_POINT_FROM {
         if !keep_going() {
             return Err(CondensedFailure::Stopped);
         }
         let held = search.held_forces()?;
         if held.len() == 2 * obstacles {
-            if let Some(guess) = system.interior_point_pattern(&held, keep_going)? {
-                search.pattern = guess.clone();
-                search.newton.start = Some(guess);
+            // The attempts solve in the search's banded system (its buffers are warm).
+            let mut banded = std::mem::replace(&mut search.banded, BandedSystem::empty());
+            let mut crossover = |candidate: &[Pattern], keep_going: &mut dyn FnMut() -> bool| {
+                let mut attempt = PatternSearch::offered(&system, candidate, &mut banded);
+                let result = attempt.run(keep_going, &mut observe);
+                banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
+                crossover_solves += attempt.solves;
+                match result {
+                    Ok((solution, true)) => crossed = Some((solution, attempt.pattern)),
+                    // A singular candidate is only one that failed: the iteration goes on.
+                    Ok(_) | Err(CondensedFailure::Singular { .. }) => {}
+                    Err(stopped) => return Err(stopped),
+                }
+                Ok(crossed.is_some())
+            };
+            let guess = system.interior_point_pattern(&held, keep_going, &mut crossover);
+            search.banded = banded;
+            match guess? {
+                InteriorGuess::Pattern(guess) => {
+                    search.pattern = guess.clone();
+                    search.newton.start = Some(guess);
+                }
+                InteriorGuess::None | InteriorGuess::Settled => {}
             }
             search.newton.held = Some(held);
         }
+    }
+    let solves = warm_solves + crossover_solves;
+    if let Some((solution, pattern)) = crossed {
+        return condensed_solution(
+            (problem, mesh, &scales),
+            &system,
+            (&solution, &pattern),
+            (solves + search.solves, true),
+            keep_going,
+        );
     }
     let (solution, converged) = search.run(keep_going, &mut observe)?;
     condensed_solution(
         (problem, mesh, &scales),
         &system,
         (&solution, &search.pattern),
-        (warm_solves + search.solves, converged),
+        (solves + search.solves, converged),
         keep_going,
     )
 }
@@ -173,6 +198,9 @@ struct PatternSearch<'a> {
     /// A warm start's attempt: give up when the first solve leaves more DOFs inconsistent
     /// than this (the change was not local).
     local_only: Option<usize>,
+    /// A crossover's check of a pattern offered by the interior-point iteration: give up as
+    /// soon as a solve leaves a DOF certainly inconsistent (no refinement for it).
+    certain_only: bool,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
 }
@@ -218,10 +246,11 @@ impl<'a> PatternSearch<'a> {
         PatternSearch {
             system,
             pattern: vec![Pattern::Stuck; dofs],
-            banded: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
+            banded: BandedSystem::empty(),
             solves: 0,
             limit: 4 * dofs + 64 + 4 * newton_phases.len() * NEWTON_STEPS,
             local_only: None,
+            certain_only: false,
             newton: NewtonPhases {
                 fractions: newton_phases,
                 active: !newton_phases.is_empty(),
@@ -241,6 +270,21 @@ impl<'a> PatternSearch<'a> {
             },
             monotone: MonotoneSearch::default(),
         }
+    }
+
+    /// The check of a pattern the interior-point iteration offers ([`InteriorGuess`]): one
+    /// solve in `banded`'s buffers, no refinement once a DOF is certainly inconsistent.
+    fn offered(
+        system: &'a ShootingSystem,
+        candidate: &[Pattern],
+        banded: &mut BandedSystem,
+    ) -> PatternSearch<'a> {
+        let mut attempt = PatternSearch::new(system, candidate.len() / 2, &[]);
+        attempt.banded = std::mem::replace(banded, BandedSystem::empty());
+        attempt.pattern = candidate.to_vec();
+        attempt.limit = CROSSOVER_SOLVES;
+        attempt.certain_only = true;
+        attempt
     }
 
     /// The search loop: solves patterns until one is consistent or the solves run out; the
@@ -314,6 +358,9 @@ impl<'a> PatternSearch<'a> {
         let uncertain = system.uncertain(&solution, &self.pattern);
         let uncertain_count = uncertain.iter().filter(|&&u| u).count();
         let any_uncertain = uncertain_count > 0;
+        if self.certain_only && changes.iter().any(|&(i, _)| !uncertain[i]) {
+            return Ok((solution, changes));
+        }
         if self.newton.active {
             changes.retain(|&(i, _)| !uncertain[i]);
             let recent = &mut self.newton.recent_uncertain;

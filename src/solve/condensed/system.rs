@@ -19,6 +19,13 @@ use crate::model::Problem;
 pub(super) const BAND_LOWER: usize = 3;
 pub(super) const BAND_UPPER: usize = 3;
 
+impl BandedSystem {
+    /// A system of no unknowns in the multiple-shooting band, holding no memory.
+    pub(super) fn empty() -> BandedSystem {
+        BandedSystem::new(0, BAND_LOWER, BAND_UPPER)
+    }
+}
+
 /// How accurately a pattern is solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Accuracy {
