@@ -38,7 +38,10 @@ pub struct ExportedScene<'a> {
 
 /// Writes the export of `problem` on `mesh` into `dir` (created if missing) and returns the
 /// paths written. With `force == false` an existing file of the export is an error before
-/// anything is written.
+/// anything is written. When a write fails (a full disk, a directory in a file's place), the
+/// files this call created and the directories it created are removed again: a failed
+/// export leaves what was there before (with `force`, a file it had already replaced stays
+/// replaced, complete).
 pub fn export(
     problem: &Problem,
     mesh: &Mesh,
@@ -47,31 +50,59 @@ pub fn export(
     force: bool,
 ) -> Result<Vec<PathBuf>, ExchangeError> {
     let paths: Vec<PathBuf> = EXPORT_FILES.iter().map(|name| dir.join(name)).collect();
-    if !force {
-        let existing: Vec<PathBuf> = paths
-            .iter()
-            .filter(|p| std::fs::symlink_metadata(p).is_ok())
-            .cloned()
-            .collect();
-        if !existing.is_empty() {
-            return Err(ExchangeError::Exists(existing));
-        }
+    let existed: Vec<bool> = paths
+        .iter()
+        .map(|p| std::fs::symlink_metadata(p).is_ok())
+        .collect();
+    if !force && existed.contains(&true) {
+        let existing = paths.iter().zip(&existed).filter(|(_, e)| **e);
+        return Err(ExchangeError::Exists(
+            existing.map(|(p, _)| p.clone()).collect(),
+        ));
     }
+    let created_from = first_missing(dir);
     std::fs::create_dir_all(dir).map_err(|e| ExchangeError::io(dir, e))?;
     let discrete = DiscreteProblem::new(problem, mesh);
     let texts = file_texts(&discrete, problem, scene);
-    for (path, text) in paths.iter().zip(&texts) {
-        crate::scene::write_atomic(path, text.as_bytes(), force).map_err(|e| match e {
-            SaveError::Exists(p) => ExchangeError::Exists(vec![p]),
-            SaveError::Io(p, e) => ExchangeError::io(&p, e),
-            other => ExchangeError::Io {
-                path: path.clone(),
-                action: "write",
-                reason: other.to_string(),
-            },
-        })?;
+    for (written, (path, text)) in paths.iter().zip(&texts).enumerate() {
+        if let Err(e) = crate::scene::write_atomic(path, text.as_bytes(), force) {
+            let created = paths[..written].iter().zip(&existed).filter(|(_, e)| !**e);
+            for (file, _) in created {
+                let _ = std::fs::remove_file(file);
+            }
+            remove_created_dirs(dir, created_from.as_deref());
+            return Err(match e {
+                SaveError::Exists(p) => ExchangeError::Exists(vec![p]),
+                SaveError::Io(p, e) => ExchangeError::io(&p, e),
+                other => ExchangeError::Io {
+                    path: path.clone(),
+                    action: "write",
+                    reason: other.to_string(),
+                },
+            });
+        }
     }
     Ok(paths)
+}
+
+/// The outermost directory of `dir`'s path that does not exist yet (what `create_dir_all`
+/// would create first), if any.
+fn first_missing(dir: &Path) -> Option<PathBuf> {
+    dir.ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && std::fs::symlink_metadata(a).is_err())
+        .last()
+        .map(Path::to_path_buf)
+}
+
+/// Removes `dir` and its parents up to `created_from` (the directories an export created),
+/// each only if it is empty: whatever else is in them stays.
+fn remove_created_dirs(dir: &Path, created_from: Option<&Path>) {
+    let Some(top) = created_from else { return };
+    for ancestor in dir.ancestors() {
+        if std::fs::remove_dir(ancestor).is_err() || ancestor == top {
+            return;
+        }
+    }
 }
 
 /// The texts of [`EXPORT_FILES`], in that order.
@@ -166,4 +197,38 @@ fn readme(discrete: &DiscreteProblem, problem: &Problem, scene: ExportedScene) -
         nnz = discrete.stiffness_lower.len(),
         obstacles = obstacles,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_directories_an_export_created_are_removed_and_only_if_empty() {
+        let base = tempfile::tempdir().unwrap();
+        let dir = base.path().join("a").join("b").join("c");
+        assert_eq!(
+            first_missing(&dir).as_deref(),
+            Some(base.path().join("a").as_path())
+        );
+        std::fs::create_dir_all(&dir).unwrap();
+        remove_created_dirs(&dir, Some(&base.path().join("a")));
+        assert!(
+            !base.path().join("a").exists(),
+            "every created level removed"
+        );
+        assert!(base.path().exists(), "the existing parent stays");
+
+        // Someone else's file in a created level keeps that level (and those above it).
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(base.path().join("a").join("b").join("theirs"), "x").unwrap();
+        remove_created_dirs(&dir, Some(&base.path().join("a")));
+        assert!(!dir.exists());
+        assert!(base.path().join("a").join("b").join("theirs").exists());
+
+        // Nothing created: nothing removed.
+        assert_eq!(first_missing(base.path()), None);
+        remove_created_dirs(base.path(), None);
+        assert!(base.path().exists());
+    }
 }

@@ -344,3 +344,30 @@ fn export_refuses_to_replace_files_unless_forced_and_names_the_path_it_cannot_wr
         stderr(&out)
     );
 }
+
+#[test]
+fn a_failed_export_removes_the_files_it_wrote() {
+    // A write that fails half-way (here the last file's place is taken by a directory; in
+    // use, a disk that fills) leaves what was there before: none of the seven files written
+    // before the failure stays behind, and the message names the file it could not write.
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("problem");
+    std::fs::create_dir_all(out_dir.join("README.md").join("keep")).unwrap();
+    let failed = beamfric(&[
+        "export",
+        "--scene",
+        "benchmark-1",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(failed.status.code(), Some(2), "{}", stderr(&failed));
+    assert!(
+        stderr(&failed).contains(&out_dir.join("README.md").display().to_string()),
+        "{}",
+        stderr(&failed)
+    );
+    let names = crate::harness::process::names(&out_dir);
+    assert_eq!(names, vec!["README.md".to_string()], "{names:?}");
+    assert!(out_dir.join("README.md").join("keep").is_dir());
+}
