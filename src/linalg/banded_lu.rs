@@ -371,43 +371,105 @@ impl Factors {
     /// Overwrites b with A⁻¹ b.
     fn solve_in_place(&self, b: &mut [f64]) {
         match (self.lower, self.upper) {
+            CONDENSED_BAND if self.size >= 8 => self.solve_condensed(b),
             CONDENSED_BAND => self.solve_with_band(b, CONDENSED_BAND),
             band => self.solve_with_band(b, band),
         }
     }
 
     #[inline(always)]
-    fn solve_with_band(&self, b: &mut [f64], (kl, ku): (usize, usize)) {
-        let (n, width) = (self.size, 2 * kl + ku + 1);
-        let at = |row: usize, column: usize| row * width + column + kl - row;
+    fn solve_with_band(&self, b: &mut [f64], band: (usize, usize)) {
+        self.scale_rows(b);
+        for j in 0..self.size {
+            self.forward_row(b, j, band);
+        }
+        for i in (0..self.size).rev() {
+            self.backward_row(b, i, band);
+        }
+    }
+
+    fn scale_rows(&self, b: &mut [f64]) {
         for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
             *v *= scale;
         }
-        for j in 0..n {
-            b.swap(j, self.pivot[j]);
-            let bj = b[j];
-            if bj != 0.0 {
-                for r in j + 1..=(j + kl).min(n - 1) {
-                    b[r] -= self.entries[at(r, j)] * bj;
-                }
+    }
+
+    /// Column j of the forward substitution: its row exchange, then its multipliers.
+    #[inline(always)]
+    fn forward_row(&self, b: &mut [f64], j: usize, (kl, ku): (usize, usize)) {
+        let (n, width) = (self.size, 2 * kl + ku + 1);
+        b.swap(j, self.pivot[j]);
+        let bj = b[j];
+        if bj != 0.0 {
+            for r in j + 1..=(j + kl).min(n - 1) {
+                b[r] -= self.entries[r * width + j + kl - r] * bj;
             }
         }
-        let reach = kl + ku;
-        for i in (0..n).rev() {
-            let last = (i + reach).min(n - 1);
-            let row = &self.entries[at(i, i + 1)..at(i, i + 1) + (last - i)];
-            // The terms of x_{i+2}, … first and x_{i+1}, computed just before, last: only one
-            // product and one subtraction wait for it (the substitution is latency-bound).
-            let far = row
-                .iter()
-                .zip(&b[i + 1..=last])
-                .skip(1)
-                .fold(b[i], |sum, (a, x)| sum - a * x);
-            let sum = match row.first() {
-                Some(&a) => far - a * b[i + 1],
-                None => far,
-            };
-            b[i] = sum * self.inverse_diagonal[i];
+    }
+
+    /// Row i of the back substitution, rows i + 1, … done.
+    #[inline(always)]
+    fn backward_row(&self, b: &mut [f64], i: usize, (kl, ku): (usize, usize)) {
+        let (n, width) = (self.size, 2 * kl + ku + 1);
+        let last = (i + kl + ku).min(n - 1);
+        let first = i * width + kl + 1;
+        let row = &self.entries[first..first + (last - i)];
+        // The terms of x_{i+2}, … first and x_{i+1}, computed just before, last: only one
+        // product and one subtraction wait for it (the substitution is latency-bound).
+        let far = row
+            .iter()
+            .zip(&b[i + 1..=last])
+            .skip(1)
+            .fold(b[i], |sum, (a, x)| sum - a * x);
+        let sum = match row.first() {
+            Some(&a) => far - a * b[i + 1],
+            None => far,
+        };
+        b[i] = sum * self.inverse_diagonal[i];
+    }
+
+    /// [`Factors::solve_with_band`] in the band (3, 3) of at least 8 rows, with the rows in
+    /// reach of the present one held in locals: both substitutions are latency-bound, and a
+    /// value stored and loaded again waits for its store. The same operations in the same
+    /// order, so the same bits (`the_fixed_size_path_does_the_general_arithmetic`).
+    fn solve_condensed(&self, b: &mut [f64]) {
+        const W: usize = CONDENSED_WIDTH;
+        let (n, entries) = (self.size, &self.entries);
+        self.scale_rows(b);
+        // Forward: w holds rows j ..= j + 3 (the pivot of column j is one of them).
+        let mut w = [b[0], b[1], b[2], b[3]];
+        for j in 0..n - 3 {
+            match self.pivot[j] - j {
+                0 => {}
+                1 => w.swap(0, 1),
+                2 => w.swap(0, 2),
+                _ => w.swap(0, 3),
+            }
+            let bj = w[0];
+            if bj != 0.0 {
+                w[1] -= entries[(j + 1) * W + 2] * bj;
+                w[2] -= entries[(j + 2) * W + 1] * bj;
+                w[3] -= entries[(j + 3) * W] * bj;
+            }
+            b[j] = bj;
+            w = [w[1], w[2], w[3], b.get(j + 4).copied().unwrap_or(0.0)];
+        }
+        b[n - 3..].copy_from_slice(&w[..3]);
+        for j in n - 3..n {
+            self.forward_row(b, j, CONDENSED_BAND);
+        }
+        // Backward: the last six rows reach fewer than six columns; then x holds
+        // x_{i+1} ..= x_{i+6}.
+        for i in (n - 6..n).rev() {
+            self.backward_row(b, i, CONDENSED_BAND);
+        }
+        let mut x: [f64; 6] = b[n - 6..].try_into().expect("six values");
+        for i in (0..n - 6).rev() {
+            let row = &entries[i * W + 4..i * W + 10];
+            let far = (1..6).fold(b[i], |sum, c| sum - row[c] * x[c]);
+            let xi = (far - row[0] * x[0]) * self.inverse_diagonal[i];
+            b[i] = xi;
+            x = [xi, x[0], x[1], x[2], x[3], x[4]];
         }
     }
 }
@@ -502,6 +564,21 @@ mod tests {
         );
         assert_eq!(x, y);
         assert!(x.iter().all(|v| v.is_finite() && *v != 0.0));
+        // The substitutions alone, on right-hand sides with zeros (skipped columns) and
+        // signed zeros: bit for bit.
+        for pattern in 0..4 {
+            let b: Vec<f64> = (0..size)
+                .map(|i| match (i + pattern) % 4 {
+                    0 => 0.0,
+                    1 => -0.0,
+                    _ => next(),
+                })
+                .collect();
+            let (mut u, mut v) = (b.clone(), b);
+            assert!(fixed.apply_inverse(&mut u) && general.apply_inverse(&mut v));
+            let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&u), bits(&v), "right-hand side {pattern}");
+        }
     }
 
     #[test]
