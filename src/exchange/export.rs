@@ -60,17 +60,18 @@ pub fn export(
             existing.map(|(p, _)| p.clone()).collect(),
         ));
     }
-    let created_from = first_missing(dir);
-    std::fs::create_dir_all(dir).map_err(|e| ExchangeError::io(dir, e))?;
+    let created_dirs = create_dirs(dir).map_err(|e| ExchangeError::io(dir, e))?;
     let discrete = DiscreteProblem::new(problem, mesh);
     let texts = file_texts(&discrete, problem, scene);
     for (written, (path, text)) in paths.iter().zip(&texts).enumerate() {
         if let Err(e) = crate::scene::write_atomic(path, text.as_bytes(), force) {
-            let created = paths[..written].iter().zip(&existed).filter(|(_, e)| !**e);
+            // The failed file too: a failure after its rename (syncing the directory) leaves
+            // it in place.
+            let created = paths[..=written].iter().zip(&existed).filter(|(_, e)| !**e);
             for (file, _) in created {
                 let _ = std::fs::remove_file(file);
             }
-            remove_created_dirs(dir, created_from.as_deref());
+            remove_dirs(&created_dirs);
             return Err(match e {
                 SaveError::Exists(p) => ExchangeError::Exists(vec![p]),
                 SaveError::Io(p, e) => ExchangeError::io(&p, e),
@@ -85,23 +86,32 @@ pub fn export(
     Ok(paths)
 }
 
-/// The outermost directory of `dir`'s path that does not exist yet (what `create_dir_all`
-/// would create first), if any.
-fn first_missing(dir: &Path) -> Option<PathBuf> {
-    dir.ancestors()
-        .take_while(|a| !a.as_os_str().is_empty() && std::fs::symlink_metadata(a).is_err())
-        .last()
-        .map(Path::to_path_buf)
+/// Creates `dir` one component at a time and returns the directories this call created, in
+/// order (a path with `..` or symbolic links in it can name an existing directory below a
+/// new one, so only what `create_dir` itself made counts as created). On an error, what it
+/// created is removed again.
+fn create_dirs(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut created = Vec::new();
+    let mut prefix = PathBuf::new();
+    for component in dir.components() {
+        prefix.push(component);
+        match std::fs::create_dir(&prefix) {
+            Ok(()) => created.push(prefix.clone()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(e) => {
+                remove_dirs(&created);
+                return Err(e);
+            }
+        }
+    }
+    Ok(created)
 }
 
-/// Removes `dir` and its parents up to `created_from` (the directories an export created),
-/// each only if it is empty: whatever else is in them stays.
-fn remove_created_dirs(dir: &Path, created_from: Option<&Path>) {
-    let Some(top) = created_from else { return };
-    for ancestor in dir.ancestors() {
-        if std::fs::remove_dir(ancestor).is_err() || ancestor == top {
-            return;
-        }
+/// Removes the directories `created` (as [`create_dirs`] returned them), the last first, each
+/// only if it is empty: whatever else is in them stays.
+fn remove_dirs(created: &[PathBuf]) {
+    for dir in created.iter().rev() {
+        let _ = std::fs::remove_dir(dir);
     }
 }
 
@@ -207,12 +217,9 @@ mod tests {
     fn only_the_directories_an_export_created_are_removed_and_only_if_empty() {
         let base = tempfile::tempdir().unwrap();
         let dir = base.path().join("a").join("b").join("c");
-        assert_eq!(
-            first_missing(&dir).as_deref(),
-            Some(base.path().join("a").as_path())
-        );
-        std::fs::create_dir_all(&dir).unwrap();
-        remove_created_dirs(&dir, Some(&base.path().join("a")));
+        let created = create_dirs(&dir).unwrap();
+        assert_eq!(created.len(), 3);
+        remove_dirs(&created);
         assert!(
             !base.path().join("a").exists(),
             "every created level removed"
@@ -220,15 +227,39 @@ mod tests {
         assert!(base.path().exists(), "the existing parent stays");
 
         // Someone else's file in a created level keeps that level (and those above it).
-        std::fs::create_dir_all(&dir).unwrap();
+        let created = create_dirs(&dir).unwrap();
         std::fs::write(base.path().join("a").join("b").join("theirs"), "x").unwrap();
-        remove_created_dirs(&dir, Some(&base.path().join("a")));
+        remove_dirs(&created);
         assert!(!dir.exists());
         assert!(base.path().join("a").join("b").join("theirs").exists());
 
         // Nothing created: nothing removed.
-        assert_eq!(first_missing(base.path()), None);
-        remove_created_dirs(base.path(), None);
-        assert!(base.path().exists());
+        assert!(create_dirs(base.path()).unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_path_through_dot_dot_never_removes_a_directory_that_was_there() {
+        // new/../out names the existing (empty) out below a new directory: only new and
+        // what is created inside out count as created.
+        let base = tempfile::tempdir().unwrap();
+        std::fs::create_dir(base.path().join("out")).unwrap();
+        let dir = base.path().join("new").join("..").join("out").join("a");
+        let created = create_dirs(&dir).unwrap();
+        assert_eq!(created.len(), 2, "{created:?}");
+        remove_dirs(&created);
+        assert!(
+            base.path().join("out").is_dir(),
+            "the user's directory stays"
+        );
+        assert!(!base.path().join("out").join("a").exists());
+        assert!(!base.path().join("new").exists());
+
+        // A creation that fails half-way (a file where a directory should be) removes what
+        // it had created.
+        std::fs::write(base.path().join("file"), "x").unwrap();
+        let blocked = base.path().join("new").join("..").join("file").join("x");
+        assert!(create_dirs(&blocked).is_err());
+        assert!(!base.path().join("new").exists());
+        assert!(base.path().join("file").is_file());
     }
 }
