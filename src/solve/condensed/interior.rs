@@ -71,16 +71,6 @@ const CLEAR_SIDE: f64 = 100.0;
 pub(super) type Crossover<'c> =
     dyn FnMut(&[Pattern], &mut dyn FnMut() -> bool) -> Result<bool, CondensedFailure> + 'c;
 
-/// What the interior-point iteration gives the search.
-pub(super) enum InteriorGuess {
-    /// A system was singular: no guess.
-    None,
-    /// The pattern of the last iterate.
-    Pattern(Vec<Pattern>),
-    /// The caller settled the search from a pattern offered to it ([`Crossover`]).
-    Settled,
-}
-
 /// A friction DOF with a positive threshold in the interior-point method: the bounds of its
 /// force change, ±g − λ_h, each to its own last bits, and the iterate (δλ, p, q).
 #[derive(Debug, Clone, Copy)]
@@ -154,7 +144,7 @@ impl ShootingSystem {
         held: &[DoubleDouble],
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
-    ) -> Result<InteriorGuess, CondensedFailure> {
+    ) -> Result<Option<Vec<Pattern>>, CondensedFailure> {
         let (bounds, fixed) = self.held_bounds(held);
         // Every held force within its threshold: the held beam is the answer.
         if bounds
@@ -162,7 +152,7 @@ impl ShootingSystem {
             .flatten()
             .all(|&(lower, upper)| lower < 0.0 && upper > 0.0)
         {
-            return Ok(InteriorGuess::Pattern(vec![Pattern::Stuck; held.len()]));
+            return Ok(Some(vec![Pattern::Stuck; held.len()]));
         }
         // Start at no change where the held force is within its bounds, else as far inside
         // the bound it breaks as it lies outside.
@@ -187,7 +177,7 @@ impl ShootingSystem {
         let template = self.mixed_template();
         let Ok((motion, _)) = self.solve_mixed(&template, &start, &mut banded, &mut force_column)
         else {
-            return Ok(InteriorGuess::None);
+            return Ok(None);
         };
         // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
         let motion_scale = largest_of_each_kind(&motion);
@@ -230,18 +220,14 @@ impl ShootingSystem {
             final_centrality: CENTRALITY_TOLERANCE * smallest,
             free_motion: motion,
         };
-        let (steps, settled) = method.run(keep_going, crossover)?;
+        let steps = method.run(keep_going, crossover)?;
         // Each step: a factorisation with its solve, and one more solve with its factors.
         self.count(|c| {
             c.interior_steps += steps;
             c.factorizations += steps;
             c.back_solves += steps;
         });
-        Ok(if settled {
-            InteriorGuess::Settled
-        } else {
-            InteriorGuess::Pattern(method.pattern())
-        })
+        Ok(Some(method.pattern()))
     }
 
     /// The bounds ±g − λ_h of every DOF's force change from the held forces `held`, each
@@ -296,16 +282,16 @@ impl InteriorPoint<'_> {
     }
 
     /// Predictor–corrector steps until μ is negligible, a solve fails, rounding closes a
-    /// slack or `crossover` settles the search from a pattern offered to it; the number of
-    /// steps taken and whether it did, or [`CondensedFailure::Stopped`] when `keep_going`,
+    /// slack or `crossover` settles the search from a pattern offered to it (the iterate's
+    /// own); the number of steps taken, or [`CondensedFailure::Stopped`] when `keep_going`,
     /// asked before every step, says no.
     fn run(
         &mut self,
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
-    ) -> Result<(usize, bool), CondensedFailure> {
+    ) -> Result<usize, CondensedFailure> {
         if self.variables.is_empty() {
-            return Ok((0, false));
+            return Ok(0);
         }
         let mut offers = Offers {
             start: self.pattern(),
@@ -316,14 +302,14 @@ impl InteriorPoint<'_> {
         for done in 0..MOST_STEPS {
             let mu = self.centrality();
             if mu.is_nan() || mu <= self.final_centrality {
-                return Ok((done, false));
+                return Ok(done);
             }
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
             let zero = vec![[0.0; 2]; self.variables.len()];
             let Some(affine) = self.step(&zero, true) else {
-                return Ok((done, false));
+                return Ok(done);
             };
             let reach = self.largest_step(&affine);
             let predicted: f64 = self
@@ -343,11 +329,11 @@ impl InteriorPoint<'_> {
                 .map(|&[dl, dp, dq]| [target + dp * dl, target - dq * dl])
                 .collect();
             let Some(step) = self.step(&targets, false) else {
-                return Ok((done + 1, false));
+                return Ok(done + 1);
             };
             if !step.iter().flatten().all(|v| v.is_finite()) {
                 // Rounding has closed a slack: the iterate so far is the guess.
-                return Ok((done + 1, false));
+                return Ok(done + 1);
             }
             // The forces and the motions each go as far as their own bounds allow.
             let (force_reach, motion_reach) = self.largest_steps(&step);
@@ -361,10 +347,10 @@ impl InteriorPoint<'_> {
             if !self.sides_clear() {
                 offers.previous = None;
             } else if offers.settled(self.pattern(), keep_going, crossover)? {
-                return Ok((done + 1, true));
+                return Ok(done + 1);
             }
         }
-        Ok((MOST_STEPS, false))
+        Ok(MOST_STEPS)
     }
 
     /// The Newton step for complementarity targets (T⁺, T⁻) per friction variable: each

@@ -7,7 +7,6 @@ use std::collections::HashSet;
 
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
-use super::interior::InteriorGuess;
 use super::line_search::SearchPoint;
 use super::newton_phases::{NewtonPhases, fingerprint};
 use super::scaling::Scales;
@@ -44,7 +43,7 @@ const WARM_SOLVES: usize = 16;
 /// notch on the ties family it leaves 1750 of 8000 (every force is at its threshold, so one
 /// change moves them all) and the monotone search would take hundreds of solves.
 const WARM_LOCAL: usize = 16;
-/// Solves of a pattern the interior-point iteration offers ([`InteriorGuess`]): one, so no
+/// Solves of a pattern the interior-point iteration offers (`interior::Crossover`): one, so no
 /// Newton or monotone step is taken and the search's state (σ included) is untouched; a
 /// consistent pattern is refined and decided again on the refined values like any other.
 const CROSSOVER_SOLVES: usize = 1;
@@ -105,9 +104,7 @@ pub(super) fn solve_with_newton_phases(
     // one (so it costs one solve, or at most WARM_SOLVES, more than a cold solve).
     let mut warm_solves = 0;
     if let Some(start) = start.filter(|start| start.dofs() == 2 * obstacles) {
-        let mut attempt = PatternSearch::new(&system, obstacles, &[]);
-        attempt.pattern = start.0.clone();
-        attempt.limit = WARM_SOLVES;
+        let mut attempt = PatternSearch::attempt(&system, &start.0, WARM_SOLVES);
         attempt.local_only = Some(WARM_LOCAL);
         let (solution, converged) = attempt.run(keep_going, &mut observe)?;
         if converged {
@@ -150,12 +147,9 @@ pub(super) fn solve_with_newton_phases(
             };
             let guess = system.interior_point_pattern(&held, keep_going, &mut crossover);
             search.banded = banded;
-            match guess? {
-                InteriorGuess::Pattern(guess) => {
-                    search.pattern = guess.clone();
-                    search.newton.start = Some(guess);
-                }
-                InteriorGuess::None | InteriorGuess::Settled => {}
+            if let Some(guess) = guess? {
+                search.pattern = guess.clone();
+                search.newton.start = Some(guess);
             }
             search.newton.held = Some(held);
         }
@@ -272,17 +266,24 @@ impl<'a> PatternSearch<'a> {
         }
     }
 
-    /// The check of a pattern the interior-point iteration offers ([`InteriorGuess`]): one
+    /// An attempt from `start` with the monotone search alone (no Newton phases), of at
+    /// most `limit` solves: a warm start's, or the check of an offered pattern.
+    fn attempt(system: &'a ShootingSystem, start: &[Pattern], limit: usize) -> PatternSearch<'a> {
+        let mut attempt = PatternSearch::new(system, start.len() / 2, &[]);
+        attempt.pattern = start.to_vec();
+        attempt.limit = limit;
+        attempt
+    }
+
+    /// The check of a pattern the interior-point iteration offers (`interior::Crossover`): one
     /// solve in `banded`'s buffers, no refinement once a DOF is certainly inconsistent.
     fn offered(
         system: &'a ShootingSystem,
         candidate: &[Pattern],
         banded: &mut BandedSystem,
     ) -> PatternSearch<'a> {
-        let mut attempt = PatternSearch::new(system, candidate.len() / 2, &[]);
+        let mut attempt = PatternSearch::attempt(system, candidate, CROSSOVER_SOLVES);
         attempt.banded = std::mem::replace(banded, BandedSystem::empty());
-        attempt.pattern = candidate.to_vec();
-        attempt.limit = CROSSOVER_SOLVES;
         attempt.certain_only = true;
         attempt
     }
