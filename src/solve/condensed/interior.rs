@@ -68,8 +68,11 @@ const CLEAR_SIDE: f64 = 100.0;
 /// caller, which solves it and says whether the search is settled from there (true: the
 /// iteration ends). Measured (`cargo bench --bench many_obstacles -- report`): on the
 /// clustered family at k = 1000 and 4000 the pattern is final after 4 of 15 steps.
-pub(super) type Crossover<'c> =
-    dyn FnMut(&[Pattern], &mut dyn FnMut() -> bool) -> Result<bool, CondensedFailure> + 'c;
+///
+/// The offer solves in the iteration's own banded system (given with it), whose factors the
+/// iteration's next step makes anew.
+pub(super) type Crossover<'c> = dyn FnMut(&[Pattern], &mut BandedSystem, &mut dyn FnMut() -> bool) -> Result<bool, CondensedFailure>
+    + 'c;
 
 /// A friction DOF with a positive threshold in the interior-point method: the bounds of its
 /// force change, ±g − λ_h, each to its own last bits, and the iterate (δλ, p, q).
@@ -118,12 +121,14 @@ struct InteriorPoint<'a> {
     system: &'a ShootingSystem,
     /// What every step's system shares with the others.
     template: MixedTemplate,
-    banded: BandedSystem,
+    /// The caller's system (its memory already in use), factored anew by every step.
+    banded: &'a mut BandedSystem,
     /// Per column of `banded`'s system: the DOF whose force it holds.
     force_column: Vec<Option<usize>>,
     variables: Vec<FrictionVariable>,
-    /// The condition of every DOF without a variable (no friction: its force is given).
-    fixed: Vec<Mixed>,
+    /// The condition of every DOF: those without a variable (no friction) give their force,
+    /// the others are set by every step.
+    mixed: Vec<Mixed>,
     /// μ at which the guess is taken.
     final_centrality: f64,
     /// The motions of the start (the pattern of a DOF without friction).
@@ -136,12 +141,14 @@ pub(super) type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
 
 impl ShootingSystem {
     /// The interior-point guess of the friction pattern about the held beam, whose forces
-    /// `held` are given to about 106 bits (`None` when a system is singular); its steps go to
+    /// `held` are given to about 106 bits (`None` when a system is singular), solving in
+    /// `banded` (the search's, so that one system's memory serves both); its steps go to
     /// the counts. `keep_going` is asked before every step (one banded factorisation, about
     /// 1.5 ms at 4000 obstacles) and [`CondensedFailure::Stopped`] returned when it says no.
     pub(super) fn interior_point_pattern(
         &self,
         held: &[DoubleDouble],
+        banded: &mut BandedSystem,
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
     ) -> Result<Option<Vec<Pattern>>, CondensedFailure> {
@@ -172,11 +179,9 @@ impl ShootingSystem {
                 condition.force = start_force(bound);
             }
         }
-        let mut banded = BandedSystem::empty();
         let mut force_column = Vec::new();
         let template = self.mixed_template();
-        let Ok((motion, _)) = self.solve_mixed(&template, &start, &mut banded, &mut force_column)
-        else {
+        let Ok((motion, _)) = self.solve_mixed(&template, &start, banded, &mut force_column) else {
             return Ok(None);
         };
         // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
@@ -216,7 +221,7 @@ impl ShootingSystem {
             banded,
             force_column,
             variables,
-            fixed,
+            mixed: fixed,
             final_centrality: CENTRALITY_TOLERANCE * smallest,
             free_motion: motion,
         };
@@ -346,7 +351,7 @@ impl InteriorPoint<'_> {
             }
             if !self.sides_clear() {
                 offers.previous = None;
-            } else if offers.settled(self.pattern(), keep_going, crossover)? {
+            } else if offers.settled(self.pattern(), self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
         }
@@ -358,7 +363,7 @@ impl InteriorPoint<'_> {
     /// solved by the shooting system (factored anew when `factor`, else with the last
     /// factors); `None` when it is singular.
     fn step(&mut self, targets: &[[f64; 2]], factor: bool) -> Option<Step> {
-        let mut mixed = self.fixed.clone();
+        let mixed = &mut self.mixed;
         for (v, [above, below]) in self.variables.iter().zip(targets) {
             let weight = v.weight();
             let rho = (above - v.positive * v.slack_above()) / v.slack_above()
@@ -369,18 +374,13 @@ impl InteriorPoint<'_> {
                 motion: v.motion() + rho,
             };
         }
+        let (system, mixed) = (self.system, &self.mixed);
         let (_, force_changes) = if factor {
-            self.system
-                .solve_mixed(
-                    &self.template,
-                    &mixed,
-                    &mut self.banded,
-                    &mut self.force_column,
-                )
+            system
+                .solve_mixed(&self.template, mixed, self.banded, &mut self.force_column)
                 .ok()?
         } else {
-            self.system
-                .resolve_mixed(&self.template, &mixed, &self.banded, &self.force_column)?
+            system.resolve_mixed(&self.template, mixed, self.banded, &self.force_column)?
         };
         Some(
             self.variables
@@ -496,6 +496,7 @@ impl Offers {
     fn settled(
         &mut self,
         pattern: Vec<Pattern>,
+        banded: &mut BandedSystem,
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
     ) -> Result<bool, CondensedFailure> {
@@ -508,7 +509,7 @@ impl Offers {
             return Ok(false);
         }
         self.count += 1;
-        let settled = crossover(&pattern, keep_going)?;
+        let settled = crossover(&pattern, banded, keep_going)?;
         self.offered = Some(pattern);
         Ok(settled)
     }

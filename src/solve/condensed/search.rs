@@ -130,22 +130,27 @@ pub(super) fn solve_with_newton_phases(
         }
         let held = search.held_forces()?;
         if held.len() == 2 * obstacles {
-            // The attempts solve in the search's banded system (its buffers are warm).
+            // The iteration and the attempts solve in the search's banded system (one
+            // system's memory for all: fresh memory is faulted in page by page).
             let mut banded = std::mem::replace(&mut search.banded, BandedSystem::empty());
-            let mut crossover = |candidate: &[Pattern], keep_going: &mut dyn FnMut() -> bool| {
-                let mut attempt = PatternSearch::offered(&system, candidate, &mut banded);
-                let result = attempt.run(keep_going, &mut observe);
-                banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
-                crossover_solves += attempt.solves;
-                match result {
-                    Ok((solution, true)) => crossed = Some((solution, attempt.pattern)),
-                    // A singular candidate is only one that failed: the iteration goes on.
-                    Ok(_) | Err(CondensedFailure::Singular { .. }) => {}
-                    Err(stopped) => return Err(stopped),
-                }
-                Ok(crossed.is_some())
-            };
-            let guess = system.interior_point_pattern(&held, keep_going, &mut crossover);
+            let mut crossover =
+                |candidate: &[Pattern],
+                 banded: &mut BandedSystem,
+                 keep_going: &mut dyn FnMut() -> bool| {
+                    let mut attempt = PatternSearch::offered(&system, candidate, banded);
+                    let result = attempt.run(keep_going, &mut observe);
+                    *banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
+                    crossover_solves += attempt.solves;
+                    match result {
+                        Ok((solution, true)) => crossed = Some((solution, attempt.pattern)),
+                        // A singular candidate is only one that failed: the iteration goes on.
+                        Ok(_) | Err(CondensedFailure::Singular { .. }) => {}
+                        Err(stopped) => return Err(stopped),
+                    }
+                    Ok(crossed.is_some())
+                };
+            let guess =
+                system.interior_point_pattern(&held, &mut banded, keep_going, &mut crossover);
             search.banded = banded;
             if let Some(guess) = guess? {
                 search.pattern = guess.clone();
