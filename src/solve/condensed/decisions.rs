@@ -78,6 +78,20 @@ impl ShootingSystem {
             .collect()
     }
 
+    /// The DOFs whose state `solution` contradicts, with the pattern each wants.
+    pub(super) fn inconsistent_dofs(
+        &self,
+        solution: &PatternSolution,
+        pattern: &[Pattern],
+    ) -> Vec<(usize, Pattern)> {
+        (0..pattern.len())
+            .filter_map(|i| {
+                let wanted = self.wanted(solution, pattern, i);
+                (wanted != pattern[i]).then_some((i, wanted))
+            })
+            .collect()
+    }
+
     /// The pattern each DOF should have given this solution (the same when consistent).
     pub(super) fn wanted(
         &self,

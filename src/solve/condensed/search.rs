@@ -103,11 +103,17 @@ pub(super) fn solve_with_newton_phases(
     // gets a few steps of the monotone search; otherwise the search starts over as without
     // one (so it costs one solve, or at most WARM_SOLVES, more than a cold solve).
     let mut warm_solves = 0;
+    // Every attempt and the search solve in the system the last solve on this thread kept.
+    let mut banded = BandedSystem::kept();
     if let Some(start) = start.filter(|start| start.dofs() == 2 * obstacles) {
         let mut attempt = PatternSearch::attempt(&system, &start.0, WARM_SOLVES);
         attempt.local_only = Some(WARM_LOCAL);
-        let (solution, converged) = attempt.run(keep_going, &mut observe)?;
+        attempt.banded = banded;
+        let result = attempt.run(keep_going, &mut observe);
+        banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
+        let (solution, converged) = result?;
         if converged {
+            banded.keep();
             return condensed_solution(
                 (problem, mesh, &scales),
                 &system,
@@ -120,6 +126,7 @@ pub(super) fn solve_with_newton_phases(
         system.reversal_fraction.set(first_fraction);
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
+    search.banded = banded;
     // A pattern the interior-point iteration settles on is tried at once (one solve); if
     // it is consistent, that is the answer.
     let mut crossed = None;
@@ -161,6 +168,7 @@ pub(super) fn solve_with_newton_phases(
     }
     let solves = warm_solves + crossover_solves;
     if let Some((solution, pattern)) = crossed {
+        search.banded.keep();
         return condensed_solution(
             (problem, mesh, &scales),
             &system,
@@ -169,7 +177,9 @@ pub(super) fn solve_with_newton_phases(
             keep_going,
         );
     }
-    let (solution, converged) = search.run(keep_going, &mut observe)?;
+    let result = search.run(keep_going, &mut observe);
+    search.banded.keep();
+    let (solution, converged) = result?;
     condensed_solution(
         (problem, mesh, &scales),
         &system,
@@ -218,20 +228,6 @@ struct MonotoneSearch {
     fallback: Vec<Vec<Pattern>>,
     /// The solve it started at.
     started_at: usize,
-}
-
-/// The DOFs whose state `solution` contradicts, with the pattern each wants.
-fn inconsistent_dofs(
-    system: &ShootingSystem,
-    solution: &PatternSolution,
-    pattern: &[Pattern],
-) -> Vec<(usize, Pattern)> {
-    (0..pattern.len())
-        .filter_map(|i| {
-            let wanted = system.wanted(solution, pattern, i);
-            (wanted != pattern[i]).then_some((i, wanted))
-        })
-        .collect()
 }
 
 impl<'a> PatternSearch<'a> {
@@ -351,7 +347,7 @@ impl<'a> PatternSearch<'a> {
         let mut solution =
             system.solve_pattern(&self.pattern, Accuracy::Plain, &mut self.banded)?;
         self.solves += 1;
-        let mut changes = inconsistent_dofs(system, &solution, &self.pattern);
+        let mut changes = system.inconsistent_dofs(&solution, &self.pattern);
         if self.is_not_local(&changes) {
             // A warm start that gives up here: no refinement to decide anything.
             return Ok((solution, changes));
@@ -390,12 +386,12 @@ impl<'a> PatternSearch<'a> {
                 Accuracy::RefineForDecisions,
                 &mut self.banded,
             )?;
-            changes = inconsistent_dofs(system, &solution, &self.pattern);
+            changes = system.inconsistent_dofs(&solution, &self.pattern);
         }
         if changes.is_empty() {
             solution =
                 system.solve_pattern(&self.pattern, Accuracy::RefineLast, &mut self.banded)?;
-            changes = inconsistent_dofs(system, &solution, &self.pattern);
+            changes = system.inconsistent_dofs(&solution, &self.pattern);
         }
         Ok((solution, changes))
     }

@@ -11,6 +11,7 @@ use crate::fem::Mesh;
 use crate::linalg::banded_lu::{BandedSystem, times_power_of_two};
 use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
+use std::cell::Cell;
 
 /// The band of the multiple-shooting system: piece p's rows 4p..4p+3 (u, u', m, m') reach
 /// the columns 4p − 2 ..= 4p + 1 of its start point (u and u' rows all four, m and m' rows only
@@ -19,10 +20,29 @@ use crate::model::Problem;
 pub(super) const BAND_LOWER: usize = 3;
 pub(super) const BAND_UPPER: usize = 3;
 
+thread_local! {
+    /// The search's system of the last solve on this thread ([`BandedSystem::keep`]): its
+    /// memory (2.6 MB at 4000 obstacles) is faulted in only once, and while it is held the
+    /// allocator does not trim its heap between solves, so the next solve finds the rest of
+    /// its working set in place too (random at k = 4000: 2111 → 743 page faults per solve).
+    /// At most one system per thread, as large as the largest solved on it.
+    static KEPT: Cell<Option<BandedSystem>> = const { Cell::new(None) };
+}
+
 impl BandedSystem {
     /// A system of no unknowns in the multiple-shooting band, holding no memory.
     pub(super) fn empty() -> BandedSystem {
         BandedSystem::new(0, BAND_LOWER, BAND_UPPER)
+    }
+
+    /// The system the last solve on this thread kept, or an empty one.
+    pub(super) fn kept() -> BandedSystem {
+        KEPT.take().unwrap_or_else(BandedSystem::empty)
+    }
+
+    /// Keeps this system's memory for the next solve on this thread (its values are stale).
+    pub(super) fn keep(&mut self) {
+        KEPT.set(Some(std::mem::replace(self, BandedSystem::empty())));
     }
 }
 

@@ -107,3 +107,41 @@ fn the_projected_newton_guess_is_the_answer_on_small_crowded_scenes() {
         assert_eq!(guess, answer.pattern.0, "k = {k}");
     }
 }
+
+#[test]
+fn a_solve_after_another_on_the_same_thread_gives_the_same_bits() {
+    // The search's banded system is kept between solves on a thread (`BandedSystem::keep`),
+    // stale: a solve after a larger and a smaller one must not see anything of theirs.
+    let bits = |solution: &CondensedSolution| -> Vec<u64> {
+        let field = &solution.field;
+        let forces = solution.friction.iter().flatten();
+        field
+            .deflection
+            .iter()
+            .chain(&field.slope)
+            .chain(forces)
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let solve = |k: usize, seed: u64| {
+        let problem = crowded(k, seed);
+        let mesh = Mesh::new(&problem, 4 * (k + 1));
+        let solution = solve_condensed(&problem, &mesh).unwrap();
+        assert!(solution.converged, "k = {k}");
+        solution
+    };
+    // Each on a thread of its own: nothing kept.
+    let alone = |k: usize, seed: u64| std::thread::spawn(move || bits(&solve(k, seed)));
+    let (small, large) = (alone(40, 2).join().unwrap(), alone(200, 3).join().unwrap());
+    let after = std::thread::spawn(move || {
+        let first = bits(&solve(200, 3));
+        let second = bits(&solve(40, 2));
+        let third = bits(&solve(200, 3));
+        (first, second, third)
+    })
+    .join()
+    .unwrap();
+    assert_eq!(after.0, large);
+    assert_eq!(after.1, small, "after a larger solve");
+    assert_eq!(after.2, large, "after a smaller solve");
+}
