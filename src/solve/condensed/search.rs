@@ -109,9 +109,8 @@ pub(super) fn solve_with_newton_phases(
         let mut attempt = PatternSearch::attempt(&system, &start.0, WARM_SOLVES);
         attempt.local_only = Some(WARM_LOCAL);
         attempt.banded = banded;
-        let result = attempt.run(keep_going, &mut observe);
+        let (solution, converged) = attempt.run(keep_going, &mut observe)?;
         banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
-        let (solution, converged) = result?;
         if converged {
             banded.keep();
             return condensed_solution(
@@ -139,7 +138,6 @@ pub(super) fn solve_with_newton_phases(
         if held.len() == 2 * obstacles {
             // The iteration and the attempts solve in the search's banded system (one
             // system's memory for all: fresh memory is faulted in page by page).
-            let mut banded = std::mem::replace(&mut search.banded, BandedSystem::empty());
             let mut crossover =
                 |candidate: &[Pattern],
                  banded: &mut BandedSystem,
@@ -156,9 +154,8 @@ pub(super) fn solve_with_newton_phases(
                     }
                     Ok(crossed.is_some())
                 };
-            let guess =
-                system.interior_point_pattern(&held, &mut banded, keep_going, &mut crossover);
-            search.banded = banded;
+            let banded = &mut search.banded;
+            let guess = system.interior_point_pattern(&held, banded, keep_going, &mut crossover);
             if let Some(guess) = guess? {
                 search.pattern = guess.clone();
                 search.newton.start = Some(guess);
