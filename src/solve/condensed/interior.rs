@@ -226,13 +226,15 @@ impl ShootingSystem {
             free_motion: motion,
         };
         let steps = method.run(keep_going, crossover)?;
+        let pattern = method.pattern();
+        method.template.keep();
         // Each step: a factorisation with its solve, and one more solve with its factors.
         self.count(|c| {
             c.interior_steps += steps;
             c.factorizations += steps;
             c.back_solves += steps;
         });
-        Ok(Some(method.pattern()))
+        Ok(Some(pattern))
     }
 
     /// The bounds ±g − λ_h of every DOF's force change from the held forces `held`, each
@@ -304,6 +306,9 @@ impl InteriorPoint<'_> {
             offered: None,
             count: 0,
         };
+        // Every step's vectors, reused (at 4000 obstacles each is 128–192 KB).
+        let zero = vec![[0.0; 2]; self.variables.len()];
+        let (mut affine, mut step, mut targets) = (Vec::new(), Vec::new(), Vec::new());
         for done in 0..MOST_STEPS {
             let mu = self.centrality();
             if mu.is_nan() || mu <= self.final_centrality {
@@ -312,10 +317,9 @@ impl InteriorPoint<'_> {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
-            let zero = vec![[0.0; 2]; self.variables.len()];
-            let Some(affine) = self.step(&zero, true) else {
+            if !self.step(&zero, true, &mut affine) {
                 return Ok(done);
-            };
+            }
             let reach = self.largest_step(&affine);
             let predicted: f64 = self
                 .variables
@@ -329,13 +333,15 @@ impl InteriorPoint<'_> {
             let predicted = predicted / (2 * self.variables.len()) as f64;
             let centring = (predicted / mu).powi(3).clamp(0.0, 1.0);
             let target = centring * mu;
-            let targets: Vec<[f64; 2]> = affine
-                .iter()
-                .map(|&[dl, dp, dq]| [target + dp * dl, target - dq * dl])
-                .collect();
-            let Some(step) = self.step(&targets, false) else {
+            targets.clear();
+            targets.extend(
+                affine
+                    .iter()
+                    .map(|&[dl, dp, dq]| [target + dp * dl, target - dq * dl]),
+            );
+            if !self.step(&targets, false, &mut step) {
                 return Ok(done + 1);
-            };
+            }
             if !step.iter().flatten().all(|v| v.is_finite()) {
                 // Rounding has closed a slack: the iterate so far is the guess.
                 return Ok(done + 1);
@@ -361,8 +367,8 @@ impl InteriorPoint<'_> {
     /// The Newton step for complementarity targets (T⁺, T⁻) per friction variable: each
     /// DOF's c_new = D λ_new + r with r = c + ρ − D λ, ρ = (T⁺ − p s⁺)/s⁺ − (T⁻ − q s⁻)/s⁻,
     /// solved by the shooting system (factored anew when `factor`, else with the last
-    /// factors); `None` when it is singular.
-    fn step(&mut self, targets: &[[f64; 2]], factor: bool) -> Option<Step> {
+    /// factors), into `step`; false when it is singular.
+    fn step(&mut self, targets: &[[f64; 2]], factor: bool, step: &mut Step) -> bool {
         let mixed = &mut self.mixed;
         for (v, [above, below]) in self.variables.iter().zip(targets) {
             let weight = v.weight();
@@ -375,14 +381,18 @@ impl InteriorPoint<'_> {
             };
         }
         let (system, mixed) = (self.system, &self.mixed);
-        let (_, force_changes) = if factor {
+        let solved = if factor {
             system
                 .solve_mixed(&self.template, mixed, self.banded, &mut self.force_column)
-                .ok()?
+                .ok()
         } else {
-            system.resolve_mixed(&self.template, mixed, self.banded, &self.force_column)?
+            system.resolve_mixed(&self.template, mixed, self.banded, &self.force_column)
         };
-        Some(
+        let Some((_, force_changes)) = solved else {
+            return false;
+        };
+        step.clear();
+        step.extend(
             self.variables
                 .iter()
                 .zip(targets)
@@ -393,9 +403,9 @@ impl InteriorPoint<'_> {
                     let dq =
                         (below - v.negative * v.slack_below() - v.negative * dl) / v.slack_below();
                     [dl, dp, dq]
-                })
-                .collect(),
-        )
+                }),
+        );
+        true
     }
 
     /// The largest α ≤ 1 keeping p, q, s⁺ and s⁻ non-negative along `step`.

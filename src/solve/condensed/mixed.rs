@@ -9,6 +9,7 @@
 use super::CondensedFailure;
 use super::system::{BAND_LOWER, BAND_UPPER, JUMPS, Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
+use std::cell::Cell;
 
 /// The condition at one friction DOF: c − m = D (λ − λ₀) about a base force λ₀ and motion m
 /// (λ = λ₀ with c free where D is infinite). Written about a base point so that the change of
@@ -52,8 +53,23 @@ pub(super) struct MixedTemplate {
     dof_entries: Vec<(usize, usize, f64)>,
 }
 
+thread_local! {
+    /// The template of the last interior-point guess on this thread ([`MixedTemplate::keep`]):
+    /// its matrix (0.9 MB at 4000 obstacles) was allocated and faulted in anew by every solve
+    /// (a third of the page faults of a solve on the ties family in a loop of solves).
+    static KEPT_TEMPLATE: Cell<Option<MixedTemplate>> = const { Cell::new(None) };
+}
+
+impl MixedTemplate {
+    /// Keeps this template's memory for the next guess on this thread (its values are stale).
+    pub(super) fn keep(self) {
+        KEPT_TEMPLATE.set(Some(self));
+    }
+}
+
 impl ShootingSystem {
-    /// The part of the mixed system shared by every interior-point step.
+    /// The part of the mixed system shared by every interior-point step, in the memory of
+    /// the template kept on this thread, if any.
     pub(super) fn mixed_template(&self) -> MixedTemplate {
         let size = 4 * self.pieces.len() - 2;
         let dofs = 2 * self.point_of_obstacle.len();
@@ -61,8 +77,15 @@ impl ShootingSystem {
         for i in 0..dofs {
             is_dof_column[self.dof_column(i)] = true;
         }
-        let mut shared = BandedSystem::new(size, BAND_LOWER, BAND_UPPER);
-        let mut dof_entries = Vec::new();
+        let MixedTemplate {
+            mut shared,
+            mut dof_entries,
+        } = KEPT_TEMPLATE.take().unwrap_or_else(|| MixedTemplate {
+            shared: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
+            dof_entries: Vec::new(),
+        });
+        shared.reset(size);
+        dof_entries.clear();
         self.assemble_matrix(
             &vec![Pattern::Positive; dofs],
             |p| self.pieces[p].transfer_matrix(),
@@ -105,7 +128,7 @@ impl ShootingSystem {
             banded.add_rhs(row, value);
         }
         let x = banded
-            .solve_unrefined()
+            .solve_from_both_ends()
             .map_err(|e| CondensedFailure::Singular { column: e.column })?;
         Ok(self.mixed_values(mixed, force_column, &x))
     }

@@ -1,0 +1,282 @@
+//! Elimination of the band (3, 3) from both ends at once ("twisted" or "burn at both ends"
+//! factorisation): the condensed method's systems are long and narrow, and their elimination
+//! and substitutions are chains where every column waits for the last (a division, then a
+//! multiply–subtract per row). Two chains, one from the first row down and one from the last
+//! row up, run side by side in one loop, so the processor overlaps them; they meet in a 6 × 6
+//! block solved last.
+//!
+//! The top half is `gbtrf`'s elimination of the first `m` columns, pivoting within the band
+//! as [`super::one_ended::Factors`] does. The bottom half is the same elimination of the row- and
+//! column-reversed system (again of band (3, 3)) on the last columns. Each leaves three rows
+//! whose entries lie in the six middle columns only; those six rows are solved by Gaussian
+//! elimination with partial pivoting. Every pivot is the largest in its column among the rows
+//! it may be taken from, as in LAPACK's order, so the stability is that of partial pivoting;
+//! the rounding differs from the one-ended order in the last bits.
+
+use super::one_ended::{CONDENSED_BLOCK, CONDENSED_WIDTH, eliminate_condensed};
+use super::{FactorStorage, SingularColumn, scale_row};
+
+/// Rows and columns of the block the two halves meet in: kl + ku of the band (3, 3).
+const MIDDLE: usize = 6;
+
+/// Shortest system eliminated from both ends: below, one end is as quick.
+pub(super) const TWISTED_FROM: usize = 64;
+
+/// One half's factors, in the layout of [`super::one_ended::Factors`] (row width 10, the diagonal at
+/// offset 3 of its row): the first `columns` columns eliminated.
+#[derive(Debug, Clone)]
+struct Half {
+    entries: Vec<f64>,
+    pivot: Vec<usize>,
+    inverse_diagonal: Vec<f64>,
+    columns: usize,
+}
+
+/// The twisted factors of a band (3, 3) system of `size` ≥ [`TWISTED_FROM`] rows.
+#[derive(Debug, Clone)]
+pub(super) struct TwistedFactors {
+    size: usize,
+    row_scale: Vec<f64>,
+    /// Columns 0..m from the top, in rows 0..m + 3.
+    top: Half,
+    /// Columns size − 1 down to m + 6 from the bottom, reversed: reversed row i is row
+    /// size − 1 − i.
+    bottom: Half,
+    /// LU of the 6 × 6 block (its rows: the top's three rows left, then the bottom's, in its
+    /// reversed order; its columns m..m + 6), row by row, with its row exchanges.
+    middle: [[f64; MIDDLE]; MIDDLE],
+    middle_pivot: [usize; MIDDLE],
+}
+
+impl TwistedFactors {
+    /// Factors the band (3, 3) system whose rows are `given` (7 entries per row, columns
+    /// row − 3 ..= row + 3), reusing `storage`.
+    pub(super) fn new(
+        given: &[f64],
+        size: usize,
+        storage: FactorStorage,
+    ) -> Result<TwistedFactors, SingularColumn> {
+        const W: usize = CONDENSED_WIDTH;
+        debug_assert!(size >= TWISTED_FROM && given.len() == size * 7);
+        let top_columns = (size - MIDDLE) / 2;
+        let bottom_columns = size - MIDDLE - top_columns;
+        let (top_rows, bottom_rows) = (top_columns + 3, bottom_columns + 3);
+        let FactorStorage {
+            mut entries,
+            mut row_scale,
+            mut inverse_diagonal,
+            mut pivot,
+            mut bottom_entries,
+            mut bottom_pivot,
+            mut bottom_inverse_diagonal,
+        } = storage;
+        let reset = |v: &mut Vec<f64>, len: usize, value: f64| {
+            v.clear();
+            v.resize(len, value);
+        };
+        reset(&mut entries, top_rows * W, 0.0);
+        reset(&mut bottom_entries, bottom_rows * W, 0.0);
+        reset(&mut row_scale, size, 1.0);
+        reset(&mut inverse_diagonal, top_columns, 0.0);
+        reset(&mut bottom_inverse_diagonal, bottom_columns, 0.0);
+        pivot.clear();
+        pivot.resize(top_columns, 0);
+        bottom_pivot.clear();
+        bottom_pivot.resize(bottom_columns, 0);
+        for row in 0..top_rows {
+            let source = &given[row * 7..row * 7 + 7];
+            let target = &mut entries[row * W..row * W + 7];
+            row_scale[row] = scale_row(source, target.iter_mut());
+        }
+        for reversed in 0..bottom_rows {
+            let row = size - 1 - reversed;
+            let source = &given[row * 7..row * 7 + 7];
+            // Reversed, the entry of column row + d sits at offset 3 − d.
+            let target = &mut bottom_entries[reversed * W..reversed * W + 7];
+            row_scale[row] = scale_row(source, target.iter_mut().rev());
+        }
+        for j in 0..bottom_columns {
+            if j < top_columns {
+                let (best, inverse) = eliminate_condensed(block(&mut entries, j))
+                    .ok_or(SingularColumn { column: j })?;
+                pivot[j] = j + best;
+                inverse_diagonal[j] = inverse;
+            }
+            let (best, inverse) =
+                eliminate_condensed(block(&mut bottom_entries, j)).ok_or(SingularColumn {
+                    column: size - 1 - j,
+                })?;
+            bottom_pivot[j] = j + best;
+            bottom_inverse_diagonal[j] = inverse;
+        }
+        let mut middle = [[0.0; MIDDLE]; MIDDLE];
+        for t in 0..3 {
+            let (top_row, bottom_row) = (top_columns + t, bottom_columns + t);
+            for q in 0..MIDDLE {
+                // Column top_columns + q: offset q + 3 − t in the top's row, and, reversed
+                // (column bottom_columns + 5 − q), 8 − q − t in the bottom's.
+                middle[t][q] = entries[top_row * W + q + 3 - t];
+                middle[3 + t][q] = bottom_entries[bottom_row * W + 8 - q - t];
+            }
+        }
+        let middle_pivot = factor_middle(&mut middle).map_err(|q| SingularColumn {
+            column: top_columns + q,
+        })?;
+        Ok(TwistedFactors {
+            size,
+            row_scale,
+            top: Half {
+                entries,
+                pivot,
+                inverse_diagonal,
+                columns: top_columns,
+            },
+            bottom: Half {
+                entries: bottom_entries,
+                pivot: bottom_pivot,
+                inverse_diagonal: bottom_inverse_diagonal,
+                columns: bottom_columns,
+            },
+            middle,
+            middle_pivot,
+        })
+    }
+
+    /// Gives the vectors back for the next factorisation.
+    pub(super) fn into_storage(self) -> FactorStorage {
+        FactorStorage {
+            entries: self.top.entries,
+            row_scale: self.row_scale,
+            inverse_diagonal: self.top.inverse_diagonal,
+            pivot: self.top.pivot,
+            bottom_entries: self.bottom.entries,
+            bottom_pivot: self.bottom.pivot,
+            bottom_inverse_diagonal: self.bottom.inverse_diagonal,
+        }
+    }
+
+    /// Overwrites b with A⁻¹ b: both forward substitutions side by side, the middle block,
+    /// then both back substitutions side by side, each with the rows in its reach held in
+    /// locals (a value stored and loaded again would wait for its store).
+    pub(super) fn solve_in_place(&self, b: &mut [f64]) {
+        const W: usize = CONDENSED_WIDTH;
+        let n = self.size;
+        for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
+            *v *= scale;
+        }
+        let (top, bottom) = (&self.top, &self.bottom);
+        let (m, nb) = (top.columns, bottom.columns);
+        // Forward: u holds rows j ..= j + 3 of the top, w reversed rows j ..= j + 3.
+        let mut u = [b[0], b[1], b[2], b[3]];
+        let mut w = [b[n - 1], b[n - 2], b[n - 3], b[n - 4]];
+        for j in 0..nb {
+            if j < m {
+                forward_column(&mut u, &top.entries, top.pivot[j] - j, j);
+                b[j] = u[0];
+                u = [u[1], u[2], u[3], b[j + 4]];
+            }
+            forward_column(&mut w, &bottom.entries, bottom.pivot[j] - j, j);
+            b[n - 1 - j] = w[0];
+            w = [w[1], w[2], w[3], b[n - 5 - j]];
+        }
+        // The top's u holds rows m ..= m + 3 when it stopped, the bottom's w reversed rows
+        // nb ..= nb + 3: their first three are the middle block's right-hand side.
+        let rhs = [u[0], u[1], u[2], w[0], w[1], w[2]];
+        let middle = solve_middle(&self.middle, &self.middle_pivot, rhs);
+        b[m..m + MIDDLE].copy_from_slice(&middle);
+        // Back: x holds x_{i+1} ..= x_{i+6} of the top, y the same of the reversed bottom.
+        let mut x: [f64; 6] = middle;
+        let mut y: [f64; 6] = std::array::from_fn(|q| middle[MIDDLE - 1 - q]);
+        for t in 0..nb {
+            let i = nb - 1 - t;
+            let row = &bottom.entries[i * W + 4..i * W + 10];
+            let far = (1..6).fold(b[n - 1 - i], |sum, c| sum - row[c] * y[c]);
+            let yi = (far - row[0] * y[0]) * bottom.inverse_diagonal[i];
+            b[n - 1 - i] = yi;
+            y = [yi, y[0], y[1], y[2], y[3], y[4]];
+            if t + m >= nb {
+                // The top's row i as well (it has m ≤ nb rows to go).
+                let row = &top.entries[i * W + 4..i * W + 10];
+                let far = (1..6).fold(b[i], |sum, c| sum - row[c] * x[c]);
+                let xi = (far - row[0] * x[0]) * top.inverse_diagonal[i];
+                b[i] = xi;
+                x = [xi, x[0], x[1], x[2], x[3], x[4]];
+            }
+        }
+    }
+}
+
+/// The block of column j (rows j ..= j + 3) of a half's factors.
+#[inline(always)]
+fn block(entries: &mut [f64], j: usize) -> &mut [f64; CONDENSED_BLOCK] {
+    const W: usize = CONDENSED_WIDTH;
+    (&mut entries[j * W..j * W + CONDENSED_BLOCK])
+        .try_into()
+        .expect("a block of four rows")
+}
+
+/// Column j of a forward substitution in the band (3, 3), on the rows j ..= j + 3 held in
+/// `rows`: the row exchange (`offset` rows down), then the multipliers of column j.
+#[inline(always)]
+fn forward_column(rows: &mut [f64; 4], entries: &[f64], offset: usize, j: usize) {
+    const W: usize = CONDENSED_WIDTH;
+    match offset {
+        0 => {}
+        1 => rows.swap(0, 1),
+        2 => rows.swap(0, 2),
+        _ => rows.swap(0, 3),
+    }
+    let bj = rows[0];
+    if bj != 0.0 {
+        rows[1] -= entries[(j + 1) * W + 2] * bj;
+        rows[2] -= entries[(j + 2) * W + 1] * bj;
+        rows[3] -= entries[(j + 3) * W] * bj;
+    }
+}
+
+/// Gaussian elimination with partial pivoting of the middle block in place (multipliers
+/// below the diagonal); its row exchanges, or the first column without a pivot.
+fn factor_middle(a: &mut [[f64; MIDDLE]; MIDDLE]) -> Result<[usize; MIDDLE], usize> {
+    let mut pivot = [0; MIDDLE];
+    for j in 0..MIDDLE {
+        let best = (j..MIDDLE)
+            .max_by(|&r, &s| a[r][j].abs().total_cmp(&a[s][j].abs()))
+            .expect("a row");
+        let largest = a[best][j].abs();
+        if largest == 0.0 || !largest.is_finite() {
+            return Err(j);
+        }
+        a.swap(j, best);
+        pivot[j] = best;
+        for r in j + 1..MIDDLE {
+            let factor = a[r][j] / a[j][j];
+            a[r][j] = factor;
+            for c in j + 1..MIDDLE {
+                a[r][c] -= factor * a[j][c];
+            }
+        }
+    }
+    Ok(pivot)
+}
+
+/// Solves the factored middle block for `rhs`.
+fn solve_middle(
+    a: &[[f64; MIDDLE]; MIDDLE],
+    pivot: &[usize; MIDDLE],
+    mut rhs: [f64; MIDDLE],
+) -> [f64; MIDDLE] {
+    // The rows were exchanged whole, multipliers too: every exchange first.
+    for (j, &p) in pivot.iter().enumerate() {
+        rhs.swap(j, p);
+    }
+    for j in 0..MIDDLE {
+        for r in j + 1..MIDDLE {
+            rhs[r] -= a[r][j] * rhs[j];
+        }
+    }
+    for i in (0..MIDDLE).rev() {
+        let sum = (i + 1..MIDDLE).fold(rhs[i], |s, c| s - a[i][c] * rhs[c]);
+        rhs[i] = sum / a[i][i];
+    }
+    rhs
+}
