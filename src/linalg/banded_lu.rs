@@ -100,14 +100,25 @@ impl BandedSystem {
 
     /// Adds `value` to entry (row, column), which must lie in the band.
     pub fn add(&mut self, row: usize, column: usize, value: f64) {
+        let i = self.position(row, column);
+        self.entries[i] += value;
+    }
+
+    /// Where entry (row, column), which must lie in the band, is kept: for
+    /// [`BandedSystem::add_at`], the same in every system of this band.
+    pub fn position(&self, row: usize, column: usize) -> usize {
         assert!(
             column + self.lower >= row && column <= row + self.upper,
             "entry ({row}, {column}) outside the band ({}, {})",
             self.lower,
             self.upper
         );
-        let i = row * (self.lower + self.upper + 1) + column + self.lower - row;
-        self.entries[i] += value;
+        row * (self.lower + self.upper + 1) + column + self.lower - row
+    }
+
+    /// Adds `value` to the entry kept at `position` ([`BandedSystem::position`]).
+    pub fn add_at(&mut self, position: usize, value: f64) {
+        self.entries[position] += value;
     }
 
     /// Adds `value` to the right-hand side of `row`.

@@ -105,7 +105,7 @@ impl Factors {
             mut pivot,
             ..
         } = storage;
-        entries.clear();
+        // Every row is written whole below (its fill-in slots zeroed): no need to clear.
         entries.resize(n * width, 0.0);
         row_scale.clear();
         row_scale.resize(n, 1.0);
@@ -113,8 +113,9 @@ impl Factors {
         // pivot choice no longer depends on the rows' units.
         for row in 0..n {
             let source = &system.entries[row * given..(row + 1) * given];
-            let target = &mut entries[row * width..row * width + given];
-            row_scale[row] = scale_row(source, target.iter_mut());
+            let target = &mut entries[row * width..(row + 1) * width];
+            row_scale[row] = scale_row(source, target[..given].iter_mut());
+            target[given..].fill(0.0);
         }
         pivot.clear();
         pivot.resize(n, 0);

@@ -74,8 +74,10 @@ impl TwistedFactors {
             v.clear();
             v.resize(len, value);
         };
-        reset(&mut entries, top_rows * W, 0.0);
-        reset(&mut bottom_entries, bottom_rows * W, 0.0);
+        // Every row of the factors is written whole below (its fill-in slots zeroed): no
+        // need to clear them first (a megabyte of writes at 16 002 rows).
+        entries.resize(top_rows * W, 0.0);
+        bottom_entries.resize(bottom_rows * W, 0.0);
         reset(&mut row_scale, size, 1.0);
         reset(&mut inverse_diagonal, top_columns, 0.0);
         reset(&mut bottom_inverse_diagonal, bottom_columns, 0.0);
@@ -85,15 +87,17 @@ impl TwistedFactors {
         bottom_pivot.resize(bottom_columns, 0);
         for row in 0..top_rows {
             let source = &given[row * 7..row * 7 + 7];
-            let target = &mut entries[row * W..row * W + 7];
-            row_scale[row] = scale_row(source, target.iter_mut());
+            let target = &mut entries[row * W..row * W + W];
+            row_scale[row] = scale_row(source, target[..7].iter_mut());
+            target[7..].fill(0.0);
         }
         for reversed in 0..bottom_rows {
             let row = size - 1 - reversed;
             let source = &given[row * 7..row * 7 + 7];
             // Reversed, the entry of column row + d sits at offset 3 − d.
-            let target = &mut bottom_entries[reversed * W..reversed * W + 7];
-            row_scale[row] = scale_row(source, target.iter_mut().rev());
+            let target = &mut bottom_entries[reversed * W..reversed * W + W];
+            row_scale[row] = scale_row(source, target[..7].iter_mut().rev());
+            target[7..].fill(0.0);
         }
         for j in 0..bottom_columns {
             if j < top_columns {

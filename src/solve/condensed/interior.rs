@@ -106,6 +106,13 @@ impl FrictionVariable {
     fn weight(&self) -> f64 {
         self.positive / self.slack_above() + self.negative / self.slack_below()
     }
+    /// Is the DOF clearly on its side ([`CLEAR_SIDE`]): its motion (as the force its
+    /// `diagonal_stiffness` makes of it) and its slack differ by that factor?
+    fn clearly_on_its_side(&self, diagonal_stiffness: f64) -> bool {
+        let slack = self.slack_above().min(self.slack_below());
+        let motion = self.motion().abs() * diagonal_stiffness;
+        motion > CLEAR_SIDE * slack || slack > CLEAR_SIDE * motion
+    }
 }
 
 /// The distance of 0 from the nearer bound.
@@ -309,8 +316,8 @@ impl InteriorPoint<'_> {
         // Every step's vectors, reused (at 4000 obstacles each is 128–192 KB).
         let zero = vec![[0.0; 2]; self.variables.len()];
         let (mut affine, mut step, mut targets) = (Vec::new(), Vec::new(), Vec::new());
+        let mut mu = self.centrality();
         for done in 0..MOST_STEPS {
-            let mu = self.centrality();
             if mu.is_nan() || mu <= self.final_centrality {
                 return Ok(done);
             }
@@ -342,20 +349,26 @@ impl InteriorPoint<'_> {
             if !self.step(&targets, false, &mut step) {
                 return Ok(done + 1);
             }
-            if !step.iter().flatten().all(|v| v.is_finite()) {
+            // The forces and the motions each go as far as their own bounds allow.
+            let Some((force_reach, motion_reach)) = self.largest_steps(&step) else {
                 // Rounding has closed a slack: the iterate so far is the guess.
                 return Ok(done + 1);
-            }
-            // The forces and the motions each go as far as their own bounds allow.
-            let (force_reach, motion_reach) = self.largest_steps(&step);
+            };
             let force_length = (TO_BOUNDARY * force_reach).min(1.0);
             let motion_length = (TO_BOUNDARY * motion_reach).min(1.0);
+            // One pass: the step, the next μ (summed in the same order as
+            // [`InteriorPoint::centrality`]) and whether every DOF is clearly on its side.
+            let (mut sum, mut clear) = (0.0, true);
+            let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
                 v.force += force_length * dl;
                 v.positive += motion_length * dp;
                 v.negative += motion_length * dq;
+                sum += v.complementarity();
+                clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
             }
-            if !self.sides_clear() {
+            mu = sum / (2 * self.variables.len()) as f64;
+            if !clear {
                 offers.previous = None;
             } else if offers.settled(self.pattern(), self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
@@ -433,9 +446,13 @@ impl InteriorPoint<'_> {
     /// report`, k = 128, 1000, 4000): 19, 27, 27 → 16, 25, 21 steps on the random family,
     /// 15, 16, 16 → 14, 15, 15 on clustered, 19, 21, 27 → 18, 21, 21 on mixed and 44, 53,
     /// 64 → 33, 43, 48 on ties, with the same 2 pattern solves each.
-    fn largest_steps(&self, step: &Step) -> (f64, f64) {
+    /// `None` where the step is not finite.
+    fn largest_steps(&self, step: &Step) -> Option<(f64, f64)> {
         let (mut forces, mut motions) = (1.0f64, 1.0f64);
         for (v, &[dl, dp, dq]) in self.variables.iter().zip(step) {
+            if !(dl.is_finite() && dp.is_finite() && dq.is_finite()) {
+                return None;
+            }
             if dp < 0.0 {
                 motions = motions.min(-v.positive / dp);
             }
@@ -448,16 +465,7 @@ impl InteriorPoint<'_> {
                 forces = forces.min(-v.slack_below() / dl);
             }
         }
-        (forces.max(0.0), motions.max(0.0))
-    }
-
-    /// Is every DOF clearly on its side ([`CLEAR_SIDE`])?
-    fn sides_clear(&self) -> bool {
-        self.variables.iter().all(|v| {
-            let slack = v.slack_above().min(v.slack_below());
-            let motion = v.motion().abs() * self.system.diagonal_stiffness(v.dof);
-            motion > CLEAR_SIDE * slack || slack > CLEAR_SIDE * motion
-        })
+        Some((forces.max(0.0), motions.max(0.0)))
     }
 
     /// The pattern the iterate describes: a DOF moves where its motion (as the force its

@@ -49,8 +49,8 @@ pub(super) type MotionsAndForces = (Vec<f64>, Vec<f64>);
 pub(super) struct MixedTemplate {
     /// The matrix without the friction DOFs' columns and without the jumps.
     shared: BandedSystem,
-    /// (row, column, value) in the friction DOFs' columns, in the order of assembly.
-    dof_entries: Vec<(usize, usize, f64)>,
+    /// The entries in the friction DOFs' columns, in the order of assembly.
+    dof_entries: Vec<DofEntry>,
 }
 
 thread_local! {
@@ -65,6 +65,16 @@ impl MixedTemplate {
     pub(super) fn keep(self) {
         KEPT_TEMPLATE.set(Some(self));
     }
+}
+
+/// An entry of the template in a friction DOF's column.
+#[derive(Debug, Clone, Copy)]
+struct DofEntry {
+    row: usize,
+    column: usize,
+    /// Where the banded system keeps it ([`BandedSystem::position`]).
+    position: usize,
+    value: f64,
 }
 
 impl ShootingSystem {
@@ -92,7 +102,12 @@ impl ShootingSystem {
             |v| v,
             |row, column, value| {
                 if is_dof_column[column] {
-                    dof_entries.push((row, column, value));
+                    dof_entries.push(DofEntry {
+                        row,
+                        column,
+                        position: shared.position(row, column),
+                        value,
+                    });
                 } else {
                     shared.add(row, column, value);
                 }
@@ -171,7 +186,13 @@ impl ShootingSystem {
         mut matrix: Option<&mut BandedSystem>,
     ) -> Vec<f64> {
         let mut rhs = vec![0.0; 4 * self.pieces.len() - 2];
-        for &(row, column, value) in &template.dof_entries {
+        for &DofEntry {
+            row,
+            column,
+            position,
+            value,
+        } in &template.dof_entries
+        {
             let entry = match force_column[column] {
                 Some(i) => {
                     rhs[row] -= value * mixed[i].offset();
@@ -180,7 +201,7 @@ impl ShootingSystem {
                 None => value,
             };
             if let Some(m) = matrix.as_deref_mut() {
-                m.add(row, column, entry);
+                m.add_at(position, entry);
             }
         }
         for (i, m) in mixed.iter().enumerate() {
