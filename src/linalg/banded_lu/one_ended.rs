@@ -259,19 +259,8 @@ impl Factors {
         // Forward: w holds rows j ..= j + 3 (the pivot of column j is one of them).
         let mut w = [b[0], b[1], b[2], b[3]];
         for j in 0..n - 3 {
-            match self.pivot[j] - j {
-                0 => {}
-                1 => w.swap(0, 1),
-                2 => w.swap(0, 2),
-                _ => w.swap(0, 3),
-            }
-            let bj = w[0];
-            if bj != 0.0 {
-                w[1] -= entries[(j + 1) * W + 2] * bj;
-                w[2] -= entries[(j + 2) * W + 1] * bj;
-                w[3] -= entries[(j + 3) * W] * bj;
-            }
-            b[j] = bj;
+            forward_column(&mut w, entries, self.pivot[j] - j, j);
+            b[j] = w[0];
             w = [w[1], w[2], w[3], b.get(j + 4).copied().unwrap_or(0.0)];
         }
         b[n - 3..].copy_from_slice(&w[..3]);
@@ -291,5 +280,24 @@ impl Factors {
             b[i] = xi;
             x = [xi, x[0], x[1], x[2], x[3], x[4]];
         }
+    }
+}
+
+/// Column j of a forward substitution in the band (3, 3), on the rows j ..= j + 3 held in
+/// `rows`: the row exchange (`offset` rows down), then the multipliers of column j.
+#[inline(always)]
+pub(super) fn forward_column(rows: &mut [f64; 4], entries: &[f64], offset: usize, j: usize) {
+    const W: usize = CONDENSED_WIDTH;
+    match offset {
+        0 => {}
+        1 => rows.swap(0, 1),
+        2 => rows.swap(0, 2),
+        _ => rows.swap(0, 3),
+    }
+    let bj = rows[0];
+    if bj != 0.0 {
+        rows[1] -= entries[(j + 1) * W + 2] * bj;
+        rows[2] -= entries[(j + 2) * W + 1] * bj;
+        rows[3] -= entries[(j + 3) * W] * bj;
     }
 }

@@ -31,12 +31,7 @@ fn the_fixed_size_path_does_the_general_arithmetic() {
     // operation is the same, so the solutions agree to the last bit.
     let size = 50;
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = || uniform(&mut state);
     let mut fixed = BandedSystem::new(size, 3, 3);
     let mut general = BandedSystem::new(size, 3, 4);
     for row in 0..size {
@@ -101,12 +96,7 @@ fn powers_of_two_scale_exactly_across_the_range() {
 /// rows), and the same matrix in the band (3, 4), which is eliminated from the top only.
 fn condensed_and_general(size: usize, seed: u64) -> (BandedSystem, BandedSystem) {
     let mut state = seed;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut next = || uniform(&mut state);
     let mut fixed = BandedSystem::new(size, 3, 3);
     let mut general = BandedSystem::new(size, 3, 4);
     for row in 0..size {
@@ -181,4 +171,12 @@ fn a_singular_column_is_found_from_either_end_and_in_the_middle() {
             "column {zero} is zero"
         );
     }
+}
+
+/// The next of a xorshift sequence, as a number in [−0.5, 0.5).
+fn uniform(state: &mut u64) -> f64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
 }

@@ -13,7 +13,7 @@
 //! it may be taken from, as in LAPACK's order, so the stability is that of partial pivoting;
 //! the rounding differs from the one-ended order in the last bits.
 
-use super::one_ended::{CONDENSED_BLOCK, CONDENSED_WIDTH, eliminate_condensed};
+use super::one_ended::{CONDENSED_BLOCK, CONDENSED_WIDTH, eliminate_condensed, forward_column};
 use super::{FactorStorage, SingularColumn, scale_row};
 
 /// Rows and columns of the block the two halves meet in: kl + ku of the band (3, 3).
@@ -217,25 +217,6 @@ fn block(entries: &mut [f64], j: usize) -> &mut [f64; CONDENSED_BLOCK] {
     (&mut entries[j * W..j * W + CONDENSED_BLOCK])
         .try_into()
         .expect("a block of four rows")
-}
-
-/// Column j of a forward substitution in the band (3, 3), on the rows j ..= j + 3 held in
-/// `rows`: the row exchange (`offset` rows down), then the multipliers of column j.
-#[inline(always)]
-fn forward_column(rows: &mut [f64; 4], entries: &[f64], offset: usize, j: usize) {
-    const W: usize = CONDENSED_WIDTH;
-    match offset {
-        0 => {}
-        1 => rows.swap(0, 1),
-        2 => rows.swap(0, 2),
-        _ => rows.swap(0, 3),
-    }
-    let bj = rows[0];
-    if bj != 0.0 {
-        rows[1] -= entries[(j + 1) * W + 2] * bj;
-        rows[2] -= entries[(j + 2) * W + 1] * bj;
-        rows[3] -= entries[(j + 3) * W] * bj;
-    }
 }
 
 /// Gaussian elimination with partial pivoting of the middle block in place (multipliers
