@@ -273,8 +273,8 @@ impl Factored {
     }
 }
 
-/// The vectors of [`Factors`], kept for the next factorisation: at 16 002 rows each is
-/// 128 KB, and allocating them anew faulted their pages in at every factorisation.
+/// The vectors of the factors (one-ended or twisted), kept for the next factorisation of
+/// the same system (at 16 002 rows each is 128 KB or more).
 #[derive(Debug, Clone, Default)]
 struct FactorStorage {
     entries: Vec<f64>,

@@ -209,9 +209,7 @@ impl Factors {
     }
 
     fn scale_rows(&self, b: &mut [f64]) {
-        for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
-            *v *= scale;
-        }
+        scale_rows(b, &self.row_scale);
     }
 
     /// Column j of the forward substitution: its row exchange, then its multipliers.
@@ -253,7 +251,6 @@ impl Factors {
     /// value stored and loaded again waits for its store. The same operations in the same
     /// order, so the same bits (`the_fixed_size_path_does_the_general_arithmetic`).
     fn solve_condensed(&self, b: &mut [f64]) {
-        const W: usize = CONDENSED_WIDTH;
         let (n, entries) = (self.size, &self.entries);
         self.scale_rows(b);
         // Forward: w holds rows j ..= j + 3 (the pivot of column j is one of them).
@@ -274,11 +271,7 @@ impl Factors {
         }
         let mut x: [f64; 6] = b[n - 6..].try_into().expect("six values");
         for i in (0..n - 6).rev() {
-            let row = &entries[i * W + 4..i * W + 10];
-            let far = (1..6).fold(b[i], |sum, c| sum - row[c] * x[c]);
-            let xi = (far - row[0] * x[0]) * self.inverse_diagonal[i];
-            b[i] = xi;
-            x = [xi, x[0], x[1], x[2], x[3], x[4]];
+            b[i] = back_row(entries, i, b[i], self.inverse_diagonal[i], &mut x);
         }
     }
 }
@@ -299,5 +292,26 @@ pub(super) fn forward_column(rows: &mut [f64; 4], entries: &[f64], offset: usize
         rows[1] -= entries[(j + 1) * W + 2] * bj;
         rows[2] -= entries[(j + 2) * W + 1] * bj;
         rows[3] -= entries[(j + 3) * W] * bj;
+    }
+}
+
+/// Row i of a back substitution in the band (3, 3), whose right-hand side is `bi`, with
+/// x_{i+1} ..= x_{i+6} held in `x`: x_i, which `x` then holds first. The terms of x_{i+2}, …
+/// first and x_{i+1}, computed just before, last: only one product and one subtraction wait
+/// for it (the substitution is latency-bound).
+#[inline(always)]
+pub(super) fn back_row(entries: &[f64], i: usize, bi: f64, inverse: f64, x: &mut [f64; 6]) -> f64 {
+    const W: usize = CONDENSED_WIDTH;
+    let row = &entries[i * W + 4..i * W + 10];
+    let far = (1..6).fold(bi, |sum, c| sum - row[c] * x[c]);
+    let xi = (far - row[0] * x[0]) * inverse;
+    *x = [xi, x[0], x[1], x[2], x[3], x[4]];
+    xi
+}
+
+/// Scales b's rows as the factors scaled A's ([`super::scale_row`]).
+pub(super) fn scale_rows(b: &mut [f64], row_scale: &[f64]) {
+    for (v, &scale) in b.iter_mut().zip(row_scale) {
+        *v *= scale;
     }
 }

@@ -13,13 +13,17 @@
 //! it may be taken from, as in LAPACK's order, so the stability is that of partial pivoting;
 //! the rounding differs from the one-ended order in the last bits.
 
-use super::one_ended::{CONDENSED_BLOCK, CONDENSED_WIDTH, eliminate_condensed, forward_column};
+use super::one_ended::{
+    CONDENSED_BLOCK, CONDENSED_WIDTH, back_row, eliminate_condensed, forward_column, scale_rows,
+};
 use super::{FactorStorage, SingularColumn, scale_row};
 
 /// Rows and columns of the block the two halves meet in: kl + ku of the band (3, 3).
 const MIDDLE: usize = 6;
 
-/// Shortest system eliminated from both ends: below, one end is as quick.
+/// Shortest system eliminated from both ends. Each half needs its four-row block and the
+/// substitutions read four rows from each end, so far fewer would do; 64 keeps short
+/// systems (a few µs either way) on the one-ended path, where the speed was not measured.
 pub(super) const TWISTED_FROM: usize = 64;
 
 /// One half's factors, in the layout of [`super::one_ended::Factors`] (row width 10, the diagonal at
@@ -163,11 +167,8 @@ impl TwistedFactors {
     /// then both back substitutions side by side, each with the rows in its reach held in
     /// locals (a value stored and loaded again would wait for its store).
     pub(super) fn solve_in_place(&self, b: &mut [f64]) {
-        const W: usize = CONDENSED_WIDTH;
         let n = self.size;
-        for (v, &scale) in b.iter_mut().zip(&self.row_scale) {
-            *v *= scale;
-        }
+        scale_rows(b, &self.row_scale);
         let (top, bottom) = (&self.top, &self.bottom);
         let (m, nb) = (top.columns, bottom.columns);
         // Forward: u holds rows j ..= j + 3 of the top, w reversed rows j ..= j + 3.
@@ -193,18 +194,17 @@ impl TwistedFactors {
         let mut y: [f64; 6] = std::array::from_fn(|q| middle[MIDDLE - 1 - q]);
         for t in 0..nb {
             let i = nb - 1 - t;
-            let row = &bottom.entries[i * W + 4..i * W + 10];
-            let far = (1..6).fold(b[n - 1 - i], |sum, c| sum - row[c] * y[c]);
-            let yi = (far - row[0] * y[0]) * bottom.inverse_diagonal[i];
-            b[n - 1 - i] = yi;
-            y = [yi, y[0], y[1], y[2], y[3], y[4]];
+            let bottom_row = n - 1 - i;
+            b[bottom_row] = back_row(
+                &bottom.entries,
+                i,
+                b[bottom_row],
+                bottom.inverse_diagonal[i],
+                &mut y,
+            );
             if t + m >= nb {
                 // The top's row i as well (it has m ≤ nb rows to go).
-                let row = &top.entries[i * W + 4..i * W + 10];
-                let far = (1..6).fold(b[i], |sum, c| sum - row[c] * x[c]);
-                let xi = (far - row[0] * x[0]) * top.inverse_diagonal[i];
-                b[i] = xi;
-                x = [xi, x[0], x[1], x[2], x[3], x[4]];
+                b[i] = back_row(&top.entries, i, b[i], top.inverse_diagonal[i], &mut x);
             }
         }
     }
