@@ -90,7 +90,8 @@
 //! banded system of a pattern and its solve), `mixed` and `interior` (the interior-point
 //! guess), `refinement` (double-double refinement and the
 //! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
-//! search's step), `search` (the Newton phases and the monotone search), `fronts` (how far a
+//! search's line search), `monotone` (its steps and next patterns), `search` (the Newton
+//! phases, then the monotone search), `fronts` (how far a
 //! Newton step that frees a stretch from its ends goes on), `nodes` (every node
 //! from its piece).
 
@@ -157,6 +158,7 @@ mod fronts;
 mod interior;
 mod line_search;
 mod mixed;
+mod monotone;
 mod newton_phases;
 mod nodes;
 pub(in crate::solve) mod pattern;

@@ -7,7 +7,7 @@ use std::collections::HashSet;
 
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
-use super::line_search::SearchPoint;
+use super::monotone::MonotoneSearch;
 use super::newton_phases::{NewtonPhases, fingerprint};
 use super::scaling::Scales;
 use super::system::{Accuracy, Pattern, PatternSolution, ShootingSystem};
@@ -209,22 +209,6 @@ struct PatternSearch<'a> {
     certain_only: bool,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
-}
-
-/// The state of the monotone search.
-#[derive(Default)]
-struct MonotoneSearch {
-    /// The iterate (u, u' at every interior special point), which only ever lowers J.
-    current: Option<SearchPoint>,
-    /// After freeing several DOFs at an optimum, the patterns to solve instead while the step
-    /// towards the present one gives no descent, the next on top: the half of them whose force
-    /// exceeds its threshold most, then a quarter, …, then the worst one alone (which always
-    /// descends). Measured on ties with one threshold lowered (`cargo bench --bench
-    /// many_obstacles -- lowered`, k = 1000): the worst one alone took 2725 pattern solves,
-    /// halving 1371.
-    fallback: Vec<Vec<Pattern>>,
-    /// The solve it started at.
-    started_at: usize,
 }
 
 impl<'a> PatternSearch<'a> {
@@ -515,78 +499,9 @@ impl<'a> PatternSearch<'a> {
         Ok(true)
     }
 
-    /// Stage two in the monotone search: a step towards the optimum of the current pattern
-    /// (the full step, or the exact line search where a DOF reverses), then the next pattern —
-    /// at the optimum the stuck DOFs whose force exceeds the threshold are freed (only the
-    /// half with the largest excess if freeing all gives no descent, and so on down to the
-    /// worst one), else the signs of the new point.
+    /// Stage two in the monotone search ([`MonotoneSearch::step`]).
     fn monotone_step(&mut self, solution: &PatternSolution, changes: &[(usize, Pattern)]) {
-        let system = self.system;
-        let candidate = system.search_point(solution);
-        // Every moving DOF keeps its sign (to within what the solve resolves): the candidate
-        // minimises the pattern's quadratic, which equals J there and at the current point
-        // (whose moving DOFs have these signs or are zero, and stuck ones are zero), so it is
-        // a descent step as it is. The line search is for reversals only; on a step of
-        // rounding size it would decide by noise and could stall.
-        let keeps_signs = changes
-            .iter()
-            .all(|&(i, _)| self.pattern[i] == Pattern::Stuck);
-        let (c, full_step) = match self.monotone.current.take() {
-            None => (candidate, true),
-            Some(_) if keeps_signs => (candidate, true),
-            Some(c) => {
-                let (next, full) = system.line_search(&c, &candidate);
-                if !full && next == c {
-                    // No descent towards the optimum of the enlarged pattern.
-                    match self.monotone.fallback.pop() {
-                        // Several DOFs changed at once: change fewer.
-                        Some(fewer) if fewer != self.pattern => {
-                            self.pattern = fewer;
-                            self.monotone.current = Some(c);
-                            return;
-                        }
-                        // Rounding decides the slope here: take the optimum as it is.
-                        _ => (candidate, true),
-                    }
-                } else {
-                    (next, full)
-                }
-            }
-        };
-        self.monotone.fallback.clear();
-        // At the optimum of the pattern (full step, every moving DOF with its sign): free the
-        // stuck DOFs whose force exceeds the threshold (semismooth Newton / primal–dual active
-        // set). Otherwise (the step stopped where a DOF reached zero): take the signs of the
-        // new point, with its zeros stuck, and find that pattern's optimum first.
-        let at_optimum = full_step
-            && changes
-                .iter()
-                .all(|&(i, _)| self.pattern[i] == Pattern::Stuck);
-        if at_optimum {
-            let base = self.pattern.clone();
-            let mut by_excess: Vec<(f64, usize, Pattern)> = changes
-                .iter()
-                .map(|&(i, wanted)| {
-                    let l = solution.lambda[i].abs();
-                    ((l - system.thresholds[i / 2][i % 2]) / l, i, wanted)
-                })
-                .collect();
-            by_excess.sort_by(|a, b| b.0.total_cmp(&a.0));
-            for &(i, wanted) in changes {
-                self.pattern[i] = wanted;
-            }
-            let mut count = by_excess.len();
-            while count > 1 {
-                count /= 2;
-                let mut fewer = base.clone();
-                for &(_, i, wanted) in &by_excess[..count] {
-                    fewer[i] = wanted;
-                }
-                self.monotone.fallback.insert(0, fewer);
-            }
-        } else {
-            self.pattern = system.signs_of(&c);
-        }
-        self.monotone.current = Some(c);
+        self.monotone
+            .step(self.system, &mut self.pattern, solution, changes);
     }
 }
