@@ -33,15 +33,8 @@ pub(super) struct NewtonPhases<'a> {
     pub(super) phase_start: usize,
     /// The fewest inconsistent DOFs seen in this phase, and when.
     pub(super) fewest_changes: (usize, usize),
-    /// Over every Newton phase: the solved pattern whose point has the lowest J (where the
-    /// held forces are known, else the one with the fewest inconsistent DOFs) and that
-    /// measure, where the monotone search starts (any start is a point it then only
-    /// improves; from all stuck it frees the DOFs a line search at a time, O(k) solves when
-    /// hundreds move). Measured on ties with the last obstacle's sliding threshold ten
-    /// notches down (`cargo bench --bench many_obstacles -- lowered`): from the fewest
-    /// inconsistent DOFs it took 4540 pattern solves at k = 1500 and did not converge in
-    /// 16 144 at k = 2000; from the lowest J, 109 and 68.
-    pub(super) best_start: (f64, Option<Vec<Pattern>>),
+    /// Over every Newton phase: where the monotone search starts.
+    pub(super) starts: MonotoneStarts,
     /// Patterns this phase has solved, by fingerprint (hashing 8000 states with SipHash cost
     /// 2 % of a 4000-obstacle solve; a collision would only end a Newton phase early).
     pub(super) seen: HashSet<u64>,
@@ -53,8 +46,8 @@ pub(super) struct NewtonPhases<'a> {
     /// Where such steps free a stretch from its ends, the fronts that free it faster.
     pub(super) fronts: Fronts,
     /// The held forces (b of J), where known (from `search::INTERIOR_POINT_FROM` obstacles): the
-    /// best start is then the solved point with the lowest J, else the pattern with the
-    /// fewest inconsistent DOFs; and once the monotone search has gone on for
+    /// starts are then measured by J (`MonotoneStarts`), else by their inconsistent DOFs; and
+    /// once the monotone search has gone on for
     /// `search::MONOTONE_BEFORE_PROJECTED` solves, the projected Newton guess (`projected`) is made
     /// from them and the phases run again from it.
     pub(super) held: Option<Vec<DoubleDouble>>,
@@ -95,5 +88,74 @@ impl NewtonPhases<'_> {
         self.freeing_steps = 0;
         self.fronts.reset();
         self.recent_uncertain.clear();
+    }
+}
+
+/// Where the monotone search may start: of the solved patterns, the one whose point has the
+/// lowest J (where the held forces are known, else the fewest inconsistent DOFs) and the one
+/// with the fewest inconsistent DOFs. Any start is a point the search then only improves;
+/// from all stuck it frees the DOFs a line search at a time, O(k) solves when hundreds move.
+#[derive(Default)]
+pub(super) struct MonotoneStarts {
+    lowest: Option<Start>,
+    fewest: Option<Start>,
+}
+
+/// A solved pattern with its measure (J, or the number of inconsistent DOFs) and its number
+/// of inconsistent DOFs.
+struct Start {
+    measure: f64,
+    inconsistent: usize,
+    pattern: Vec<Pattern>,
+}
+
+/// How many times fewer inconsistent DOFs the fewest-inconsistent pattern must have, and how
+/// close its J must be to the lowest (relative to |J|), for the search to start there
+/// instead. Measured on ties with one threshold lowered (`check::families::
+/// lowered_ties_scene_at`, 80 scenes of k = 300 to 4000, as `cargo bench --bench
+/// many_obstacles -- lowered` makes them): from the fewest inconsistent DOFs the last
+/// sliding threshold ten notches down took 4540 pattern solves at k = 1500 and did not
+/// converge in 16 144 at k = 2000, from the lowest J 109 and 68 (stop 37); obstacle k/3's
+/// swivel five notches down at k = 2000 139 from the lowest J, 1013 from the fewest. Where
+/// the fewest had 10 times fewer, J differed by 0.74 to 38 times |J| on every scene but one:
+/// the last swivel threshold two notches down at k = 2000, 15 inconsistent DOFs against 2085
+/// and J the same to 5e-9, where the walk from the lowest J took 2195 solves and from the
+/// fewest 207.
+const FEWER_INCONSISTENT: usize = 10;
+const SAME_J: f64 = 1e-6;
+
+impl MonotoneStarts {
+    /// A solved pattern with its measure and its number of inconsistent DOFs.
+    pub(super) fn offer(&mut self, measure: f64, inconsistent: usize, pattern: &[Pattern]) {
+        let start = || Start {
+            measure,
+            inconsistent,
+            pattern: pattern.to_vec(),
+        };
+        if self.lowest.as_ref().is_none_or(|s| measure < s.measure) {
+            self.lowest = Some(start());
+        }
+        if self
+            .fewest
+            .as_ref()
+            .is_none_or(|s| inconsistent < s.inconsistent)
+        {
+            self.fewest = Some(start());
+        }
+    }
+
+    /// Where the monotone search starts: the lowest J, unless the pattern with the fewest
+    /// inconsistent DOFs has [`FEWER_INCONSISTENT`] times fewer and J within [`SAME_J`] of it.
+    pub(super) fn take(&mut self) -> Option<Vec<Pattern>> {
+        let (lowest, fewest) = (self.lowest.take(), self.fewest.take());
+        match (lowest, fewest) {
+            (Some(lowest), Some(fewest))
+                if fewest.inconsistent.saturating_mul(FEWER_INCONSISTENT) < lowest.inconsistent
+                    && fewest.measure - lowest.measure <= SAME_J * lowest.measure.abs() =>
+            {
+                Some(fewest.pattern)
+            }
+            (lowest, _) => lowest.map(|s| s.pattern),
+        }
     }
 }

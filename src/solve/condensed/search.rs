@@ -8,7 +8,7 @@ use std::collections::HashSet;
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
 use super::monotone::MonotoneSearch;
-use super::newton_phases::{NewtonPhases, fingerprint};
+use super::newton_phases::{MonotoneStarts, NewtonPhases, fingerprint};
 use super::scaling::Scales;
 use super::system::{Accuracy, Pattern, PatternSolution, ShootingSystem};
 use super::{CondensedFailure, CondensedSolution, FrictionPattern};
@@ -233,7 +233,7 @@ impl<'a> PatternSearch<'a> {
                 phase: 0,
                 phase_start: 0,
                 fewest_changes: (usize::MAX, 0),
-                best_start: (f64::INFINITY, None),
+                starts: MonotoneStarts::default(),
                 seen: HashSet::new(),
                 start: None,
                 freeing_steps: 0,
@@ -293,7 +293,7 @@ impl<'a> PatternSearch<'a> {
             if self.newton.active {
                 self.newton_step(&solution, &changes);
             } else if self.solves < self.monotone.started_at + MONOTONE_BEFORE_PROJECTED
-                || !self.restart_from_projected_guess(keep_going)?
+                || !self.restart_from_projected_guess(keep_going, changes.len())?
             {
                 self.monotone_step(&solution, &changes);
             }
@@ -399,9 +399,7 @@ impl<'a> PatternSearch<'a> {
                 .objective(&self.system.search_point(solution), held),
             None => changes.len() as f64,
         };
-        if measure < newton.best_start.0 {
-            newton.best_start = (measure, Some(self.pattern.clone()));
-        }
+        newton.starts.offer(measure, changes.len(), &self.pattern);
         let later = &newton.fractions[(newton.phase + 1).min(newton.fractions.len())..];
         newton.fraction_mattered |= changes.iter().any(|&(i, _)| {
             later.iter().any(|&fraction| {
@@ -457,7 +455,7 @@ impl<'a> PatternSearch<'a> {
                 None => {
                     newton.active = false;
                     self.monotone.started_at = solves;
-                    if let Some(start) = newton.best_start.1.take() {
+                    if let Some(start) = newton.starts.take() {
                         self.pattern = start;
                     }
                 }
@@ -467,11 +465,12 @@ impl<'a> PatternSearch<'a> {
 
     /// When the monotone search has gone on for [`MONOTONE_BEFORE_PROJECTED`] solves: the
     /// Newton phases again, from the projected Newton guess (`projected`), once, if there
-    /// are held forces to make it from; the monotone search then starts over from the point
-    /// with the lowest J, its own present one or one of theirs. Whether it restarted.
+    /// are held forces to make it from; the monotone search then starts over from its own
+    /// present point or one of theirs ([`MonotoneStarts`]). Whether it restarted.
     fn restart_from_projected_guess(
         &mut self,
         keep_going: &mut dyn FnMut() -> bool,
+        inconsistent: usize,
     ) -> Result<bool, CondensedFailure> {
         let newton = &mut self.newton;
         let Some(held) = newton.held.as_ref().filter(|_| !newton.restarted) else {
@@ -488,10 +487,9 @@ impl<'a> PatternSearch<'a> {
         self.monotone = MonotoneSearch::default();
         let solves = self.solves;
         let newton = &mut self.newton;
-        newton.best_start = (
-            present,
-            Some(std::mem::replace(&mut self.pattern, guess.clone())),
-        );
+        newton.starts = MonotoneStarts::default();
+        newton.starts.offer(present, inconsistent, &self.pattern);
+        self.pattern = guess.clone();
         newton.start = Some(guess);
         newton.active = true;
         newton.begin_phase(0, solves);
