@@ -12,14 +12,15 @@ use super::system::{Pattern, PatternSolution, ShootingSystem};
 pub(super) struct MonotoneSearch {
     /// The iterate (u, u' at every interior special point), which only ever lowers J.
     pub(super) current: Option<SearchPoint>,
-    /// The patterns to solve instead while the step towards the present one gives no descent,
-    /// the next on top, each with the number of DOFs it frees at once (0: it frees none).
-    /// After freeing several DOFs at an optimum: the half of them whose force exceeds its
-    /// threshold most, then a quarter, …, then the worst one alone (which always descends).
-    /// Measured on ties with one threshold lowered (`cargo bench --bench many_obstacles --
-    /// lowered`, k = 1000): the worst one alone took 2725 pattern solves, halving 1371.
-    fallback: Vec<(Vec<Pattern>, usize)>,
-    /// DOFs the pattern being solved frees at once (0: none).
+    /// After freeing several DOFs at an optimum, the patterns to solve instead while the step
+    /// towards the present one gives no descent, the next on top: the half of them whose force
+    /// exceeds its threshold most, then a quarter, …, then the worst one alone (which always
+    /// descends). Measured on ties with one threshold lowered (`cargo bench --bench
+    /// many_obstacles -- lowered`, k = 1000): the worst one alone took 2725 pattern solves,
+    /// halving 1371.
+    fallback: Vec<Vec<Pattern>>,
+    /// DOFs the pattern being solved frees at once (0: none); each fallback frees half as
+    /// many as the one before it.
     freeing: usize,
     /// DOFs the last freeing that gave descent freed: the next one frees at most twice as
     /// many first, then halves as before. Freeing all at once first, the last swivel threshold
@@ -59,9 +60,9 @@ impl MonotoneSearch {
                     // No descent towards the optimum of the changed pattern.
                     match self.fallback.pop() {
                         // Several DOFs changed at once: change fewer.
-                        Some((fewer, freeing)) if fewer != *pattern => {
+                        Some(fewer) if fewer != *pattern => {
                             *pattern = fewer;
-                            self.freeing = freeing;
+                            self.freeing /= 2;
                             self.current = Some(c);
                             return;
                         }
@@ -124,7 +125,7 @@ impl MonotoneSearch {
             for &(_, i, wanted) in &by_excess[..count] {
                 fewer[i] = wanted;
             }
-            self.fallback.insert(0, (fewer, count));
+            self.fallback.insert(0, fewer);
         }
     }
 }
