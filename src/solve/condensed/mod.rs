@@ -71,8 +71,9 @@
 //! consistent), the same factors are refined — while such decisions remain, only until each
 //! is settled beyond four times its last correction; the pattern that looks final is refined
 //! to the last bits and decided again — and the decision is taken on the refined values;
-//! the monotone search refines every step with an uncertain decision, fully. The refinement's residual
-//! is that of the exact piece relations in double-double (`linalg::double_double`), so the
+//! the monotone search refines every step with an uncertain decision until each is settled
+//! and the largest correction is the noise of the residual. The refinement's residual is
+//! that of the exact piece relations in double-double (`linalg::double_double`), so the
 //! refined values are those of the exact discrete problem, and the force is compared with its
 //! threshold in double-double. When the refined |motion|, or |force| − threshold, is within
 //! the refinement's own error estimate (its last correction) or 2⁻⁹⁸ of the values around the
@@ -139,6 +140,9 @@ pub struct SolveCounts {
     pub back_solves: usize,
     /// Solves refined with the exact relations in double-double.
     pub refinements: usize,
+    /// Refinements that went on with the exact relations factored in double-double, where
+    /// refinement with the f64 factors diverged (each also one of `factorizations`).
+    pub double_double_factorizations: usize,
     /// Steps of the interior-point guess (a factorisation and two solves each).
     pub interior_steps: usize,
 }

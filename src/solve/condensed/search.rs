@@ -354,19 +354,26 @@ impl<'a> PatternSearch<'a> {
         } else if any_uncertain {
             changes.clear();
         }
-        // Newton steps with uncertain decisions left: refined only as far as the decisions
-        // need, then, if the pattern is consistent, to the last bits for the answer (and
-        // decided again on those); a pattern with none is most likely the answer and refined
-        // fully at once. The monotone search steps on the refined values themselves, so it
-        // refines them fully (with partial refinement it ran out of solves on one of the 2000
-        // generated hard scenes of `cargo bench --bench reference -- scan`, seed 963).
+        // Uncertain decisions left: refined only as far as the step needs — a Newton step
+        // until the decisions are settled, a monotone step (which steps on the values
+        // themselves) until they are and its largest correction is the noise of the residual
+        // (`Accuracy::RefineForSearch`) — then, if the pattern is consistent, to the last bits
+        // for the answer (and decided again on those); a pattern with none is most likely the
+        // answer and refined fully at once. (A monotone search stepping on values refined for
+        // the decisions alone ran out of solves on one of the 2000 generated hard scenes of
+        // `cargo bench --bench reference -- scan`, seed 963; refining each of its steps
+        // fully, most of them to the cap of eight steps on the small components, took 80 % of
+        // ties at k = 4096 with the last swivel threshold ten notches down.)
+        // A crossover's candidate is most likely the answer: refined fully at once (first
+        // for the search, then fully, it cost the random family 7 % at k = 1000).
+        let partial = if self.newton.active {
+            Some(Accuracy::RefineForDecisions)
+        } else {
+            (!self.certain_only).then_some(Accuracy::RefineForSearch)
+        };
         let refine_decisions = changes.is_empty() || self.newton.refined_decisions;
-        if refine_decisions && self.newton.active && any_uncertain {
-            solution = system.solve_pattern(
-                &self.pattern,
-                Accuracy::RefineForDecisions,
-                &mut self.banded,
-            )?;
+        if let Some(accuracy) = partial.filter(|_| refine_decisions && any_uncertain) {
+            solution = system.solve_pattern(&self.pattern, accuracy, &mut self.banded)?;
             changes = system.inconsistent_dofs(&solution, &self.pattern);
         }
         if changes.is_empty() {

@@ -59,6 +59,9 @@ pub(super) enum Accuracy {
     /// decision is settled (its motion, or its force's excess over the threshold, beyond four
     /// times its last correction): enough to choose the next pattern, not to answer with.
     RefineForDecisions,
+    /// As [`Accuracy::RefineForDecisions`], and on until the largest correction is the noise
+    /// of the residual: what the monotone search steps on.
+    RefineForSearch,
 }
 
 /// The dimensionless multiple-shooting system on the special points: the pieces (in f64 and
@@ -244,7 +247,7 @@ impl ShootingSystem {
     ) -> Result<PatternSolution, CondensedFailure> {
         if accuracy != Accuracy::Plain {
             self.count(|c| c.refinements += 1);
-            return self.refine_last(pattern, banded, accuracy == Accuracy::RefineForDecisions);
+            return self.refine_last(pattern, banded, accuracy);
         }
         self.count(|c| {
             c.pattern_solves += 1;
