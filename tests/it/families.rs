@@ -405,7 +405,7 @@ fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
 /// swivel threshold three notches down at k = 600, and obstacle k/3's at k = 1500 (2000
 /// elements; the second 148 pattern solves, most of them monotone steps): 281 and 1835 back
 /// solves refining fully, 174 and 1041 now; 347 factorisations on the second, 274 now. The
-/// answers are the same to the last bit (stop 43's note).
+/// answers are the same to the last bit (`docs/numerics.md`, stop 43).
 #[test]
 fn monotone_steps_refine_to_the_noise_of_the_residual() {
     use beamfric::check::families::lowered_ties_scene_at;

@@ -354,18 +354,17 @@ impl<'a> PatternSearch<'a> {
         } else if any_uncertain {
             changes.clear();
         }
-        // Uncertain decisions left: refined only as far as the step needs — a Newton step
-        // until the decisions are settled, a monotone step (which steps on the values
-        // themselves) until they are and its largest correction is the noise of the residual
-        // (`Accuracy::RefineForSearch`) — then, if the pattern is consistent, to the last bits
-        // for the answer (and decided again on those); a pattern with none is most likely the
-        // answer and refined fully at once. (A monotone search stepping on values refined for
-        // the decisions alone ran out of solves on one of the 2000 generated hard scenes of
-        // `cargo bench --bench reference -- scan`, seed 963; refining each of its steps
-        // fully, most of them to the cap of eight steps on the small components, took 80 % of
-        // ties at k = 4096 with the last swivel threshold ten notches down.)
-        // A crossover's candidate is most likely the answer: refined fully at once (first
-        // for the search, then fully, it cost the random family 7 % at k = 1000).
+        // Uncertain decisions left: refined only as far as the step needs, then, if the
+        // pattern is consistent, to the last bits for the answer (and decided again on those).
+        // A Newton step is refined until its decisions are settled; a monotone step, which
+        // steps on the values themselves, until they are and its largest correction is the
+        // noise of the residual (`Accuracy::RefineForSearch`). Stepping on values refined for
+        // the decisions alone, the monotone search ran out of solves on seed 963 of `cargo
+        // bench --bench reference -- scan`; refining its steps fully took 80 % of ties at
+        // k = 4096 with the last swivel threshold ten notches down. A crossover's candidate,
+        // like a pattern without uncertain decisions, is most likely the answer and refined
+        // fully at once (refined for the search first, it cost the random family 7 % at
+        // k = 1000).
         let partial = if self.newton.active {
             Some(Accuracy::RefineForDecisions)
         } else {
