@@ -83,7 +83,7 @@ impl MonotoneSearch {
         // stuck DOFs whose force exceeds the threshold (semismooth Newton / primal–dual active
         // set). Otherwise (the step stopped where a DOF reached zero): take the signs of the
         // new point, with its zeros stuck, and find that pattern's optimum first.
-        let at_optimum = full_step && changes.iter().all(|&(i, _)| pattern[i] == Pattern::Stuck);
+        let at_optimum = full_step && keeps_signs;
         if at_optimum {
             self.free_the_most_excessive(system, pattern, solution, changes);
         } else {
