@@ -102,16 +102,25 @@ impl FrictionVariable {
     fn motion(&self) -> f64 {
         self.positive - self.negative
     }
-    /// D = p/s⁺ + q/s⁻.
-    fn weight(&self) -> f64 {
-        self.positive / self.slack_above() + self.negative / self.slack_below()
-    }
     /// Is the DOF clearly on its side ([`CLEAR_SIDE`]): its motion (as the force its
     /// `diagonal_stiffness` makes of it) and its slack differ by that factor?
     fn clearly_on_its_side(&self, diagonal_stiffness: f64) -> bool {
         let slack = self.slack_above().min(self.slack_below());
         let motion = self.motion().abs() * diagonal_stiffness;
         motion > CLEAR_SIDE * slack || slack > CLEAR_SIDE * motion
+    }
+}
+
+/// Lowers `length` (finite, ≥ 0) to `distance / rate` (`rate` > 0, finite) where that is
+/// shorter: the bits of `length.min(distance / rate)`, with the division only where the
+/// product test (with a margin of 8 ulps for its rounding) says the quotient may be shorter.
+/// Most variables do not limit a step, so most of the step lengths' divisions go (unit tests
+/// `step_lengths::*`; docs/numerics.md, "Fewer divisions per interior-point step").
+#[inline(always)]
+pub(super) fn shorten(length: &mut f64, distance: f64, rate: f64) {
+    const MARGIN: f64 = 1.0 + 8.0 * f64::EPSILON;
+    if distance <= *length * rate * MARGIN {
+        *length = length.min(distance / rate);
     }
 }
 
@@ -140,6 +149,9 @@ struct InteriorPoint<'a> {
     final_centrality: f64,
     /// The motions of the start (the pattern of a DOF without friction).
     free_motion: Vec<f64>,
+    /// Per friction variable, D = p/s⁺ + q/s⁻ at the iterate of the step under way
+    /// ([`InteriorPoint::prepare`]).
+    weights: Vec<f64>,
 }
 
 /// Per DOF, the bounds of its force change (`None` without friction), and the conditions
@@ -231,6 +243,7 @@ impl ShootingSystem {
             mixed: fixed,
             final_centrality: CENTRALITY_TOLERANCE * smallest,
             free_motion: motion,
+            weights: Vec::new(),
         };
         let steps = method.run(keep_going, crossover)?;
         let pattern = method.pattern();
@@ -324,6 +337,7 @@ impl InteriorPoint<'_> {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
+            self.prepare();
             if !self.step(&zero, true, &mut affine) {
                 return Ok(done);
             }
@@ -377,14 +391,26 @@ impl InteriorPoint<'_> {
         Ok(MOST_STEPS)
     }
 
+    /// D of every friction variable at the current iterate, once for both of the step's
+    /// solves (the same values: the iterate moves after both).
+    fn prepare(&mut self) {
+        self.weights.clear();
+        self.weights.extend(
+            self.variables
+                .iter()
+                .map(|v| v.positive / v.slack_above() + v.negative / v.slack_below()),
+        );
+    }
+
     /// The Newton step for complementarity targets (T⁺, T⁻) per friction variable: each
     /// DOF's c_new = D λ_new + r with r = c + ρ − D λ, ρ = (T⁺ − p s⁺)/s⁺ − (T⁻ − q s⁻)/s⁻,
     /// solved by the shooting system (factored anew when `factor`, else with the last
-    /// factors), into `step`; false when it is singular.
+    /// factors) with the weights D of [`InteriorPoint::prepare`], into `step`; false when it
+    /// is singular.
     fn step(&mut self, targets: &[[f64; 2]], factor: bool, step: &mut Step) -> bool {
         let mixed = &mut self.mixed;
-        for (v, [above, below]) in self.variables.iter().zip(targets) {
-            let weight = v.weight();
+        for ((v, [above, below]), &weight) in self.variables.iter().zip(targets).zip(&self.weights)
+        {
             let rho = (above - v.positive * v.slack_above()) / v.slack_above()
                 - (below - v.negative * v.slack_below()) / v.slack_below();
             mixed[v.dof] = Mixed {
@@ -426,7 +452,7 @@ impl InteriorPoint<'_> {
         let mut alpha: f64 = 1.0;
         let mut limit = |value: f64, change: f64| {
             if change < 0.0 {
-                alpha = alpha.min(-value / change);
+                shorten(&mut alpha, value, -change);
             }
         };
         for (v, &[dl, dp, dq]) in self.variables.iter().zip(step) {
@@ -454,15 +480,15 @@ impl InteriorPoint<'_> {
                 return None;
             }
             if dp < 0.0 {
-                motions = motions.min(-v.positive / dp);
+                shorten(&mut motions, v.positive, -dp);
             }
             if dq < 0.0 {
-                motions = motions.min(-v.negative / dq);
+                shorten(&mut motions, v.negative, -dq);
             }
             if dl > 0.0 {
-                forces = forces.min(v.slack_above() / dl);
+                shorten(&mut forces, v.slack_above(), dl);
             } else if dl < 0.0 {
-                forces = forces.min(-v.slack_below() / dl);
+                shorten(&mut forces, v.slack_below(), -dl);
             }
         }
         Some((forces.max(0.0), motions.max(0.0)))

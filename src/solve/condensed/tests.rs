@@ -145,3 +145,50 @@ fn a_solve_after_another_on_the_same_thread_gives_the_same_bits() {
     assert_eq!(after.1, small, "after a larger solve");
     assert_eq!(after.2, large, "after a smaller solve");
 }
+
+/// The step length to the nearest bound (`interior::shorten`) divides only where the product
+/// test allows, and must still give the bits of `length.min(distance / rate)` everywhere:
+/// on values of any size, and on lengths a few ulps either side of the quotient itself.
+mod step_lengths {
+    use super::interior::shorten;
+    use proptest::num::f64::{NEGATIVE, NORMAL, POSITIVE, SUBNORMAL, ZERO};
+    use proptest::prelude::*;
+
+    fn divided(length: f64, distance: f64, rate: f64) -> f64 {
+        length.min(distance / rate)
+    }
+
+    fn nudged(value: f64, ulps: i64) -> f64 {
+        if value == 0.0 || !value.is_finite() {
+            return value;
+        }
+        f64::from_bits((value.to_bits() as i64 + ulps) as u64)
+    }
+
+    proptest! {
+        #[test]
+        fn any_values(
+            length in POSITIVE | NORMAL | SUBNORMAL | ZERO,
+            distance in POSITIVE | NEGATIVE | NORMAL | SUBNORMAL | ZERO,
+            rate in POSITIVE | NORMAL | SUBNORMAL,
+        ) {
+            let length = length.min(1.0);
+            let mut shortened = length;
+            shorten(&mut shortened, distance, rate);
+            prop_assert_eq!(shortened.to_bits(), divided(length, distance, rate).to_bits());
+        }
+
+        #[test]
+        fn lengths_next_to_the_quotient(
+            distance in POSITIVE | NORMAL | SUBNORMAL,
+            rate in POSITIVE | NORMAL | SUBNORMAL,
+            ulps in -4i64..=4,
+        ) {
+            let length = nudged(distance / rate, ulps);
+            prop_assume!(length.is_finite() && length > 0.0);
+            let mut shortened = length;
+            shorten(&mut shortened, distance, rate);
+            prop_assert_eq!(shortened.to_bits(), divided(length, distance, rate).to_bits());
+        }
+    }
+}
