@@ -425,3 +425,42 @@ fn monotone_steps_refine_to_the_noise_of_the_residual() {
         );
     }
 }
+
+#[test]
+fn refinement_stops_at_the_noise_on_even_pieces_and_goes_on_in_double_double_on_uneven_ones() {
+    // Ties (equally spaced obstacles): the final refinement's largest correction wanders at
+    // the noise of the residual; that is as far as refinement goes, without factors in
+    // double-double (each of these took one before, a quarter of the solve at k = 1000).
+    use beamfric::check::families::{Family, family_problem};
+    use beamfric::solve::solve_condensed;
+    for k in [40, 128] {
+        let (problem, mesh) = family_problem(Family::Ties, k, 1, 10_000);
+        let solution = solve_condensed(&problem, &mesh).unwrap();
+        assert!(solution.converged, "k = {k}");
+        assert_eq!(
+            solution.counts.double_double_factorizations, 0,
+            "k = {k}: {:?}",
+            solution.counts
+        );
+    }
+    // Pieces 1e-9 to 1e-8 long among others 0.3 long: the f64 factors' corrections of the
+    // smallest components are not to be trusted there, and the refinement goes on with
+    // factors in double-double (stopped at the noise, a force of 4e-44 was wrong by 1e-5 of
+    // itself and the KKT residual was 1.4e-7; the reference checks the answer in
+    // `reference_check`).
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/scenes/hard/seed-5269794724525844341.toml"
+    );
+    let scene =
+        beamfric::scene::Scene::from_toml(&std::fs::read_to_string(path).unwrap(), path).unwrap();
+    let problem = scene.problem().unwrap();
+    let mesh = beamfric::fem::Mesh::new(&problem, scene.mesh.elements);
+    let solution = solve_condensed(&problem, &mesh).unwrap();
+    assert!(solution.converged);
+    assert!(
+        solution.counts.double_double_factorizations >= 1,
+        "{:?}",
+        solution.counts
+    );
+}
