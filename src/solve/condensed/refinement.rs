@@ -183,7 +183,10 @@ impl ShootingSystem {
             let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             if !largest.is_finite() || largest > 2.0 * previous_largest {
                 // The noise's wander on even pieces ([`EVEN_PIECES`]): as far as refinement goes.
-                if previous_largest <= residual_noise(x) && self.pieces_are_even() {
+                if largest.is_finite()
+                    && previous_largest <= residual_noise(x)
+                    && self.pieces_are_even()
+                {
                     return Refinement::Settled;
                 }
                 // Diverging (singular to working precision): keep the last iterate.
