@@ -34,7 +34,7 @@ const RESIDUAL_NOISE: f64 = 1.0 / (1u128 << 96) as f64;
 /// from the noise of the residual is that noise's wander, and refinement stops there instead
 /// of going on with factors in double-double. On ties at k = 1000 the final refinement took
 /// that turn at 8e-32 of the largest component (the corrections of the components not yet
-/// converged all below 1e-34 of it), and the factors in double-double cost a quarter of the
+/// converged all below 1e-34 of it), and the factors in double-double cost a fifth of the
 /// solve; stopping there changes the nodal values by at most 2e-26 of max |u|, the forces and
 /// states not at all (docs/numerics.md, "The noise's wander on even pieces"). With pieces
 /// 1e-9 to 1e-8 long among others 0.3 long (wide seed 5269794724525844341) the same stop left
