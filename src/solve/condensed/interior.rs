@@ -149,8 +149,8 @@ struct InteriorPoint<'a> {
     final_centrality: f64,
     /// The motions of the start (the pattern of a DOF without friction).
     free_motion: Vec<f64>,
-    /// Per friction variable, D = p/s⁺ + q/s⁻ at the iterate of the step under way
-    /// ([`InteriorPoint::prepare`]).
+    /// Per friction variable, D = p/s⁺ + q/s⁻ at the iterate of the step under way (set by
+    /// its factoring solve, [`InteriorPoint::step`]).
     weights: Vec<f64>,
 }
 
@@ -337,7 +337,6 @@ impl InteriorPoint<'_> {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
-            self.prepare();
             if !self.step(&zero, true, &mut affine) {
                 return Ok(done);
             }
@@ -391,23 +390,21 @@ impl InteriorPoint<'_> {
         Ok(MOST_STEPS)
     }
 
-    /// D of every friction variable at the current iterate, once for both of the step's
-    /// solves (the same values: the iterate moves after both).
-    fn prepare(&mut self) {
-        self.weights.clear();
-        self.weights.extend(
-            self.variables
-                .iter()
-                .map(|v| v.positive / v.slack_above() + v.negative / v.slack_below()),
-        );
-    }
-
     /// The Newton step for complementarity targets (T⁺, T⁻) per friction variable: each
     /// DOF's c_new = D λ_new + r with r = c + ρ − D λ, ρ = (T⁺ − p s⁺)/s⁺ − (T⁻ − q s⁻)/s⁻,
     /// solved by the shooting system (factored anew when `factor`, else with the last
-    /// factors) with the weights D of [`InteriorPoint::prepare`], into `step`; false when it
-    /// is singular.
+    /// factors), into `step`; false when it is singular. The weights D are those of the
+    /// factors: computed with them, once for both of a step's solves (the iterate moves after
+    /// both).
     fn step(&mut self, targets: &[[f64; 2]], factor: bool, step: &mut Step) -> bool {
+        if factor {
+            self.weights.clear();
+            self.weights.extend(
+                self.variables
+                    .iter()
+                    .map(|v| v.positive / v.slack_above() + v.negative / v.slack_below()),
+            );
+        }
         let mixed = &mut self.mixed;
         for ((v, [above, below]), &weight) in self.variables.iter().zip(targets).zip(&self.weights)
         {
