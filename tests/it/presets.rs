@@ -1,8 +1,9 @@
 //! Every preset loads, validates and solves (issue 5), and the stability suite passes on it.
 
+use beamfric::check::families::{Family, family_scene, stuck_forces};
 use beamfric::check::{check_scene, markdown, scaled_scene};
 use beamfric::fem::Mesh;
-use beamfric::scene::{PRESETS, Scene};
+use beamfric::scene::{PRESETS, Scene, SegmentSpec};
 use beamfric::solve::{Method, Reference, SolveErrorKind, WarningCode, solve};
 
 use crate::harness::scenes::*;
@@ -154,4 +155,30 @@ fn the_suite_fails_what_is_wrong() {
     let report = check_scene("broken", &broken);
     assert!(!report.passed());
     assert!(report.failures[0].contains("beam.length"));
+}
+
+#[test]
+fn the_scaling_check_keeps_thresholds_tied_to_the_last_bit_tied() {
+    // Every threshold equal to its stuck force, on a beam with a stiff and a soft stretch: about
+    // half the DOFs move by a force excess of an ulp of their threshold. Scaling f by 7 and the
+    // thresholds by 56 and 448 (the check's factors up to stop 44) rounds them apart and flips
+    // such states: u changed by 5.0e-10 of itself here, by 0.9–2.9 times itself on such scenes
+    // at k = 128, n = 10⁴ — right answers to another problem. The check now scales by powers of
+    // two, so every input scales exactly and the scaled problem is the same one.
+    let mut scene = family_scene(Family::Ties, 40, 1, 2000);
+    let young = scene.beam.young;
+    let stretch = |from: f64, to: f64, factor: f64| SegmentSpec {
+        from,
+        to,
+        young: Some(young * factor),
+        section: None,
+    };
+    scene.beam.segments = vec![stretch(0.085, 0.32, 1e8), stretch(0.47, 0.7, 1e-6)];
+    let stuck = stuck_forces(&scene, 2000);
+    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
+        o.sliding = force;
+        o.swivel = moment;
+    }
+    let report = check_scene("ties with stretches", &scene);
+    assert!(report.passed(), "{:?}", report.failures);
 }
