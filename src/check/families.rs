@@ -170,6 +170,24 @@ pub fn lowered_ties_scene_at(
     scene
 }
 
+/// The clustered family's obstacles (three clusters ±0.02 l wide, from `seed`) with every
+/// threshold equal to its stuck force, and the swivel threshold of obstacle
+/// (7919 · seed) mod k lowered by `notches` notches: the arrangement of issue 26's slowest
+/// reports (clusters at exact ties), on which the monotone search took up to thousands of
+/// solves (docs/numerics.md, "Clusters at ties with one threshold lowered").
+pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements: usize) -> Scene {
+    let mut scene = family_scene(Family::Clustered, k, seed, elements);
+    scene.title = format!("clustered ties k={k} seed={seed} notches={notches}");
+    let stuck = stuck_forces(&scene, elements);
+    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
+        o.sliding = force;
+        o.swivel = moment;
+    }
+    let lowered = (7919 * seed as usize) % k;
+    scene.obstacles[lowered].swivel /= NOTCH.powi(notches);
+    scene
+}
+
 /// [`family_scene`] validated, with its mesh.
 pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
     let scene = family_scene(family, k, seed, elements);

@@ -464,3 +464,17 @@ fn refinement_stops_at_the_noise_on_even_pieces_and_goes_on_in_double_double_on_
         solution.counts
     );
 }
+
+#[test]
+fn the_monotone_search_does_not_take_the_same_jump_twice() {
+    // Clusters at exact ties with one swivel threshold three notches down, k = 4000: where
+    // the step towards an optimum gives no descent (rounding decides the slope at ties), the
+    // search takes that optimum as it is. Here two such jumps led to each other: the search
+    // went back and forth between two patterns until its limit of solves (32 385 solves,
+    // 102 s, not converged). A jump to a pattern already reached by one now frees the most
+    // excessive stuck DOFs from the present point instead (2073 solves).
+    use beamfric::check::families::lowered_clustered_ties_scene;
+    let solves =
+        converged_pattern_solves(&lowered_clustered_ties_scene(4000, 2, 3, 10_000), 10_000);
+    assert!(solves <= 4000, "{solves} pattern solves");
+}
