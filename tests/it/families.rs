@@ -478,3 +478,26 @@ fn the_monotone_search_does_not_take_the_same_jump_twice() {
         converged_pattern_solves(&lowered_clustered_ties_scene(4000, 2, 3, 10_000), 10_000);
     assert!(solves <= 4000, "{solves} pattern solves");
 }
+
+#[test]
+fn a_search_that_would_repeat_itself_ends_at_once_and_says_so() {
+    // Clusters at ties, k = 3000, seed 2, ten notches: after about 4000 solves J stops
+    // falling and every step left is decided by rounding (slopes of a few ulps of the
+    // thresholds). The search repeated three steps from one state until its limit (24 384
+    // solves, 62 s); it now notices the repetition and ends there, its answer flagged as not
+    // converged (5161 solves). A search that one day settles this scene passes too.
+    use beamfric::check::families::lowered_clustered_ties_scene;
+    use beamfric::solve::{Method, WarningCode};
+    let scene = lowered_clustered_ties_scene(3000, 2, 10, 10_000);
+    let problem = scene.problem().expect("a generated scene is valid");
+    let solution = crate::harness::scenes::solve_with(&problem, 10_000, Method::Condensed, 1e-6);
+    let not_converged = solution
+        .warnings
+        .iter()
+        .any(|w| w.code == WarningCode::QpNotConverged);
+    let solves = solution
+        .details
+        .linear_solves
+        .expect("condensed counts its solves");
+    assert!(!not_converged || solves < 10_000, "{solves} solves");
+}
