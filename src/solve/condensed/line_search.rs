@@ -9,20 +9,32 @@ use crate::linalg::double_double::DoubleDouble;
 /// r = b − K c there (K c = b − Bᵀλ, so r is λ at an optimum of a pattern). Both are linear in
 /// the point, so a point between two solves carries the same combination of their forces:
 /// no stiffness (1e27 for a piece 1e-9·l long) is ever multiplied by a displacement.
+///
+/// The forces are kept in double-double, as the refined solves give them: at ties every
+/// force is its threshold to a few ulps, and the line search's slope Σ (g·sign − r)·d and
+/// curvature Σ d·(r − r') are made of those differences. Rounded to f64 first, rounding
+/// decided them, and on clusters at ties with a swivel threshold lowered the search went back
+/// and forth between two patterns (k = 4000: 32 385 solves, 102 s, not converged) or stopped
+/// lowering J (k = 3000: 24 384 solves, not converged); with the forces' own bits, 2067 and
+/// 4966 solves (docs/numerics.md, "Clusters at ties with one threshold lowered").
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct SearchPoint {
     pub(super) motion: Vec<f64>,
-    pub(super) force: Vec<f64>,
+    pub(super) force: Vec<DoubleDouble>,
 }
 
 impl ShootingSystem {
-    /// The friction DOFs' motions and forces of a solve.
+    /// The friction DOFs' motions and forces of a solve (the forces to about 106 bits where
+    /// the solve was refined).
     pub(super) fn search_point(&self, solution: &PatternSolution) -> SearchPoint {
         SearchPoint {
             motion: (0..solution.lambda.len())
                 .map(|i| self.friction_value(solution, i))
                 .collect(),
-            force: solution.lambda.clone(),
+            force: match &solution.exact {
+                Some(exact) => exact.force.clone(),
+                None => solution.lambda.iter().map(|&l| l.into()).collect(),
+            },
         }
     }
 
@@ -41,7 +53,7 @@ impl ShootingSystem {
         let q: f64 = d
             .iter()
             .zip(r.iter().zip(&target.force))
-            .map(|(d, (a, b))| d * (a - b))
+            .map(|(d, (a, b))| d * (*a - *b).value())
             .sum();
         let sign = |v: f64| {
             if v > 0.0 {
@@ -61,13 +73,13 @@ impl ShootingSystem {
                 continue;
             }
             if g == 0.0 {
-                slope -= r[i] * di;
+                slope -= r[i].value() * di;
                 continue;
             }
             let direction = if ci != 0.0 { sign(ci) } else { sign(di) };
             // One term per DOF, (g·sign − r)·d: exactly zero for a DOF that moves on at its
             // threshold, so a large moving DOF cannot round away the slope of the others.
-            slope += (g * direction - r[i]) * di;
+            slope += (-r[i]).plus(g * direction).value() * di;
             if ci != 0.0 && sign(ci) != sign(di) {
                 let t = -ci / di;
                 if t < 1.0 {
@@ -103,12 +115,17 @@ impl ShootingSystem {
             None => (target.clone(), true),
             Some((t, kink)) => {
                 let t = t.clamp(0.0, 1.0);
-                let between = |a: &[f64], b: &[f64]| -> Vec<f64> {
-                    a.iter().zip(b).map(|(a, b)| a + t * (b - a)).collect()
-                };
                 let mut next = SearchPoint {
-                    motion: between(c, &target.motion),
-                    force: between(r, &target.force),
+                    motion: c
+                        .iter()
+                        .zip(&target.motion)
+                        .map(|(a, b)| a + t * (b - a))
+                        .collect(),
+                    force: r
+                        .iter()
+                        .zip(&target.force)
+                        .map(|(&a, &b)| a + (b - a).times(t))
+                        .collect(),
                 };
                 if let Some(i) = kink {
                     next.motion[i] = 0.0;
@@ -133,7 +150,7 @@ impl ShootingSystem {
             .zip(point.force.iter().zip(held))
             .enumerate()
             .map(|(i, (&c, (&r, b)))| {
-                -0.5 * c * (b.value() + r) + self.thresholds[i / 2][i % 2] * c.abs()
+                -0.5 * c * (*b + r).value() + self.thresholds[i / 2][i % 2] * c.abs()
             })
             .sum()
     }

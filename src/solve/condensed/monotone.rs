@@ -1,15 +1,10 @@
 //! The monotone search for the friction pattern: from its point, a step towards the optimum of
 //! the present pattern (the full step, or the exact line search of `line_search` on J of (38)
 //! where a DOF reverses), then the next pattern. J never rises, so it can neither cycle nor
-//! stall — except where rounding decides the slope (at ties) and no step gives descent: it
-//! then takes the optimum as it is, and never the same such jump twice (stop 45). At an
-//! optimum it frees at most twice as many DOFs as the last freeing that gave descent, then
-//! fewer (design notes: `docs/numerics.md`, stops 42 and 45).
-
-use std::collections::HashSet;
+//! stall. At an optimum it frees at most twice as many DOFs as the last freeing that gave
+//! descent, then fewer (design notes: `docs/numerics.md`, stop 42).
 
 use super::line_search::SearchPoint;
-use super::newton_phases::fingerprint;
 use super::system::{Pattern, PatternSolution, ShootingSystem};
 
 /// The state of the monotone search.
@@ -34,25 +29,6 @@ pub(super) struct MonotoneSearch {
     last_freed: Option<usize>,
     /// The solve it started at.
     pub(super) started_at: usize,
-    /// Fingerprints of the patterns reached by taking an optimum without descent as it is
-    /// (rounding decides the slope there): such a jump is never taken twice.
-    jumped: HashSet<u64>,
-    /// Fingerprints of the states (pattern solved, point, jumps taken, last freeing) from which
-    /// such a jump was refused and DOFs freed instead.
-    freed_from: HashSet<u64>,
-    /// The search would repeat itself from here on: rounding decides every step left (a
-    /// scene at ties whose decisions hang on slopes below what f64 resolves).
-    pub(super) stalled: bool,
-}
-
-/// A fingerprint of a point's motions, bit for bit.
-fn point_fingerprint(point: &SearchPoint) -> u64 {
-    point
-        .motion
-        .iter()
-        .fold(0x8422_2325_cbf2_9ce4u64, |hash, motion| {
-            (hash ^ motion.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
-        })
 }
 
 impl MonotoneSearch {
@@ -90,19 +66,8 @@ impl MonotoneSearch {
                             self.current = Some(c);
                             return;
                         }
-                        // Rounding decides the slope here: take the optimum as it is
-                        // (J may rise), but not twice to the same pattern.
-                        _ => {
-                            if self.jump_is_new(system, &candidate, changes, pattern) {
-                                (candidate, true)
-                            } else {
-                                self.free_instead_of_jumping(
-                                    system, pattern, solution, changes, &c,
-                                );
-                                self.current = Some(c);
-                                return;
-                            }
-                        }
+                        // Rounding decides the slope here: take the optimum as it is.
+                        _ => (candidate, true),
                     }
                 } else {
                     (point, full)
@@ -125,50 +90,6 @@ impl MonotoneSearch {
             *pattern = system.signs_of(&c);
         }
         self.current = Some(c);
-    }
-
-    /// Where no step towards the optimum of `pattern` (solved, with `changes`) gives descent
-    /// and no fallback is left, the search takes that optimum as it is: is that jump new (a
-    /// pattern no jump reached before), or is there no stuck DOF over its threshold to free
-    /// instead? Two such jumps that led to each other cycled to the limit of solves (clusters
-    /// at ties, k = 4000: 32 385 solves, 102 s, not converged).
-    fn jump_is_new(
-        &mut self,
-        system: &ShootingSystem,
-        candidate: &SearchPoint,
-        changes: &[(usize, Pattern)],
-        pattern: &[Pattern],
-    ) -> bool {
-        self.jumped.insert(fingerprint(&system.signs_of(candidate)))
-            || changes.iter().all(|&(i, _)| pattern[i] != Pattern::Stuck)
-    }
-
-    /// In place of a jump taken before: frees the most excessive stuck DOFs of `changes` from
-    /// the point `c` (the fallbacks halve them down to the worst one alone, which descends
-    /// unless rounding decides its slope too). Freeing from the same state again would repeat
-    /// every step since (the search is deterministic): the search has then stalled.
-    fn free_instead_of_jumping(
-        &mut self,
-        system: &ShootingSystem,
-        pattern: &mut Vec<Pattern>,
-        solution: &PatternSolution,
-        changes: &[(usize, Pattern)],
-        c: &SearchPoint,
-    ) {
-        let frees: Vec<(usize, Pattern)> = changes
-            .iter()
-            .copied()
-            .filter(|&(i, _)| pattern[i] == Pattern::Stuck)
-            .collect();
-        // Everything the next steps depend on: the pattern solved (so its solution, the frees
-        // and their fallbacks), the point, the jumps taken and the last freeing.
-        let state = fingerprint(pattern)
-            ^ point_fingerprint(c)
-            ^ (self.jumped.len() as u64).rotate_left(17)
-            ^ (self.last_freed.unwrap_or(0) as u64).rotate_left(41);
-        *pattern = system.signs_of(c);
-        self.free_the_most_excessive(system, pattern, solution, &frees);
-        self.stalled |= !self.freed_from.insert(state);
     }
 
     /// At an optimum: frees the stuck DOFs of `changes` whose force exceeds the threshold

@@ -290,15 +290,6 @@ impl<'a> PatternSearch<'a> {
             if self.solves >= self.limit || self.is_not_local(&changes) {
                 return Ok((solution, false));
             }
-            // The monotone search would repeat itself from here on: the projected guess's
-            // restart, if it has not been used, else the end (not converged) now rather
-            // than at the limit of solves.
-            if self.monotone.stalled {
-                if !self.restart_from_projected_guess(keep_going, changes.len())? {
-                    return Ok((solution, false));
-                }
-                continue;
-            }
             if self.newton.active {
                 self.newton_step(&solution, &changes);
             } else if self.solves < self.monotone.started_at + MONOTONE_BEFORE_PROJECTED
