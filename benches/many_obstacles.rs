@@ -6,7 +6,8 @@
 //! cargo bench --bench many_obstacles -- report       # the table: time, solves, growth in k
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
 //! cargo bench --bench many_obstacles -- explorer     # the explorer's whole re-solve, cold and warm
-//! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered (worst found)
+//! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered
+//! cargo bench --bench many_obstacles -- clustered-ties  # clusters at ties, one swivel lowered (worst found)
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -19,7 +20,8 @@
 use std::time::{Duration, Instant};
 
 use beamfric::check::families::{
-    Family, NOTCH, family_problem, family_scene, lowered_ties_scene_at,
+    Family, NOTCH, family_problem, family_scene, lowered_clustered_ties_scene,
+    lowered_ties_scene_at,
 };
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
@@ -317,6 +319,44 @@ fn lowered_report() {
     }
 }
 
+/// Clusters at ties with one swivel threshold lowered ([`lowered_clustered_ties_scene`], the
+/// slowest arrangement measured in stop 45), solved cold once each. Sizes from
+/// `BEAMFRIC_FAMILY_K` (default 1000,2000,3000,4000), seeds 1 to `BEAMFRIC_SEEDS` (default 4),
+/// notches from `BEAMFRIC_NOTCHES` (default 3).
+fn clustered_ties_report() {
+    println!("| k | seed | time | pattern solves | interior steps | converged |");
+    println!("|---|---|---|---|---|---|");
+    let sizes = std::env::var("BEAMFRIC_FAMILY_K")
+        .map(|_| sizes())
+        .unwrap_or_else(|_| vec![1000, 2000, 3000, 4000]);
+    let seeds: u64 = std::env::var("BEAMFRIC_SEEDS").map_or(4, |v| {
+        v.trim()
+            .parse()
+            .expect("BEAMFRIC_SEEDS: how many seeds, like 4")
+    });
+    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES").map_or(3, |v| {
+        v.trim()
+            .parse()
+            .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
+    });
+    for k in sizes {
+        for seed in 1..=seeds {
+            let scene = lowered_clustered_ties_scene(k, seed, notches, ELEMENTS);
+            let problem = scene.problem().expect("a generated scene is valid");
+            let mesh = Mesh::new(&problem, ELEMENTS);
+            let start = Instant::now();
+            let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+            println!(
+                "| {k} | {seed} | {:.1} ms | {} | {} | {} |",
+                1e3 * start.elapsed().as_secs_f64(),
+                solution.counts.pattern_solves,
+                solution.counts.interior_steps,
+                solution.converged
+            );
+        }
+    }
+}
+
 fn write_scenes(dir: &str) {
     std::fs::create_dir_all(dir).expect("the directory can be made");
     for family in families() {
@@ -340,6 +380,7 @@ fn main() {
         Some("warm") => warm_report(),
         Some("explorer") => explorer_report(),
         Some("lowered") => lowered_report(),
+        Some("clustered-ties") => clustered_ties_report(),
         _ => criterion_runs(),
     }
 }
