@@ -283,11 +283,7 @@ fn lowered_report() {
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")
         .map(|_| sizes())
         .unwrap_or_else(|_| vec![100, 300, 1000]);
-    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES").map_or(1, |v| {
-        v.trim()
-            .parse()
-            .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
-    });
+    let notches = notches(1);
     let lowered = std::env::var("BEAMFRIC_LOWERED").unwrap_or_else(|_| "sliding:first".into());
     let usage = "BEAMFRIC_LOWERED: sliding or swivel, a colon, then first, last, third or an \
                  obstacle's index, like swivel:third";
@@ -305,18 +301,33 @@ fn lowered_report() {
             index => index.parse().ok().filter(|&i| i < k).expect(usage),
         };
         let scene = lowered_ties_scene_at(k, (obstacle, swivel), notches, ELEMENTS);
-        let problem = scene.problem().expect("a generated scene is valid");
-        let mesh = Mesh::new(&problem, ELEMENTS);
-        let start = Instant::now();
-        let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
-        println!(
-            "| {k} | {:.1} ms | {} | {} | {} |",
-            1e3 * start.elapsed().as_secs_f64(),
-            solution.counts.pattern_solves,
-            solution.counts.interior_steps,
-            solution.converged
-        );
+        println!("| {k} | {} |", cold_solve_row(&scene));
     }
+}
+
+/// One cold solve of `scene` on [`ELEMENTS`] elements, as table cells: time, pattern solves,
+/// interior steps, converged.
+fn cold_solve_row(scene: &beamfric::scene::Scene) -> String {
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = Mesh::new(&problem, ELEMENTS);
+    let start = Instant::now();
+    let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+    format!(
+        "{:.1} ms | {} | {} | {}",
+        1e3 * start.elapsed().as_secs_f64(),
+        solution.counts.pattern_solves,
+        solution.counts.interior_steps,
+        solution.converged
+    )
+}
+
+/// `BEAMFRIC_NOTCHES`, or `default`.
+fn notches(default: i32) -> i32 {
+    std::env::var("BEAMFRIC_NOTCHES").map_or(default, |v| {
+        v.trim()
+            .parse()
+            .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
+    })
 }
 
 /// Clusters at ties with one swivel threshold lowered ([`lowered_clustered_ties_scene`], the
@@ -334,25 +345,11 @@ fn clustered_ties_report() {
             .parse()
             .expect("BEAMFRIC_SEEDS: how many seeds, like 4")
     });
-    let notches: i32 = std::env::var("BEAMFRIC_NOTCHES").map_or(3, |v| {
-        v.trim()
-            .parse()
-            .expect("BEAMFRIC_NOTCHES: a whole number of notches like 1 or 5")
-    });
+    let notches = notches(3);
     for k in sizes {
         for seed in 1..=seeds {
             let scene = lowered_clustered_ties_scene(k, seed, notches, ELEMENTS);
-            let problem = scene.problem().expect("a generated scene is valid");
-            let mesh = Mesh::new(&problem, ELEMENTS);
-            let start = Instant::now();
-            let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
-            println!(
-                "| {k} | {seed} | {:.1} ms | {} | {} | {} |",
-                1e3 * start.elapsed().as_secs_f64(),
-                solution.counts.pattern_solves,
-                solution.counts.interior_steps,
-                solution.converged
-            );
+            println!("| {k} | {seed} | {} |", cold_solve_row(&scene));
         }
     }
 }

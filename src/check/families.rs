@@ -113,13 +113,25 @@ pub fn stuck_forces(scene: &Scene, elements: usize) -> Vec<[f64; 2]> {
 /// The scene of `family` with `k` obstacles from `seed`, its thresholds set from the stuck
 /// forces on a mesh of `elements`.
 pub fn family_scene(family: Family, k: usize, seed: u64, elements: usize) -> Scene {
-    let mut scene = base_scene();
+    let mut scene = generated_scene((family, family), k, seed, elements);
     scene.title = format!("{} k={k} seed={seed}", family.name());
+    scene
+}
+
+/// The obstacles of `positions`' family with the thresholds of `thresholds`' (fractions of
+/// the stuck forces on a mesh of `elements`), from `seed`.
+fn generated_scene(
+    (positions_of, thresholds_of): (Family, Family),
+    k: usize,
+    seed: u64,
+    elements: usize,
+) -> Scene {
+    let mut scene = base_scene();
     scene.description = String::new();
     scene.mesh.elements = elements;
     let mut random = Uniform(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ k as u64);
     let length = scene.beam.length;
-    scene.obstacles = positions(family, k, &mut random, length)
+    scene.obstacles = positions(positions_of, k, &mut random, length)
         .into_iter()
         .map(|x| ObstacleSpec {
             x,
@@ -129,7 +141,7 @@ pub fn family_scene(family: Family, k: usize, seed: u64, elements: usize) -> Sce
         .collect();
     let stuck = stuck_forces(&scene, elements);
     for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
-        let (low, high) = match family {
+        let (low, high) = match thresholds_of {
             Family::Random => (0.0, 2.0),
             Family::Clustered => (0.05, 0.5),
             Family::ClusteredMixed => (0.5, 1.5),
@@ -176,13 +188,8 @@ pub fn lowered_ties_scene_at(
 /// reports (clusters at exact ties), on which the monotone search took up to thousands of
 /// solves (docs/numerics.md, "Clusters at ties with one threshold lowered").
 pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements: usize) -> Scene {
-    let mut scene = family_scene(Family::Clustered, k, seed, elements);
+    let mut scene = generated_scene((Family::Clustered, Family::Ties), k, seed, elements);
     scene.title = format!("clustered ties k={k} seed={seed} notches={notches}");
-    let stuck = stuck_forces(&scene, elements);
-    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
-        o.sliding = force;
-        o.swivel = moment;
-    }
     let lowered = (7919 * seed as usize) % k;
     scene.obstacles[lowered].swivel /= NOTCH.powi(notches);
     scene
