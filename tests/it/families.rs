@@ -481,3 +481,15 @@ fn clusters_at_ties_with_a_swivel_threshold_lowered_settle() {
         assert!(solves <= most, "{}: {solves} pattern solves", scene.title);
     }
 }
+
+#[test]
+fn clusters_at_ties_with_a_swivel_threshold_lowered_agree_with_the_reference() {
+    // The same arrangement where the 384-bit reference is affordable (k = 60 and 120, 400
+    // elements): condensed's states, forces and deflection against an independent
+    // multi-precision solve (`check_stable`).
+    use beamfric::check::families::lowered_clustered_ties_scene;
+    for (k, seed, notches) in [(60, 1, 3), (60, 2, 10), (120, 3, 3), (120, 4, 10)] {
+        let scene = lowered_clustered_ties_scene(k, seed, notches, 400);
+        check_stable(&scene.title, &scene).unwrap_or_else(|why| panic!("{why}"));
+    }
+}
