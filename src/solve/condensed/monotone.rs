@@ -2,7 +2,9 @@
 //! the present pattern (the full step, or the exact line search of `line_search` on J of (38)
 //! where a DOF reverses), then the next pattern. J never rises, so it can neither cycle nor
 //! stall. At an optimum it frees at most twice as many DOFs as the last freeing that gave
-//! descent, then fewer (design notes: `docs/numerics.md`, stop 42).
+//! descent, then fewer (design notes: `docs/numerics.md`, stop 42). Where a step stops short
+//! of the optimum, the next pattern holds every DOF that optimum reversed, not only the one
+//! that reached zero (stop 46).
 
 use super::line_search::SearchPoint;
 use super::system::{Pattern, PatternSolution, ShootingSystem};
@@ -29,6 +31,14 @@ pub(super) struct MonotoneSearch {
     last_freed: Option<usize>,
     /// The solve it started at.
     pub(super) started_at: usize,
+    /// The pattern being solved holds DOFs that still move at the current point (the step
+    /// that stopped short of the last optimum left them there): its step is a line search
+    /// even when its optimum keeps every sign, and without descent the fallback is the
+    /// pattern of the point's own signs.
+    off_face: bool,
+    /// The last step came from off its pattern's face and stopped short (the held DOFs'
+    /// forces push them on): the next pattern is the point's own signs, holding nothing more.
+    signs_only: bool,
 }
 
 impl MonotoneSearch {
@@ -51,9 +61,11 @@ impl MonotoneSearch {
         // a descent step as it is. The line search is for reversals only; on a step of
         // rounding size it would decide by noise and could stall.
         let keeps_signs = changes.iter().all(|&(i, _)| pattern[i] == Pattern::Stuck);
+        let off_face = std::mem::take(&mut self.off_face);
+        let signs_only = std::mem::take(&mut self.signs_only);
         let (c, full_step) = match self.current.take() {
             None => (candidate, true),
-            Some(_) if keeps_signs => (candidate, true),
+            Some(_) if keeps_signs && !off_face => (candidate, true),
             Some(c) => {
                 let (point, full) = system.line_search(&c, &candidate);
                 if !full && point == c {
@@ -81,15 +93,53 @@ impl MonotoneSearch {
         }
         // At the optimum of the pattern (full step, every moving DOF with its sign): free the
         // stuck DOFs whose force exceeds the threshold (semismooth Newton / primal–dual active
-        // set). Otherwise (the step stopped where a DOF reached zero): take the signs of the
-        // new point, with its zeros stuck, and find that pattern's optimum first.
+        // set). Otherwise (the step stopped short): take the signs of the new point, with its
+        // zeros stuck and every DOF the optimum reversed held as well, and find that
+        // pattern's optimum first; after a step from off the face, or the one after it, the
+        // signs alone.
         let at_optimum = full_step && keeps_signs;
         if at_optimum {
             self.free_the_most_excessive(system, pattern, solution, changes);
-        } else {
+        } else if off_face || signs_only {
+            self.signs_only = off_face && !full_step;
             *pattern = system.signs_of(&c);
+        } else {
+            self.hold_the_reversed(system, pattern, &c, solution);
         }
         self.current = Some(c);
+    }
+
+    /// After a step that stopped short of the optimum solved in `solution`: the next pattern
+    /// is the signs of the point `c` reached, with every DOF that still moves there but not
+    /// in that direction at the optimum held too, so that it goes to zero along the next
+    /// step. The line search stops at the first kink where a DOF's jump 2g|d| outweighs the
+    /// rest of the slope, and at ties (every force its threshold to a few ulps) that slope is
+    /// tiny, so with the signs alone each solve settled one DOF: clusters at ties with a
+    /// swivel threshold lowered took 2067 solves at k = 4000 and 4966 at k = 3000; holding
+    /// the reversed, 376 and 2021 (`docs/numerics.md`, "What the optimum reversed, held").
+    fn hold_the_reversed(
+        &mut self,
+        system: &ShootingSystem,
+        pattern: &mut Vec<Pattern>,
+        c: &SearchPoint,
+        solution: &PatternSolution,
+    ) {
+        let signs = system.signs_of(c);
+        let mut held = signs.clone();
+        let mut holds = false;
+        for (i, &now) in c.motion.iter().enumerate() {
+            let then = system.friction_value(solution, i);
+            if now != 0.0 && (then == 0.0 || (now > 0.0) != (then > 0.0)) {
+                held[i] = Pattern::Stuck;
+                holds = true;
+            }
+        }
+        if holds {
+            // Without descent towards the held pattern's optimum: the point's own signs.
+            self.fallback.push(signs);
+            self.off_face = true;
+        }
+        *pattern = held;
     }
 
     /// At an optimum: frees the stuck DOFs of `changes` whose force exceeds the threshold
