@@ -2,9 +2,9 @@
 //! the present pattern (the full step, or the exact line search of `line_search` on J of (38)
 //! where a DOF reverses), then the next pattern. J never rises, so it can neither cycle nor
 //! stall. At an optimum it frees at most twice as many DOFs as the last freeing that gave
-//! descent, then fewer (design notes: `docs/numerics.md`, stop 42). Where a step stops short
-//! of the optimum, the next pattern holds every DOF that optimum reversed, not only the one
-//! that reached zero (stop 46).
+//! descent, then fewer, those whose refined force exceeds the threshold most first. Where a
+//! step stops short of the optimum, the next pattern holds every DOF that optimum reversed,
+//! not only the one that reached zero (design notes: `docs/numerics.md`, stops 42 and 46).
 
 use super::line_search::SearchPoint;
 use super::system::{Pattern, PatternSolution, ShootingSystem};
@@ -144,7 +144,8 @@ impl MonotoneSearch {
 
     /// At an optimum: frees the stuck DOFs of `changes` whose force exceeds the threshold
     /// most (all of them, or at most twice as many as the last freeing that descended), with
-    /// half, a quarter, … of them as the fallbacks.
+    /// half, a quarter, … of them as the fallbacks. The excess is the refined one
+    /// ([`refined_excess`]).
     fn free_the_most_excessive(
         &mut self,
         system: &ShootingSystem,
@@ -157,7 +158,7 @@ impl MonotoneSearch {
             .iter()
             .map(|&(i, wanted)| {
                 let l = solution.lambda[i].abs();
-                ((l - system.thresholds[i / 2][i % 2]) / l, i, wanted)
+                (refined_excess(system, solution, i) / l, i, wanted)
             })
             .collect();
         by_excess.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -177,5 +178,20 @@ impl MonotoneSearch {
             }
             self.fallback.insert(0, fewer);
         }
+    }
+}
+
+/// |λ_i| − g_i of a stuck DOF, from the refined force where the solve was refined (the
+/// monotone search's always are). At ties every force is its threshold to a few ulps, so the
+/// excess of the f64 force is rounding, and ranking by it freed DOFs in a random order: with
+/// the last obstacle's swivel threshold lowered one or ten notches on equally spaced ties at
+/// k = 4096, a freeing of 2m DOFs then gave no descent again and again (396 of 1082 solves);
+/// ranked by the refined excess, 543 and 598 solves instead of 1082 and 1079, the answers the
+/// same bits (`docs/numerics.md`, "What the optimum reversed, held").
+fn refined_excess(system: &ShootingSystem, solution: &PatternSolution, i: usize) -> f64 {
+    let threshold = system.thresholds[i / 2][i % 2];
+    match &solution.exact {
+        Some(exact) => exact.force[i].abs().plus(-threshold).value(),
+        None => solution.lambda[i].abs() - threshold,
     }
 }
