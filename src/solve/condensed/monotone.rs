@@ -116,7 +116,8 @@ impl MonotoneSearch {
     /// rest of the slope, and at ties (every force its threshold to a few ulps) that slope is
     /// tiny, so with the signs alone each solve settled one DOF: clusters at ties with a
     /// swivel threshold lowered took 2067 solves at k = 4000 and 4966 at k = 3000; holding
-    /// the reversed, 376 and 2021 (`docs/numerics.md`, "What the optimum reversed, held").
+    /// the reversed, 376 and 2021, and with [`refined_excess`] as well 348 and 2478
+    /// (`docs/numerics.md`, "What the optimum reversed, held").
     fn hold_the_reversed(
         &mut self,
         system: &ShootingSystem,
