@@ -48,7 +48,7 @@ impl ShootingSystem {
     }
 
     /// |λ_i| − g_i, in double-double after refinement.
-    fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
+    pub(super) fn force_excess(&self, solution: &PatternSolution, i: usize) -> f64 {
         let g = self.thresholds[i / 2][i % 2];
         match &solution.exact {
             Some(exact) => (exact.force[i].abs() - g.into()).value(),

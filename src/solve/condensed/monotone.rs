@@ -31,14 +31,24 @@ pub(super) struct MonotoneSearch {
     last_freed: Option<usize>,
     /// The solve it started at.
     pub(super) started_at: usize,
-    /// The pattern being solved holds DOFs that still move at the current point (the step
-    /// that stopped short of the last optimum left them there): its step is a line search
-    /// even when its optimum keeps every sign, and without descent the fallback is the
-    /// pattern of the point's own signs.
-    off_face: bool,
-    /// The last step came from off its pattern's face and stopped short (the held DOFs'
-    /// forces push them on): the next pattern is the point's own signs, holding nothing more.
-    signs_only: bool,
+    /// Where the pattern being solved came from, after a step that stopped short.
+    after_short: AfterShortStep,
+}
+
+/// The pattern being solved, after a step that stopped short of its pattern's optimum.
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+enum AfterShortStep {
+    /// The point's own signs, or a freeing at an optimum.
+    #[default]
+    Plain,
+    /// The point's signs with the DOFs that optimum reversed held
+    /// ([`MonotoneSearch::hold_the_reversed`]): they still move at the current point, so the
+    /// step is a line search even when the optimum keeps every sign, and without descent the
+    /// fallback is the point's own signs.
+    Held,
+    /// The point's own signs after a step from a held pattern that stopped short too (the
+    /// held DOFs' forces push them on): holding nothing more until this one's step.
+    SignsAfterHeld,
 }
 
 impl MonotoneSearch {
@@ -61,8 +71,8 @@ impl MonotoneSearch {
         // a descent step as it is. The line search is for reversals only; on a step of
         // rounding size it would decide by noise and could stall.
         let keeps_signs = changes.iter().all(|&(i, _)| pattern[i] == Pattern::Stuck);
-        let off_face = std::mem::take(&mut self.off_face);
-        let signs_only = std::mem::take(&mut self.signs_only);
+        let after_short = std::mem::take(&mut self.after_short);
+        let off_face = after_short == AfterShortStep::Held;
         let (c, full_step) = match self.current.take() {
             None => (candidate, true),
             Some(_) if keeps_signs && !off_face => (candidate, true),
@@ -100,8 +110,10 @@ impl MonotoneSearch {
         let at_optimum = full_step && keeps_signs;
         if at_optimum {
             self.free_the_most_excessive(system, pattern, solution, changes);
-        } else if off_face || signs_only {
-            self.signs_only = off_face && !full_step;
+        } else if after_short != AfterShortStep::Plain {
+            if off_face && !full_step {
+                self.after_short = AfterShortStep::SignsAfterHeld;
+            }
             *pattern = system.signs_of(&c);
         } else {
             self.hold_the_reversed(system, pattern, &c, solution);
@@ -116,7 +128,8 @@ impl MonotoneSearch {
     /// rest of the slope, and at ties (every force its threshold to a few ulps) that slope is
     /// tiny, so with the signs alone each solve settled one DOF: clusters at ties with a
     /// swivel threshold lowered took 2067 solves at k = 4000 and 4966 at k = 3000; holding
-    /// the reversed, 376 and 2021, and with [`refined_excess`] as well 348 and 2478
+    /// the reversed, 376 and 2021, and ranking the DOFs freed by their refined excess as well
+    /// 348 and 2478
     /// (`docs/numerics.md`, "What the optimum reversed, held").
     fn hold_the_reversed(
         &mut self,
@@ -138,15 +151,21 @@ impl MonotoneSearch {
         if holds {
             // Without descent towards the held pattern's optimum: the point's own signs.
             self.fallback.push(signs);
-            self.off_face = true;
+            self.after_short = AfterShortStep::Held;
         }
         *pattern = held;
     }
 
     /// At an optimum: frees the stuck DOFs of `changes` whose force exceeds the threshold
     /// most (all of them, or at most twice as many as the last freeing that descended), with
-    /// half, a quarter, … of them as the fallbacks. The excess is the refined one
-    /// ([`refined_excess`]).
+    /// half, a quarter, … of them as the fallbacks. The excess is the refined force's
+    /// (`ShootingSystem::force_excess`): at ties every force is its threshold to a few ulps,
+    /// so the f64 force's excess is rounding, and ranked by it the DOFs were freed in a random
+    /// order. With the last obstacle's swivel threshold lowered one or ten notches on equally
+    /// spaced ties at k = 4096, a freeing of 2m DOFs then gave no descent again and again (396
+    /// of 1082 solves); ranked by the refined excess, 543 and 598 solves instead of 1082 and
+    /// 1079, the answers the same bits (`docs/numerics.md`, "What the optimum reversed,
+    /// held").
     fn free_the_most_excessive(
         &mut self,
         system: &ShootingSystem,
@@ -159,7 +178,7 @@ impl MonotoneSearch {
             .iter()
             .map(|&(i, wanted)| {
                 let l = solution.lambda[i].abs();
-                (refined_excess(system, solution, i) / l, i, wanted)
+                (system.force_excess(solution, i) / l, i, wanted)
             })
             .collect();
         by_excess.sort_by(|a, b| b.0.total_cmp(&a.0));
@@ -179,20 +198,5 @@ impl MonotoneSearch {
             }
             self.fallback.insert(0, fewer);
         }
-    }
-}
-
-/// |λ_i| − g_i of a stuck DOF, from the refined force where the solve was refined (the
-/// monotone search's always are). At ties every force is its threshold to a few ulps, so the
-/// excess of the f64 force is rounding, and ranking by it freed DOFs in a random order: with
-/// the last obstacle's swivel threshold lowered one or ten notches on equally spaced ties at
-/// k = 4096, a freeing of 2m DOFs then gave no descent again and again (396 of 1082 solves);
-/// ranked by the refined excess, 543 and 598 solves instead of 1082 and 1079, the answers the
-/// same bits (`docs/numerics.md`, "What the optimum reversed, held").
-fn refined_excess(system: &ShootingSystem, solution: &PatternSolution, i: usize) -> f64 {
-    let threshold = system.thresholds[i / 2][i % 2];
-    match &solution.exact {
-        Some(exact) => exact.force[i].abs().plus(-threshold).value(),
-        None => solution.lambda[i].abs() - threshold,
     }
 }
