@@ -21,7 +21,8 @@
 //! steps on the random and clustered families, 33–48 on ties.
 //!
 //! Its pattern is usually right long before μ is that small. Where the pattern stays the same
-//! over two steps with every DOF clearly on its side, the iteration offers it to the search
+//! over two steps with every DOF clearly on its side after the second, the iteration offers it
+//! to the search
 //! ([`Crossover`]), which solves it once and ends everything there if it is consistent, as
 //! interior-point methods for linear programs cross over to a vertex: on the clustered family
 //! 4–5 steps instead of 14–15.
@@ -64,7 +65,7 @@ const MOST_CROSSOVERS: usize = 4;
 const CLEAR_SIDE: f64 = 100.0;
 
 /// Where the iteration has settled on a pattern (the same after two steps in a row, every DOF
-/// clearly on its side after each, and not the one it started from), it offers it to its
+/// clearly on its side after the second, and not the one it started from), it offers it to its
 /// caller, which solves it and says whether the search is settled from there (true: the
 /// iteration ends). Measured (`cargo bench --bench many_obstacles -- report`): on the
 /// clustered family at k = 1000 and 4000 the pattern is final after 4 of 15 steps.
@@ -381,8 +382,10 @@ impl InteriorPoint<'_> {
                 clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
             }
             mu = sum / (2 * self.variables.len()) as f64;
+            // A pattern is offered from a step whose DOFs are all clear; the step before need
+            // only describe the same pattern (docs/numerics.md, "Offered one step sooner").
             if !clear {
-                offers.previous = None;
+                offers.previous = Some(self.pattern());
             } else if offers.settled(self.pattern(), self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
