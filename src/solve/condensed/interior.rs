@@ -31,8 +31,6 @@
 //! exactly; where the guess is poor, it costs solves, never the answer.
 
 use super::CondensedFailure;
-pub(super) use super::crossover::Crossover;
-use super::crossover::Offers;
 use super::mixed::{Mixed, MixedTemplate};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
@@ -54,6 +52,10 @@ const TIE_RESOLUTION: f64 = 1e-5;
 /// Fraction of the way to the boundary a step may go.
 const TO_BOUNDARY: f64 = 0.99;
 
+/// Most patterns the iteration offers to its caller ([`Crossover`]): an offer that fails
+/// costs a pattern solve, so at most this many are lost.
+const MOST_CROSSOVERS: usize = 4;
+
 /// A pattern is offered only when every DOF is clearly on its side: its motion (as the force
 /// its diagonal stiffness makes of it) and its slack differ by at least this factor. Without
 /// this condition (two equal patterns in a row alone), the random family at k = 4000 offered
@@ -62,19 +64,16 @@ const TO_BOUNDARY: f64 = 0.99;
 /// alternating runs); with it, 29 ms, one offer, right.
 const CLEAR_SIDE: f64 = 100.0;
 
-/// A DOF whose motion (as the force its diagonal stiffness makes of it) and slack are within
-/// this factor of each other is on the verge: both fall together as μ does (a tie, which the
-/// iteration approaches from both sides at once and never makes clear). Traced on the ties
-/// family, such DOFs keep a ratio of 0.95–1.06 over the last five to eight steps while the
-/// pattern stays final.
-const VERGE: f64 = 2.0;
-
-/// Most DOFs on the verge ([`VERGE`]) a pattern is offered with, each held (stuck) in it for
-/// the search's exact decision. Measured on the 80 comparison scenes (docs/numerics.md,
-/// "Ties offered with the verge held"): with at most one, ties at k = 1000 took 38 steps
-/// instead of 43; with two also k = 128 (26 instead of 33); with four, k = 4000 offered a
-/// pattern that failed, one solve more and no step fewer.
-const MOST_ON_THE_VERGE: usize = 2;
+/// Where the iteration has settled on a pattern (the same after two steps in a row, every DOF
+/// clearly on its side after the second, and not the one it started from), it offers it to its
+/// caller, which solves it and says whether the search is settled from there (true: the
+/// iteration ends). Measured (`cargo bench --bench many_obstacles -- report`): on the
+/// clustered family at k = 1000 and 4000 the pattern is final after 4 of 15 steps.
+///
+/// The offer solves in the iteration's own banded system (given with it), whose factors the
+/// iteration's next step makes anew.
+pub(super) type Crossover<'c> = dyn FnMut(&[Pattern], &mut BandedSystem, &mut dyn FnMut() -> bool) -> Result<bool, CondensedFailure>
+    + 'c;
 
 /// A friction DOF with a positive threshold in the interior-point method: the bounds of its
 /// force change, ±g − λ_h, each to its own last bits, and the iterate (δλ, p, q).
@@ -110,14 +109,6 @@ impl FrictionVariable {
         let slack = self.slack_above().min(self.slack_below());
         let motion = self.motion().abs() * diagonal_stiffness;
         motion > CLEAR_SIDE * slack || slack > CLEAR_SIDE * motion
-    }
-
-    /// Are its motion (as the force its `diagonal_stiffness` makes of it) and its slack
-    /// within [`VERGE`] of each other?
-    fn on_the_verge(&self, diagonal_stiffness: f64) -> bool {
-        let slack = self.slack_above().min(self.slack_below());
-        let motion = self.motion().abs() * diagonal_stiffness;
-        motion <= VERGE * slack && slack <= VERGE * motion
     }
 }
 
@@ -380,31 +371,22 @@ impl InteriorPoint<'_> {
             let force_length = (TO_BOUNDARY * force_reach).min(1.0);
             let motion_length = (TO_BOUNDARY * motion_reach).min(1.0);
             // One pass: the step, the next μ (summed in the same order as
-            // [`InteriorPoint::centrality`]) and whether every DOF is clearly on its side
-            // but for a few on the verge.
-            let (mut sum, mut clear, mut on_the_verge) = (0.0, true, 0);
+            // [`InteriorPoint::centrality`]) and whether every DOF is clearly on its side.
+            let (mut sum, mut clear) = (0.0, true);
             let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
                 v.force += force_length * dl;
                 v.positive += motion_length * dp;
                 v.negative += motion_length * dq;
                 sum += v.complementarity();
-                let stiffness = system.diagonal_stiffness(v.dof);
-                if !v.clearly_on_its_side(stiffness) {
-                    if v.on_the_verge(stiffness) {
-                        on_the_verge += 1;
-                    } else {
-                        clear = false;
-                    }
-                }
+                clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
             }
             mu = sum / (2 * self.variables.len()) as f64;
-            // A pattern is offered from a step whose DOFs are all clear (or few on the verge);
-            // the step before need only describe the same pattern (docs/numerics.md,
-            // "Offered one step sooner").
-            if !clear || on_the_verge > MOST_ON_THE_VERGE {
-                offers.previous = Some(self.offered_pattern());
-            } else if offers.settled(self.offered_pattern(), self.banded, keep_going, crossover)? {
+            // A pattern is offered from a step whose DOFs are all clear; the step before need
+            // only describe the same pattern (docs/numerics.md, "Offered one step sooner").
+            if !clear {
+                offers.previous = Some(self.pattern());
+            } else if offers.settled(self.pattern(), self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
         }
@@ -512,21 +494,10 @@ impl InteriorPoint<'_> {
         Some((forces.max(0.0), motions.max(0.0)))
     }
 
-    /// The pattern offered to the search ([`Crossover`]): the iterate's, with every DOF on
-    /// the verge held (none is clearly on its side).
-    fn offered_pattern(&self) -> Vec<Pattern> {
-        self.pattern_holding(true)
-    }
-
     /// The pattern the iterate describes: a DOF moves where its motion (as the force its
     /// diagonal stiffness makes of it) exceeds its slack; a DOF without friction moves the
     /// way it does at the start.
     fn pattern(&self) -> Vec<Pattern> {
-        self.pattern_holding(false)
-    }
-
-    /// [`InteriorPoint::pattern`], with the DOFs on the verge held where `verge`.
-    fn pattern_holding(&self, verge: bool) -> Vec<Pattern> {
         let sign = |c: f64| {
             if c >= 0.0 {
                 Pattern::Positive
@@ -541,13 +512,49 @@ impl InteriorPoint<'_> {
             // Both within what the iteration has settled (a tie): held, for the exact
             // decisions to take.
             let tie = v.motion().abs() * stiffness < v.resolution && slack < v.resolution;
-            let held = tie || (verge && v.on_the_verge(stiffness));
-            pattern[v.dof] = if !held && v.motion().abs() * stiffness > slack {
+            pattern[v.dof] = if !tie && v.motion().abs() * stiffness > slack {
                 sign(v.motion())
             } else {
                 Pattern::Stuck
             };
         }
         pattern
+    }
+}
+
+/// The patterns of the iteration's last steps, and those it has offered ([`Crossover`]).
+struct Offers {
+    /// The pattern it started from.
+    start: Vec<Pattern>,
+    /// The last step's pattern.
+    previous: Option<Vec<Pattern>>,
+    /// The last pattern offered.
+    offered: Option<Vec<Pattern>>,
+    count: usize,
+}
+
+impl Offers {
+    /// After a step whose iterate describes `pattern`: offers it when it is the last step's
+    /// too, is not the start's and was not offered just before (at most [`MOST_CROSSOVERS`]
+    /// times); whether `crossover` settled the search from it.
+    fn settled(
+        &mut self,
+        pattern: Vec<Pattern>,
+        banded: &mut BandedSystem,
+        keep_going: &mut dyn FnMut() -> bool,
+        crossover: &mut Crossover,
+    ) -> Result<bool, CondensedFailure> {
+        let settled_here = self.previous.as_ref() == Some(&pattern)
+            && pattern != self.start
+            && self.offered.as_ref() != Some(&pattern)
+            && self.count < MOST_CROSSOVERS;
+        if !settled_here {
+            self.previous = Some(pattern);
+            return Ok(false);
+        }
+        self.count += 1;
+        let settled = crossover(&pattern, banded, keep_going)?;
+        self.offered = Some(pattern);
+        Ok(settled)
     }
 }

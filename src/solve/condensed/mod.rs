@@ -89,12 +89,12 @@
 //!
 //! **Layout.** `scaling` (the power-of-two units and one piece's exact transfer), `system` (the
 //! banded system of a pattern and its solve), `mixed` and `interior` (the interior-point
-//! guess) with `crossover` (when it offers the search its pattern), `refinement`
-//! (double-double refinement and the exact matrix), `decisions` (what a solve says about each
-//! DOF), `line_search` (the monotone search's line search), `monotone` (its steps and next
-//! patterns), `search` (the Newton phases, then the monotone search), `fronts` (how far a
-//! Newton step that frees a stretch from its ends goes on), `nodes` (every node from its
-//! piece).
+//! guess), `refinement` (double-double refinement and the
+//! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
+//! search's line search), `monotone` (its steps and next patterns), `search` (the Newton
+//! phases, then the monotone search), `fronts` (how far a
+//! Newton step that frees a stretch from its ends goes on), `nodes` (every node
+//! from its piece).
 
 use super::history::{ProgressMeasure, Recorder};
 use super::options::SolveOptions;
@@ -157,7 +157,6 @@ pub enum CondensedFailure {
 }
 
 mod answer;
-mod crossover;
 mod decisions;
 mod fronts;
 mod interior;
