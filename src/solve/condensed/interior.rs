@@ -22,10 +22,9 @@
 //!
 //! Its pattern is usually right long before μ is that small. Where the pattern stays the same
 //! over two steps with every DOF clearly on its side after the second, the iteration offers it
-//! to the search
-//! ([`Crossover`]), which solves it once and ends everything there if it is consistent, as
-//! interior-point methods for linear programs cross over to a vertex: on the clustered family
-//! 4–5 steps instead of 14–15.
+//! to the search ([`Crossover`]), which solves it once and ends everything there if it is
+//! consistent, as interior-point methods for linear programs cross over to a vertex: on the
+//! clustered family 4–5 steps instead of 14–15.
 //!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
 //! exactly; where the guess is poor, it costs solves, never the answer.
@@ -382,11 +381,7 @@ impl InteriorPoint<'_> {
                 clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
             }
             mu = sum / (2 * self.variables.len()) as f64;
-            // A pattern is offered from a step whose DOFs are all clear; the step before need
-            // only describe the same pattern (docs/numerics.md, "Offered one step sooner").
-            if !clear {
-                offers.previous = Some(self.pattern());
-            } else if offers.settled(self.pattern(), self.banded, keep_going, crossover)? {
+            if offers.settled(self.pattern(), clear, self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
         }
@@ -534,17 +529,21 @@ struct Offers {
 }
 
 impl Offers {
-    /// After a step whose iterate describes `pattern`: offers it when it is the last step's
-    /// too, is not the start's and was not offered just before (at most [`MOST_CROSSOVERS`]
-    /// times); whether `crossover` settled the search from it.
+    /// After a step whose iterate describes `pattern`, with every DOF clearly on its side
+    /// where `clear`: offers it when it is clear, is the last step's pattern too (that step
+    /// need not have been clear: docs/numerics.md, "Offered one step sooner"), is not the
+    /// start's and was not offered just before (at most [`MOST_CROSSOVERS`] times); whether
+    /// `crossover` settled the search from it.
     fn settled(
         &mut self,
         pattern: Vec<Pattern>,
+        clear: bool,
         banded: &mut BandedSystem,
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
     ) -> Result<bool, CondensedFailure> {
-        let settled_here = self.previous.as_ref() == Some(&pattern)
+        let settled_here = clear
+            && self.previous.as_ref() == Some(&pattern)
             && pattern != self.start
             && self.offered.as_ref() != Some(&pattern)
             && self.count < MOST_CROSSOVERS;

@@ -129,8 +129,7 @@ impl MonotoneSearch {
     /// tiny, so with the signs alone each solve settled one DOF: clusters at ties with a
     /// swivel threshold lowered took 2067 solves at k = 4000 and 4966 at k = 3000; holding
     /// the reversed, 376 and 2021, and ranking the DOFs freed by their refined excess as well
-    /// 348 and 2478
-    /// (`docs/numerics.md`, "What the optimum reversed, held").
+    /// 348 and 2478 (`docs/numerics.md`, "What the optimum reversed, held").
     fn hold_the_reversed(
         &mut self,
         system: &ShootingSystem,
