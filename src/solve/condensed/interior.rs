@@ -20,6 +20,16 @@
 //! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 14–25
 //! steps on the random and clustered families, 33–48 on ties.
 //!
+//! Two things keep the iteration within what its f64 steps resolve (docs/numerics.md, stop
+//! 48). The slacks s⁺ and s⁻ are variables of their own, each stepped by its own update, not
+//! differences g − λ_h − δλ of the force: a moving DOF's slack falls to μ/p (1e-18 of the
+//! force by the last steps), below the rounding of δλ, and as a difference it became exactly
+//! zero, its weight infinite and the step NaN, which ended the iteration with a pattern two
+//! DOFs off (at two pairs of obstacles 2e-6·l and 2e-5·l apart; random k = 1000, seed 5)
+//! and cost the search 146 pattern solves. And a
+//! bound nearer zero than a few ulps of the largest force change is widened to that
+//! (`held_bounds::widen_unresolved`): no step resolves it, and the iteration stalled on it.
+//!
 //! Its pattern is usually right long before μ is that small. Where the pattern stays the same
 //! over two steps with every DOF clearly on its side after the second, the iteration offers it
 //! to the search ([`Crossover`]), which solves it once and ends everything there if it is
@@ -30,6 +40,7 @@
 //! exactly; where the guess is poor, it costs solves, never the answer.
 
 use super::CondensedFailure;
+use super::held_bounds::{start_force, widen_unresolved};
 use super::mixed::{Mixed, MixedTemplate};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
@@ -84,17 +95,28 @@ struct FrictionVariable {
     upper: f64,
     /// A motion (as the force it makes) and a slack both below this: a tie, held.
     resolution: f64,
-    force: f64,
+    /// s⁺ = (g − λ_h) − δλ and s⁻ = δλ − (−g − λ_h), each kept as a variable of its own
+    /// (each to its own last bits, where the difference from δλ would be rounded to zero).
+    above: f64,
+    below: f64,
     positive: f64,
     negative: f64,
 }
 
 impl FrictionVariable {
     fn slack_above(&self) -> f64 {
-        self.upper - self.force
+        self.above
     }
     fn slack_below(&self) -> f64 {
-        self.force - self.lower
+        self.below
+    }
+    /// δλ, from the nearer bound and its slack (the base force of a step's mixed condition).
+    fn force(&self) -> f64 {
+        if self.above <= self.below {
+            self.upper - self.above
+        } else {
+            self.lower + self.below
+        }
     }
     fn complementarity(&self) -> f64 {
         self.positive * self.slack_above() + self.negative * self.slack_below()
@@ -154,10 +176,6 @@ struct InteriorPoint<'a> {
     weights: Vec<f64>,
 }
 
-/// Per DOF, the bounds of its force change (`None` without friction), and the conditions
-/// with those of the frictionless DOFs set (their force back to zero).
-pub(super) type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
-
 impl ShootingSystem {
     /// The interior-point guess of the friction pattern about the held beam, whose forces
     /// `held` are given to about 106 bits (`None` when a system is singular), solving in
@@ -180,18 +198,7 @@ impl ShootingSystem {
         {
             return Ok(Some(vec![Pattern::Stuck; held.len()]));
         }
-        // Start at no change where the held force is within its bounds, else as far inside
-        // the bound it breaks as it lies outside.
-        let start_force = |(lower, upper): (f64, f64)| {
-            let middle = 0.5 * (lower + upper);
-            if lower < 0.0 && upper > 0.0 {
-                0.0
-            } else if upper <= 0.0 {
-                (upper + upper.min(-f64::MIN_POSITIVE)).max(middle)
-            } else {
-                (lower + lower.max(f64::MIN_POSITIVE)).min(middle)
-            }
-        };
+        let bounds = widen_unresolved(bounds, &fixed);
         let mut start = fixed.clone();
         for (condition, bound) in start.iter_mut().zip(&bounds) {
             if let Some(bound) = *bound {
@@ -228,7 +235,8 @@ impl ShootingSystem {
                     lower,
                     upper,
                     resolution: TIE_RESOLUTION * nearest((lower, upper)),
-                    force,
+                    above: upper - force,
+                    below: force - lower,
                     positive: motion[dof].max(0.0) + mean / (upper - force),
                     negative: (-motion[dof]).max(0.0) + mean / (force - lower),
                 })
@@ -255,37 +263,6 @@ impl ShootingSystem {
             c.back_solves += steps;
         });
         Ok(Some(pattern))
-    }
-
-    /// The bounds ±g − λ_h of every DOF's force change from the held forces `held`, each
-    /// taken in double-double and rounded once; a threshold beyond any force the load can
-    /// make (1e6 times the total load, times the length for a moment) is capped there, so
-    /// that it does not set the scale of μ.
-    pub(super) fn held_bounds(&self, held: &[DoubleDouble]) -> HeldBounds {
-        let length: f64 = self.pieces.iter().map(|p| p.length).sum();
-        let total_load: f64 = self
-            .pieces
-            .iter()
-            .map(|p| p.length * p.load_start.abs().max(p.load_end.abs()))
-            .sum();
-        let cap = [1e6 * total_load, 1e6 * total_load * length];
-        let mut fixed: Vec<Mixed> = (0..held.len()).map(Mixed::free).collect();
-        let bounds = (0..held.len())
-            .map(|dof| {
-                let threshold = self.thresholds[dof / 2][dof % 2].min(cap[dof % 2]);
-                if threshold > 0.0 {
-                    let threshold = DoubleDouble::from(threshold);
-                    Some((
-                        (-threshold - held[dof]).value(),
-                        (threshold - held[dof]).value(),
-                    ))
-                } else {
-                    fixed[dof].force = -held[dof].value();
-                    None
-                }
-            })
-            .collect();
-        (bounds, fixed)
     }
 }
 
@@ -374,7 +351,8 @@ impl InteriorPoint<'_> {
             let (mut sum, mut clear) = (0.0, true);
             let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
-                v.force += force_length * dl;
+                v.above -= force_length * dl;
+                v.below += force_length * dl;
                 v.positive += motion_length * dp;
                 v.negative += motion_length * dq;
                 sum += v.complementarity();
@@ -410,7 +388,7 @@ impl InteriorPoint<'_> {
                 - (below - v.negative * v.slack_below()) / v.slack_below();
             mixed[v.dof] = Mixed {
                 weight,
-                force: v.force,
+                force: v.force(),
                 motion: v.motion() + rho,
             };
         }

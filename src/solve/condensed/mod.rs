@@ -88,8 +88,8 @@
 //! and the error does not grow with n.
 //!
 //! **Layout.** `scaling` (the power-of-two units and one piece's exact transfer), `system` (the
-//! banded system of a pattern and its solve), `mixed` and `interior` (the interior-point
-//! guess), `refinement` (double-double refinement and the
+//! banded system of a pattern and its solve), `mixed`, `held_bounds` and `interior` (the
+//! interior-point guess), `refinement` (double-double refinement and the
 //! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
 //! search's line search), `monotone` (its steps and next patterns), `search` (the Newton
 //! phases, then the monotone search), `fronts` (how far a
@@ -159,6 +159,7 @@ pub enum CondensedFailure {
 mod answer;
 mod decisions;
 mod fronts;
+mod held_bounds;
 mod interior;
 mod line_search;
 mod mixed;

@@ -192,3 +192,40 @@ mod step_lengths {
         }
     }
 }
+
+/// A bound nearer zero than a few ulps of the largest force change at the start is widened to
+/// that distance, on the side of "within"; every other bound keeps its bits
+/// (`held_bounds::widen_unresolved`).
+mod unresolved_bounds {
+    use super::held_bounds::{start_force, widen_unresolved};
+    use super::mixed::Mixed;
+
+    #[test]
+    fn bounds_below_what_a_step_resolves_are_widened_and_no_other() {
+        // DOF 0 breaks its upper bound by 0.2 (its start force is −0.4: the largest change);
+        // DOF 1's upper bound is 1e-20 (a held force equal to its threshold to 20 digits),
+        // DOF 2's lower one −1e-20 the other way, DOF 3 has no friction (held force 0.1).
+        let bounds = vec![
+            Some((-2.2, -0.2)),
+            Some((-2.0, 1e-20)),
+            Some((-1e-20, 3.0)),
+            None,
+            Some((-0.5, 0.5)),
+        ];
+        let mut fixed: Vec<Mixed> = (0..5).map(Mixed::free).collect();
+        fixed[3].force = -0.1;
+        assert_eq!(start_force((-2.2, -0.2)), -0.4);
+        let widened = widen_unresolved(bounds.clone(), &fixed);
+        let floor = 1e-15 * 0.4;
+        assert_eq!(widened[0], bounds[0]);
+        assert_eq!(widened[1], Some((-2.0, floor)));
+        assert_eq!(widened[2], Some((-floor, 3.0)));
+        assert_eq!(widened[3], None);
+        assert_eq!(widened[4], bounds[4]);
+        // A frictionless DOF's change counts too: with a held force of 10 there, the floor is
+        // 1e-14 and a bound of 5e-15 below zero is moved to "within".
+        fixed[3].force = -10.0;
+        let widened = widen_unresolved(vec![Some((-1.0, -5e-15)), None], &fixed[2..4]);
+        assert_eq!(widened[0], Some((-1.0, 1e-15 * 10.0)));
+    }
+}
