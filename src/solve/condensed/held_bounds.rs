@@ -68,9 +68,12 @@ pub(super) fn start_force((lower, upper): (f64, f64)) -> f64 {
 /// The bounds with every bound nearer zero than [`UNRESOLVED_BOUND`] times the largest force
 /// change of the start (a DOF without friction included) moved out to that distance, on the
 /// side of "within": a held force that equals its threshold to what the iteration's f64
-/// solves resolve is a tie the iteration cannot decide, and keeping its bound at 1e-20 of
-/// the others made the iteration stall (docs/numerics.md, "Bounds below what a step
-/// resolves"). The exact search decides such a DOF like any other.
+/// solves resolve is a tie the iteration cannot decide, and keeping its bound (1.6e-27
+/// against force changes of 3e-4 on lowered ties) made the iteration stall
+/// (docs/numerics.md, "Within what a step resolves (stop 48)"). The exact search decides
+/// such a DOF like any other. One floor for forces and moments alike: in the system's units
+/// (length scaled to about 1) both kinds of change come out of the same solve, whose
+/// rounding is that of its largest value.
 pub(super) fn widen_unresolved(
     mut bounds: Vec<Option<(f64, f64)>>,
     fixed: &[Mixed],

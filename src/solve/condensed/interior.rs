@@ -86,7 +86,8 @@ pub(super) type Crossover<'c> = dyn FnMut(&[Pattern], &mut BandedSystem, &mut dy
     + 'c;
 
 /// A friction DOF with a positive threshold in the interior-point method: the bounds of its
-/// force change, ±g − λ_h, each to its own last bits, and the iterate (δλ, p, q).
+/// force change, ±g − λ_h, each to its own last bits, and the iterate (s⁺, s⁻, p, q), δλ
+/// following from the nearer bound and its slack.
 #[derive(Debug, Clone, Copy)]
 struct FrictionVariable {
     /// Index of the DOF in the pattern (2·obstacle + kind).
@@ -95,9 +96,10 @@ struct FrictionVariable {
     upper: f64,
     /// A motion (as the force it makes) and a slack both below this: a tie, held.
     resolution: f64,
-    /// s⁺ = (g − λ_h) − δλ and s⁻ = δλ − (−g − λ_h), each kept as a variable of its own
-    /// (each to its own last bits, where the difference from δλ would be rounded to zero).
+    /// s⁺ = (g − λ_h) − δλ, kept as a variable of its own (to its own last bits, where the
+    /// difference from δλ would be rounded to zero).
     above: f64,
+    /// s⁻ = δλ − (−g − λ_h), likewise.
     below: f64,
     positive: f64,
     negative: f64,
@@ -230,15 +232,16 @@ impl ShootingSystem {
             .filter_map(|(dof, bound)| {
                 let (lower, upper) = (*bound)?;
                 let force = start[dof].force;
+                let (above, below) = (upper - force, force - lower);
                 Some(FrictionVariable {
                     dof,
                     lower,
                     upper,
                     resolution: TIE_RESOLUTION * nearest((lower, upper)),
-                    above: upper - force,
-                    below: force - lower,
-                    positive: motion[dof].max(0.0) + mean / (upper - force),
-                    negative: (-motion[dof]).max(0.0) + mean / (force - lower),
+                    above,
+                    below,
+                    positive: motion[dof].max(0.0) + mean / above,
+                    negative: (-motion[dof]).max(0.0) + mean / below,
                 })
             })
             .collect();
@@ -285,8 +288,8 @@ impl InteriorPoint<'_> {
         sum / (2 * self.variables.len()).max(1) as f64
     }
 
-    /// Predictor–corrector steps until μ is negligible, a solve fails, rounding closes a
-    /// slack or `crossover` settles the search from a pattern offered to it (the iterate's
+    /// Predictor–corrector steps until μ is negligible, a solve fails, a step is not finite
+    /// or `crossover` settles the search from a pattern offered to it (the iterate's
     /// own); the number of steps taken, or [`CondensedFailure::Stopped`] when `keep_going`,
     /// asked before every step, says no.
     fn run(
@@ -341,7 +344,7 @@ impl InteriorPoint<'_> {
             }
             // The forces and the motions each go as far as their own bounds allow.
             let Some((force_reach, motion_reach)) = self.largest_steps(&step) else {
-                // Rounding has closed a slack: the iterate so far is the guess.
+                // A step that is not finite: the iterate so far is the guess.
                 return Ok(done + 1);
             };
             let force_length = (TO_BOUNDARY * force_reach).min(1.0);
@@ -382,10 +385,11 @@ impl InteriorPoint<'_> {
             );
         }
         let mixed = &mut self.mixed;
-        for ((v, [above, below]), &weight) in self.variables.iter().zip(targets).zip(&self.weights)
+        for ((v, [target_above, target_below]), &weight) in
+            self.variables.iter().zip(targets).zip(&self.weights)
         {
-            let rho = (above - v.positive * v.slack_above()) / v.slack_above()
-                - (below - v.negative * v.slack_below()) / v.slack_below();
+            let rho = (target_above - v.positive * v.slack_above()) / v.slack_above()
+                - (target_below - v.negative * v.slack_below()) / v.slack_below();
             mixed[v.dof] = Mixed {
                 weight,
                 force: v.force(),
@@ -408,12 +412,12 @@ impl InteriorPoint<'_> {
             self.variables
                 .iter()
                 .zip(targets)
-                .map(|(v, [above, below])| {
+                .map(|(v, [target_above, target_below])| {
                     let dl = force_changes[v.dof];
-                    let dp =
-                        (above - v.positive * v.slack_above() + v.positive * dl) / v.slack_above();
-                    let dq =
-                        (below - v.negative * v.slack_below() - v.negative * dl) / v.slack_below();
+                    let dp = (target_above - v.positive * v.slack_above() + v.positive * dl)
+                        / v.slack_above();
+                    let dq = (target_below - v.negative * v.slack_below() - v.negative * dl)
+                        / v.slack_below();
                     [dl, dp, dq]
                 }),
         );
