@@ -98,30 +98,24 @@ struct FrictionVariable {
     resolution: f64,
     /// s⁺ = (g − λ_h) − δλ, kept as a variable of its own (to its own last bits, where the
     /// difference from δλ would be rounded to zero).
-    above: f64,
+    slack_above: f64,
     /// s⁻ = δλ − (−g − λ_h), likewise.
-    below: f64,
+    slack_below: f64,
     positive: f64,
     negative: f64,
 }
 
 impl FrictionVariable {
-    fn slack_above(&self) -> f64 {
-        self.above
-    }
-    fn slack_below(&self) -> f64 {
-        self.below
-    }
     /// δλ, from the nearer bound and its slack (the base force of a step's mixed condition).
     fn force(&self) -> f64 {
-        if self.above <= self.below {
-            self.upper - self.above
+        if self.slack_above <= self.slack_below {
+            self.upper - self.slack_above
         } else {
-            self.lower + self.below
+            self.lower + self.slack_below
         }
     }
     fn complementarity(&self) -> f64 {
-        self.positive * self.slack_above() + self.negative * self.slack_below()
+        self.positive * self.slack_above + self.negative * self.slack_below
     }
     fn motion(&self) -> f64 {
         self.positive - self.negative
@@ -129,7 +123,7 @@ impl FrictionVariable {
     /// Is the DOF clearly on its side ([`CLEAR_SIDE`]): its motion (as the force its
     /// `diagonal_stiffness` makes of it) and its slack differ by that factor?
     fn clearly_on_its_side(&self, diagonal_stiffness: f64) -> bool {
-        let slack = self.slack_above().min(self.slack_below());
+        let slack = self.slack_above.min(self.slack_below);
         let motion = self.motion().abs() * diagonal_stiffness;
         motion > CLEAR_SIDE * slack || slack > CLEAR_SIDE * motion
     }
@@ -232,16 +226,16 @@ impl ShootingSystem {
             .filter_map(|(dof, bound)| {
                 let (lower, upper) = (*bound)?;
                 let force = start[dof].force;
-                let (above, below) = (upper - force, force - lower);
+                let (slack_above, slack_below) = (upper - force, force - lower);
                 Some(FrictionVariable {
                     dof,
                     lower,
                     upper,
                     resolution: TIE_RESOLUTION * nearest((lower, upper)),
-                    above,
-                    below,
-                    positive: motion[dof].max(0.0) + mean / above,
-                    negative: (-motion[dof]).max(0.0) + mean / below,
+                    slack_above,
+                    slack_below,
+                    positive: motion[dof].max(0.0) + mean / slack_above,
+                    negative: (-motion[dof]).max(0.0) + mean / slack_below,
                 })
             })
             .collect();
@@ -326,8 +320,8 @@ impl InteriorPoint<'_> {
                 .iter()
                 .zip(&affine)
                 .map(|(v, [dl, dp, dq])| {
-                    (v.positive + reach * dp) * (v.slack_above() - reach * dl)
-                        + (v.negative + reach * dq) * (v.slack_below() + reach * dl)
+                    (v.positive + reach * dp) * (v.slack_above - reach * dl)
+                        + (v.negative + reach * dq) * (v.slack_below + reach * dl)
                 })
                 .sum();
             let predicted = predicted / (2 * self.variables.len()) as f64;
@@ -354,8 +348,8 @@ impl InteriorPoint<'_> {
             let (mut sum, mut clear) = (0.0, true);
             let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
-                v.above -= force_length * dl;
-                v.below += force_length * dl;
+                v.slack_above -= force_length * dl;
+                v.slack_below += force_length * dl;
                 v.positive += motion_length * dp;
                 v.negative += motion_length * dq;
                 sum += v.complementarity();
@@ -381,15 +375,15 @@ impl InteriorPoint<'_> {
             self.weights.extend(
                 self.variables
                     .iter()
-                    .map(|v| v.positive / v.slack_above() + v.negative / v.slack_below()),
+                    .map(|v| v.positive / v.slack_above + v.negative / v.slack_below),
             );
         }
         let mixed = &mut self.mixed;
         for ((v, [target_above, target_below]), &weight) in
             self.variables.iter().zip(targets).zip(&self.weights)
         {
-            let rho = (target_above - v.positive * v.slack_above()) / v.slack_above()
-                - (target_below - v.negative * v.slack_below()) / v.slack_below();
+            let rho = (target_above - v.positive * v.slack_above) / v.slack_above
+                - (target_below - v.negative * v.slack_below) / v.slack_below;
             mixed[v.dof] = Mixed {
                 weight,
                 force: v.force(),
@@ -414,10 +408,10 @@ impl InteriorPoint<'_> {
                 .zip(targets)
                 .map(|(v, [target_above, target_below])| {
                     let dl = force_changes[v.dof];
-                    let dp = (target_above - v.positive * v.slack_above() + v.positive * dl)
-                        / v.slack_above();
-                    let dq = (target_below - v.negative * v.slack_below() - v.negative * dl)
-                        / v.slack_below();
+                    let dp = (target_above - v.positive * v.slack_above + v.positive * dl)
+                        / v.slack_above;
+                    let dq = (target_below - v.negative * v.slack_below - v.negative * dl)
+                        / v.slack_below;
                     [dl, dp, dq]
                 }),
         );
@@ -435,8 +429,8 @@ impl InteriorPoint<'_> {
         for (v, &[dl, dp, dq]) in self.variables.iter().zip(step) {
             limit(v.positive, dp);
             limit(v.negative, dq);
-            limit(v.slack_above(), -dl);
-            limit(v.slack_below(), dl);
+            limit(v.slack_above, -dl);
+            limit(v.slack_below, dl);
         }
         alpha.max(0.0)
     }
@@ -463,9 +457,9 @@ impl InteriorPoint<'_> {
                 shorten(&mut motions, v.negative, -dq);
             }
             if dl > 0.0 {
-                shorten(&mut forces, v.slack_above(), dl);
+                shorten(&mut forces, v.slack_above, dl);
             } else if dl < 0.0 {
-                shorten(&mut forces, v.slack_below(), -dl);
+                shorten(&mut forces, v.slack_below, -dl);
             }
         }
         Some((forces.max(0.0), motions.max(0.0)))
@@ -484,7 +478,7 @@ impl InteriorPoint<'_> {
         };
         let mut pattern: Vec<Pattern> = self.free_motion.iter().map(|&c| sign(c)).collect();
         for v in &self.variables {
-            let slack = v.slack_above().min(v.slack_below());
+            let slack = v.slack_above.min(v.slack_below);
             let stiffness = self.system.diagonal_stiffness(v.dof);
             // Both within what the iteration has settled (a tie): held, for the exact
             // decisions to take.
