@@ -7,7 +7,8 @@
 //! cargo bench --bench many_obstacles -- warm         # a one-notch change, from the last pattern
 //! cargo bench --bench many_obstacles -- explorer     # the explorer's whole re-solve, cold and warm
 //! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered
-//! cargo bench --bench many_obstacles -- clustered-ties  # clusters at ties, one swivel lowered (worst found)
+//! cargo bench --bench many_obstacles -- clustered-ties  # clusters at ties, one swivel lowered
+//! cargo bench --bench many_obstacles -- dense        # half the obstacles in 1e-4·l (worst found)
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -20,7 +21,7 @@
 use std::time::{Duration, Instant};
 
 use beamfric::check::families::{
-    Family, NOTCH, family_problem, family_scene, lowered_clustered_ties_scene,
+    Family, NOTCH, dense_stretch_scene, family_problem, family_scene, lowered_clustered_ties_scene,
     lowered_ties_scene_at,
 };
 use beamfric::fem::Mesh;
@@ -340,18 +341,39 @@ fn clustered_ties_report() {
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")
         .map(|_| sizes())
         .unwrap_or_else(|_| vec![1000, 2000, 3000, 4000]);
-    let seeds: u64 = std::env::var("BEAMFRIC_SEEDS").map_or(4, |v| {
-        v.trim()
-            .parse()
-            .expect("BEAMFRIC_SEEDS: how many seeds, like 4")
-    });
     let notches = notches(3);
     for k in sizes {
-        for seed in 1..=seeds {
+        for seed in 1..=seeds(4) {
             let scene = lowered_clustered_ties_scene(k, seed, notches, ELEMENTS);
             println!("| {k} | {seed} | {} |", cold_solve_row(&scene));
         }
     }
+}
+
+/// Half the obstacles in a stretch 1e-4·l wide ([`dense_stretch_scene`], the slowest
+/// arrangement measured in stop 49), solved cold once each. Sizes from `BEAMFRIC_FAMILY_K`
+/// (default 1000,2000,3000), seeds 1 to `BEAMFRIC_SEEDS` (default 6).
+fn dense_report() {
+    println!("| k | seed | time | pattern solves | interior steps | converged |");
+    println!("|---|---|---|---|---|---|");
+    let sizes = std::env::var("BEAMFRIC_FAMILY_K")
+        .map(|_| sizes())
+        .unwrap_or_else(|_| vec![1000, 2000, 3000]);
+    for k in sizes {
+        for seed in 1..=seeds(6) {
+            let scene = dense_stretch_scene(k, seed, ELEMENTS);
+            println!("| {k} | {seed} | {} |", cold_solve_row(&scene));
+        }
+    }
+}
+
+/// `BEAMFRIC_SEEDS`, or `default`.
+fn seeds(default: u64) -> u64 {
+    std::env::var("BEAMFRIC_SEEDS").map_or(default, |v| {
+        v.trim()
+            .parse()
+            .expect("BEAMFRIC_SEEDS: how many seeds, like 4")
+    })
 }
 
 fn write_scenes(dir: &str) {
@@ -378,6 +400,7 @@ fn main() {
         Some("explorer") => explorer_report(),
         Some("lowered") => lowered_report(),
         Some("clustered-ties") => clustered_ties_report(),
+        Some("dense") => dense_report(),
         _ => criterion_runs(),
     }
 }

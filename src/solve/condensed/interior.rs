@@ -37,7 +37,10 @@
 //! clustered family 4–5 steps instead of 14–15.
 //!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
-//! exactly; where the guess is poor, it costs solves, never the answer.
+//! exactly; where the guess is poor, it costs solves, never the answer. With it comes the same
+//! pattern with the DOFs the iteration leaves unclear held stuck ([`Guess`]), which the search
+//! tries where the guess's own pattern is inconsistent (near-coincident obstacles, clusters at
+//! ties: docs/numerics.md, stop 49).
 
 use super::CondensedFailure;
 use super::held_bounds::{start_force, widen_unresolved};
@@ -184,7 +187,7 @@ impl ShootingSystem {
         banded: &mut BandedSystem,
         keep_going: &mut dyn FnMut() -> bool,
         crossover: &mut Crossover,
-    ) -> Result<Option<Vec<Pattern>>, CondensedFailure> {
+    ) -> Result<Option<Guess>, CondensedFailure> {
         let (bounds, fixed) = self.held_bounds(held);
         // Every held force within its threshold: the held beam is the answer.
         if bounds
@@ -192,7 +195,10 @@ impl ShootingSystem {
             .flatten()
             .all(|&(lower, upper)| lower < 0.0 && upper > 0.0)
         {
-            return Ok(Some(vec![Pattern::Stuck; held.len()]));
+            return Ok(Some(Guess {
+                pattern: vec![Pattern::Stuck; held.len()],
+                unclear_held: None,
+            }));
         }
         let bounds = widen_unresolved(bounds, &fixed);
         let mut start = fixed.clone();
@@ -252,6 +258,7 @@ impl ShootingSystem {
         };
         let steps = method.run(keep_going, crossover)?;
         let pattern = method.pattern();
+        let unclear_held = method.unclear_held(&pattern);
         method.template.keep();
         // Each step: a factorisation with its solve, and one more solve with its factors.
         self.count(|c| {
@@ -259,7 +266,10 @@ impl ShootingSystem {
             c.factorizations += steps;
             c.back_solves += steps;
         });
-        Ok(Some(pattern))
+        Ok(Some(Guess {
+            pattern,
+            unclear_held,
+        }))
     }
 }
 
@@ -491,6 +501,25 @@ impl InteriorPoint<'_> {
         }
         pattern
     }
+
+    /// `pattern` with every DOF that is not clearly on its side ([`CLEAR_SIDE`]) held stuck;
+    /// `None` where that changes nothing.
+    fn unclear_held(&self, pattern: &[Pattern]) -> Option<Vec<Pattern>> {
+        let mut held = pattern.to_vec();
+        for v in &self.variables {
+            if !v.clearly_on_its_side(self.system.diagonal_stiffness(v.dof)) {
+                held[v.dof] = Pattern::Stuck;
+            }
+        }
+        (held != pattern).then_some(held)
+    }
+}
+
+/// The interior-point guess: the pattern its iterate describes, and, where it leaves DOFs
+/// not clearly on their side, the same pattern with those DOFs held stuck.
+pub(super) struct Guess {
+    pub(super) pattern: Vec<Pattern>,
+    pub(super) unclear_held: Option<Vec<Pattern>>,
 }
 
 /// The patterns of the iteration's last steps, and those it has offered ([`Crossover`]).
