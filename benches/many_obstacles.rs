@@ -350,8 +350,8 @@ fn clustered_ties_report() {
     }
 }
 
-/// Half the obstacles in a stretch 1e-4·l wide ([`dense_stretch_scene`], the slowest
-/// arrangement measured in stop 49), solved cold once each. Sizes from `BEAMFRIC_FAMILY_K`
+/// Half the obstacles in a stretch 1e-4·l wide ([`dense_stretch_scene`], found in stop 48's
+/// hostile pass; the slowest arrangement measured since stop 49), solved cold once each. Sizes from `BEAMFRIC_FAMILY_K`
 /// (default 1000,2000,3000), seeds 1 to `BEAMFRIC_SEEDS` (default 6).
 fn dense_report() {
     println!("| k | seed | time | pattern solves | interior steps | converged |");

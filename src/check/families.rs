@@ -196,8 +196,9 @@ pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements:
 }
 
 /// Half of `k` obstacles evenly in a stretch 1e-4·l wide (spacing 2e-4·l / k, jittered by a
-/// tenth of it) at a random place between 0.2 and 0.8 l, the other half at random positions;
-/// thresholds 1–1000 N and 1e-4–1 N·m, log-uniform. Obstacles 1e-7·l apart move together
+/// tenth of it) starting at a random place between 0.2 and 0.8 l, the other half at random
+/// positions (any two at least 1e-8·l apart, within the scene's own 1e-9 m); thresholds
+/// 1–1000 N and 1e-4–1 N·m, log-uniform. Obstacles 1e-7·l apart move together
 /// to within what an f64 solve resolves of their motion, and the interior-point guess cannot
 /// tell which of them is stuck: found in the hostile pass of stop 48 (up to 1191 pattern
 /// solves at k = 3000), the worst arrangement of issue 26 measured since (docs/numerics.md,
@@ -210,12 +211,12 @@ pub fn dense_stretch_scene(k: usize, seed: u64, elements: usize) -> Scene {
     scene.mesh.elements = elements;
     let mut random = Uniform(seed.wrapping_mul(0x9E6C_63D0_676A_9A99) ^ k as u64);
     let length = scene.beam.length;
-    let (dense, centre) = (k / 2, 0.2 + 0.6 * random.next());
+    let (dense, start) = (k / 2, 0.2 + 0.6 * random.next());
     let spacing = 1e-4 / dense.max(1) as f64;
     let mut xs: Vec<f64> = (0..k)
         .map(|j| {
             let x = if j < dense {
-                centre + spacing * (j as f64 + 0.1 * (random.next() - 0.5))
+                start + spacing * (j as f64 + 0.1 * (random.next() - 0.5))
             } else {
                 0.01 + 0.98 * random.next()
             };

@@ -548,8 +548,8 @@ fn clusters_at_ties_with_a_swivel_threshold_lowered_agree_with_the_reference() {
     // elements): condensed's states, forces and deflection against an independent
     // multi-precision solve (`check_stable`).
     use beamfric::check::families::lowered_clustered_ties_scene;
-    // (40, 5, 3), (60, 1, 3), (120, 5, 3) and (160, 1, 3) are settled by the guess with its
-    // unclear DOFs held (`PatternSearch::try_unclear_held`, stop 49).
+    // (40, 5, 3), (60, 1, 3), (120, 5, 3) and (160, 1, 3) were measured (stop 49) to be
+    // settled by the guess with its unclear DOFs held (`PatternSearch::try_unclear_held`).
     for (k, seed, notches) in [
         (40, 5, 3),
         (60, 1, 3),

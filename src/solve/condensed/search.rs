@@ -1,9 +1,12 @@
 //! The search for the friction pattern: semismooth Newton phases, then a monotone search (exact
 //! line search on the convex objective, feature-sign fallback) that can neither cycle nor
-//! stall. When a convergence history is asked for, every pattern solve is recorded as one
-//! iterate ([`record_pattern`]).
+//! stall. Where the interior-point guess's own pattern is inconsistent, its variant with the
+//! unclear DOFs held is tried first (`unclear_held`). When a convergence history is asked
+//! for, every pattern solve is recorded as one iterate ([`record_pattern`]).
 
 use std::collections::HashSet;
+
+mod unclear_held;
 
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
@@ -67,22 +70,6 @@ const MONOTONE_BEFORE_PROJECTED: usize = 32;
 /// one, two or five notches; going on with refined decisions, 258–283 (1.3–3.9 s). Where
 /// the number was falling (fronts at work), going on cost 6–38 more solves.
 const REFINED_PHASE_FROM: usize = 16;
-/// Most solves of the attempt from the interior-point guess with the DOFs it left unclear
-/// held stuck ([`PatternSearch::try_unclear_held`]). Where that attempt settles, it took 1–15
-/// solves on the scenes measured (clustered ties and lowered ties, `cargo bench --bench
-/// many_obstacles`; dense stretches of near-coincident obstacles).
-const UNCLEAR_HELD_SOLVES: usize = 16;
-/// That attempt is made only where the guess's own pattern leaves at least this many DOFs
-/// inconsistent. Where it left one or two, the search settled from it in one or two more
-/// solves on every scene measured, and the attempt only added its own (ties at k = 3000,
-/// lowered ties at k = 4096: 3 → 5, 28 → 30 pattern solves).
-const UNCLEAR_HELD_FROM: usize = 3;
-/// That attempt gives up once two solves in a row leave more DOFs than this inconsistent.
-/// Where it settled, the solves after its first left 0–21 DOFs inconsistent (one solve 139);
-/// where it did not, hundreds, falling by a third a solve (e.g. 1438, 3211 on ties at
-/// k = 4096 with the last swivel threshold lowered, where the guess's own pattern settles in
-/// 28 solves).
-const UNCLEAR_HELD_LOCAL: usize = 32;
 /// A Newton phase is abandoned when the number of inconsistent DOFs has not reached a new
 /// low for this many solves.
 const NEWTON_PATIENCE: usize = 6;
@@ -158,15 +145,14 @@ pub(super) fn solve_with_newton_phases(
                 |candidate: &[Pattern],
                  banded: &mut BandedSystem,
                  keep_going: &mut dyn FnMut() -> bool| {
-                    let mut attempt = PatternSearch::offered(&system, candidate, banded);
-                    let result = attempt.run(keep_going, &mut observe);
-                    *banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
-                    crossover_solves += attempt.solves;
-                    match result {
-                        Ok((solution, true)) => crossed = Some((solution, attempt.pattern)),
-                        // A singular candidate is only one that failed: the iteration goes on.
-                        Ok(_) | Err(CondensedFailure::Singular { .. }) => {}
-                        Err(stopped) => return Err(stopped),
+                    let (settled, solves) = PatternSearch::offered(&system, candidate).settle_in(
+                        banded,
+                        keep_going,
+                        &mut observe,
+                    )?;
+                    crossover_solves += solves;
+                    if settled.is_some() {
+                        crossed = settled;
                     }
                     Ok(crossed.is_some())
                 };
@@ -187,7 +173,7 @@ pub(super) fn solve_with_newton_phases(
             (problem, mesh, &scales),
             &system,
             (&solution, &pattern),
-            (solves + search.solves, true),
+            (solves + search.solves_in_all(), true),
             keep_going,
         );
     }
@@ -198,10 +184,14 @@ pub(super) fn solve_with_newton_phases(
         (problem, mesh, &scales),
         &system,
         (&solution, &search.pattern),
-        (solves + search.solves, converged),
+        (solves + search.solves_in_all(), converged),
         keep_going,
     )
 }
+
+/// What an attempt made on the side ends with: the consistent solution and its pattern if it
+/// settled.
+type Settled = Option<(PatternSolution, Vec<Pattern>)>;
 
 /// The search for the friction pattern between two solves: the pattern to solve next, the
 /// banded system whose factors a refinement reuses, the count of solves and the state of
@@ -224,14 +214,17 @@ struct PatternSearch<'a> {
     /// A crossover's check of a pattern offered by the interior-point iteration: give up as
     /// soon as a solve leaves a DOF certainly inconsistent (no refinement for it).
     certain_only: bool,
-    /// An attempt that gives up once two solves in a row leave more than this many DOFs
-    /// inconsistent (the guess with its unclear DOFs held, [`UNCLEAR_HELD_LOCAL`]).
-    settles_locally: Option<usize>,
-    /// Solves in a row that left more than that.
-    wide_solves: usize,
+    /// An attempt that gives up once two solves in a row change more DOFs than this
+    /// ([`PatternSearch::wandered_off`]).
+    give_up_above: Option<usize>,
+    /// Solves in a row that changed more than that.
+    wide_solves_in_a_row: usize,
     /// The interior-point guess with the DOFs it left unclear held stuck, tried once the
     /// guess's own pattern is inconsistent ([`PatternSearch::try_unclear_held`]).
     unclear_held: Option<Vec<Pattern>>,
+    /// Solves of attempts made on the side (that variant's), counted apart so that the
+    /// search's own limits count its own solves.
+    side_solves: usize,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
 }
@@ -251,9 +244,10 @@ impl<'a> PatternSearch<'a> {
             solves: 0,
             limit: 4 * dofs + 64 + 4 * newton_phases.len() * NEWTON_STEPS,
             local_only: None,
-            settles_locally: None,
-            wide_solves: 0,
+            give_up_above: None,
+            wide_solves_in_a_row: 0,
             unclear_held: None,
+            side_solves: 0,
             certain_only: false,
             newton: NewtonPhases {
                 fractions: newton_phases,
@@ -286,16 +280,35 @@ impl<'a> PatternSearch<'a> {
     }
 
     /// The check of a pattern the interior-point iteration offers (`interior::Crossover`): one
-    /// solve in `banded`'s buffers, no refinement once a DOF is certainly inconsistent.
-    fn offered(
-        system: &'a ShootingSystem,
-        candidate: &[Pattern],
-        banded: &mut BandedSystem,
-    ) -> PatternSearch<'a> {
+    /// solve, no refinement once a DOF is certainly inconsistent.
+    fn offered(system: &'a ShootingSystem, candidate: &[Pattern]) -> PatternSearch<'a> {
         let mut attempt = PatternSearch::attempt(system, candidate, CROSSOVER_SOLVES);
-        attempt.banded = std::mem::replace(banded, BandedSystem::empty());
         attempt.certain_only = true;
         attempt
+    }
+
+    /// Runs this attempt in `banded` (handed back after) until it settles or gives up: the
+    /// consistent solution and its pattern if it settled, and its solves. A singular pattern
+    /// is only one that failed (the caller goes on); [`CondensedFailure::Stopped`] goes up.
+    fn settle_in(
+        mut self,
+        banded: &mut BandedSystem,
+        keep_going: &mut dyn FnMut() -> bool,
+        observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
+    ) -> Result<(Settled, usize), CondensedFailure> {
+        self.banded = std::mem::replace(banded, BandedSystem::empty());
+        let result = self.run(keep_going, observe);
+        *banded = std::mem::replace(&mut self.banded, BandedSystem::empty());
+        match result {
+            Ok((solution, true)) => Ok((Some((solution, self.pattern)), self.solves)),
+            Ok(_) | Err(CondensedFailure::Singular { .. }) => Ok((None, self.solves)),
+            Err(stopped) => Err(stopped),
+        }
+    }
+
+    /// Pattern solves in all: the search's own and its side attempts'.
+    fn solves_in_all(&self) -> usize {
+        self.solves + self.side_solves
     }
 
     /// The search loop: solves patterns until one is consistent or the solves run out; the
@@ -316,14 +329,17 @@ impl<'a> PatternSearch<'a> {
                 return Ok((solution, true));
             }
             if let Some(variant) = self.unclear_held.take()
-                && changes.len() >= UNCLEAR_HELD_FROM
+                && changes.len() >= unclear_held::UNCLEAR_HELD_FROM
                 && let Some((solution, pattern)) =
                     self.try_unclear_held(variant, keep_going, observe)?
             {
                 self.pattern = pattern;
                 return Ok((solution, true));
             }
-            if self.solves >= self.limit || self.is_not_local(&changes) || self.wanders(&changes) {
+            if self.solves >= self.limit
+                || self.is_not_local(&changes)
+                || self.wandered_off(&changes)
+            {
                 return Ok((solution, false));
             }
             if self.newton.active {
@@ -340,54 +356,6 @@ impl<'a> PatternSearch<'a> {
     /// local one: the attempt gives up.
     fn is_not_local(&self, changes: &[(usize, Pattern)]) -> bool {
         self.solves == 1 && self.local_only.is_some_and(|most| changes.len() > most)
-    }
-
-    /// An attempt that settles locally ([`PatternSearch::settles_locally`]) gives up after
-    /// this solve: the second in a row to leave more DOFs inconsistent than it allows.
-    fn wanders(&mut self, changes: &[(usize, Pattern)]) -> bool {
-        let Some(most) = self.settles_locally else {
-            return false;
-        };
-        self.wide_solves = if changes.len() > most {
-            self.wide_solves + 1
-        } else {
-            0
-        };
-        self.wide_solves >= 2
-    }
-
-    /// The interior-point guess with the DOFs it left unclear held stuck
-    /// (`interior::Guess::unclear_held`), tried once the guess's own pattern, solved first, is
-    /// inconsistent, before the search steps on from it: one Newton phase from it, of at most
-    /// [`UNCLEAR_HELD_SOLVES`] solves, that gives up once two solves in a row leave more than
-    /// [`UNCLEAR_HELD_LOCAL`] DOFs inconsistent. The consistent solution and its pattern if
-    /// it settles; its solves count as this search's, in this search's banded system, and the
-    /// search goes on as before if it does not (docs/numerics.md, stop 49).
-    fn try_unclear_held(
-        &mut self,
-        variant: Vec<Pattern>,
-        keep_going: &mut dyn FnMut() -> bool,
-        observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
-    ) -> Result<Option<(PatternSolution, Vec<Pattern>)>, CondensedFailure> {
-        let first_phase = &self.newton.fractions[..self.newton.fractions.len().min(1)];
-        let mut attempt = PatternSearch::new(self.system, variant.len() / 2, first_phase);
-        attempt.pattern = variant.clone();
-        attempt.newton.start = Some(variant);
-        attempt.newton.held = self.newton.held.clone();
-        attempt.limit = UNCLEAR_HELD_SOLVES;
-        attempt.settles_locally = Some(UNCLEAR_HELD_LOCAL);
-        attempt.banded = std::mem::replace(&mut self.banded, BandedSystem::empty());
-        let fraction = self.system.reversal_fraction.get();
-        let result = attempt.run(keep_going, observe);
-        self.system.reversal_fraction.set(fraction);
-        self.banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
-        self.solves += attempt.solves;
-        match result {
-            Ok((solution, true)) => Ok(Some((solution, attempt.pattern))),
-            // A singular pattern is only one that failed: the search goes on from the guess.
-            Ok(_) | Err(CondensedFailure::Singular { .. }) => Ok(None),
-            Err(stopped) => Err(stopped),
-        }
     }
 
     /// The forces with every DOF held, to about 106 bits (a pattern solve, refined): the

@@ -1,0 +1,72 @@
+//! The interior-point guess with the DOFs it leaves unclear held stuck (`interior::Guess`),
+//! tried where the guess's own pattern, solved first, is inconsistent (issue 26): on obstacles
+//! 1e-7·l apart and on clusters at ties the guess cannot put every DOF on a side, and the
+//! variant settles in a few solves where the search from the guess took hundreds
+//! (docs/numerics.md, "The guess with its unclear DOFs held, tried first (stop 49)").
+
+use super::{PatternSearch, Settled};
+use crate::solve::condensed::CondensedFailure;
+use crate::solve::condensed::system::{Pattern, PatternSolution};
+
+/// Most solves of the attempt ([`PatternSearch::try_unclear_held`]). Where it settled, it
+/// took 1–15 solves on the scenes measured (clustered and lowered ties, `cargo bench --bench
+/// many_obstacles`; dense stretches of near-coincident obstacles, `-- dense`).
+const UNCLEAR_HELD_SOLVES: usize = 16;
+
+/// The attempt is made only where the solve of the guess's own pattern changes at least this
+/// many DOFs. On the eight scenes measured where it changed one or two, the attempt never
+/// saved a solve and cost one to three (ties at k = 3000: 3 → 5 pattern solves; lowered ties
+/// at k = 4096: 28 → 30).
+pub(super) const UNCLEAR_HELD_FROM: usize = 3;
+
+/// The attempt gives up once two solves in a row change more DOFs than this. Traced with the
+/// cap alone, the attempts that settled never had two such solves in a row but one (clustered
+/// ties k = 1500 seed 7: 79, 59, 33, … settled at 14, where the search from the guess takes
+/// 22); those that did not changed hundreds, falling by about a third a solve (e.g. 1438,
+/// 3211 on ties at k = 4096 with the last swivel threshold lowered, where the search from
+/// the guess settles in 28 solves).
+const UNCLEAR_HELD_MOST_CHANGES: usize = 32;
+
+impl PatternSearch<'_> {
+    /// The variant `variant` tried from the search's point after the guess's own solve: a
+    /// Newton phase from it (then the monotone search if the phase ends), at most
+    /// [`UNCLEAR_HELD_SOLVES`] solves in all, giving up once two solves in a row change more
+    /// than [`UNCLEAR_HELD_MOST_CHANGES`] DOFs. The consistent solution and its pattern if
+    /// it settles. It solves in this search's banded system and its solves are counted apart
+    /// (`side_solves`), so the search goes on from the guess as it would have without it;
+    /// its solves are observed (and so recorded in a history) like the search's.
+    pub(super) fn try_unclear_held(
+        &mut self,
+        variant: Vec<Pattern>,
+        keep_going: &mut dyn FnMut() -> bool,
+        observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
+    ) -> Result<Settled, CondensedFailure> {
+        let first_phase = &self.newton.fractions[..self.newton.fractions.len().min(1)];
+        let mut attempt = PatternSearch::new(self.system, variant.len() / 2, first_phase);
+        attempt.pattern = variant.clone();
+        attempt.newton.start = Some(variant);
+        attempt.newton.held = self.newton.held.clone();
+        attempt.limit = UNCLEAR_HELD_SOLVES;
+        attempt.give_up_above = Some(UNCLEAR_HELD_MOST_CHANGES);
+        // The system's σ fraction is shared; the search's is kept whatever the attempt did.
+        let fraction = self.system.reversal_fraction.get();
+        let (settled, solves) = attempt.settle_in(&mut self.banded, keep_going, observe)?;
+        self.system.reversal_fraction.set(fraction);
+        self.side_solves += solves;
+        Ok(settled)
+    }
+
+    /// Counts this solve's `changes` against the attempt's [`PatternSearch::give_up_above`]
+    /// (nothing without one): true once two solves in a row changed more DOFs than that.
+    pub(super) fn wandered_off(&mut self, changes: &[(usize, Pattern)]) -> bool {
+        let Some(most) = self.give_up_above else {
+            return false;
+        };
+        self.wide_solves_in_a_row = if changes.len() > most {
+            self.wide_solves_in_a_row + 1
+        } else {
+            0
+        };
+        self.wide_solves_in_a_row >= 2
+    }
+}
