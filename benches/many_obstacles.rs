@@ -336,33 +336,37 @@ fn notches(default: i32) -> i32 {
 /// `BEAMFRIC_FAMILY_K` (default 1000,2000,3000,4000), seeds 1 to `BEAMFRIC_SEEDS` (default 4),
 /// notches from `BEAMFRIC_NOTCHES` (default 3).
 fn clustered_ties_report() {
-    println!("| k | seed | time | pattern solves | interior steps | converged |");
-    println!("|---|---|---|---|---|---|");
-    let sizes = std::env::var("BEAMFRIC_FAMILY_K")
-        .map(|_| sizes())
-        .unwrap_or_else(|_| vec![1000, 2000, 3000, 4000]);
     let notches = notches(3);
-    for k in sizes {
-        for seed in 1..=seeds(4) {
-            let scene = lowered_clustered_ties_scene(k, seed, notches, ELEMENTS);
-            println!("| {k} | {seed} | {} |", cold_solve_row(&scene));
-        }
-    }
+    seeded_report(&[1000, 2000, 3000, 4000], 4, |k, seed| {
+        lowered_clustered_ties_scene(k, seed, notches, ELEMENTS)
+    });
 }
 
 /// Half the obstacles in a stretch 1e-4·l wide ([`dense_stretch_scene`], found in stop 48's
-/// hostile pass; the slowest arrangement measured since stop 49), solved cold once each. Sizes from `BEAMFRIC_FAMILY_K`
-/// (default 1000,2000,3000), seeds 1 to `BEAMFRIC_SEEDS` (default 6).
+/// hostile pass; the slowest arrangement measured since stop 49), solved cold once each.
+/// Sizes from `BEAMFRIC_FAMILY_K` (default 1000,2000,3000), seeds 1 to `BEAMFRIC_SEEDS`
+/// (default 6).
 fn dense_report() {
+    seeded_report(&[1000, 2000, 3000], 6, |k, seed| {
+        dense_stretch_scene(k, seed, ELEMENTS)
+    });
+}
+
+/// One cold solve of `scene_of(k, seed)` per size (`BEAMFRIC_FAMILY_K`, else `sizes`) and
+/// seed (1 to `BEAMFRIC_SEEDS`, else `seeds`), as a table.
+fn seeded_report(
+    sizes: &[usize],
+    seeds: u64,
+    scene_of: impl Fn(usize, u64) -> beamfric::scene::Scene,
+) {
     println!("| k | seed | time | pattern solves | interior steps | converged |");
     println!("|---|---|---|---|---|---|");
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")
-        .map(|_| sizes())
-        .unwrap_or_else(|_| vec![1000, 2000, 3000]);
+        .map(|_| self::sizes())
+        .unwrap_or_else(|_| sizes.to_vec());
     for k in sizes {
-        for seed in 1..=seeds(6) {
-            let scene = dense_stretch_scene(k, seed, ELEMENTS);
-            println!("| {k} | {seed} | {} |", cold_solve_row(&scene));
+        for seed in 1..=self::seeds(seeds) {
+            println!("| {k} | {seed} | {} |", cold_solve_row(&scene_of(k, seed)));
         }
     }
 }

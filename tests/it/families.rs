@@ -529,7 +529,7 @@ fn dense_stretches_and_clusters_at_ties_settle_from_the_guess_with_its_unclear_d
     // Where the interior-point guess leaves DOFs that it cannot put on either side (obstacles
     // 1e-7·l apart, whose motions apart are below what its f64 steps resolve; forces at
     // their thresholds to the last bits), the same pattern with those DOFs held stuck is
-    // tried first, in a few Newton solves. Before (stop 48's code): 1522 and 566 pattern
+    // tried once the guess's own pattern is inconsistent, for a few solves. Before (stop 48's code): 1522 and 566 pattern
     // solves on the dense stretches, 822 on the clusters at ties (0.99 s); now 5 each.
     use beamfric::check::families::{dense_stretch_scene, lowered_clustered_ties_scene};
     for scene in [
@@ -544,7 +544,7 @@ fn dense_stretches_and_clusters_at_ties_settle_from_the_guess_with_its_unclear_d
 
 #[test]
 fn clusters_at_ties_with_a_swivel_threshold_lowered_agree_with_the_reference() {
-    // The same arrangement where the 384-bit reference is affordable (k = 60 and 120, 400
+    // The same arrangement where the 384-bit reference is affordable (k = 40 to 160, 400
     // elements): condensed's states, forces and deflection against an independent
     // multi-precision solve (`check_stable`).
     use beamfric::check::families::lowered_clustered_ties_scene;

@@ -111,20 +111,19 @@ pub(super) fn solve_with_newton_phases(
     if let Some(start) = start.filter(|start| start.dofs() == 2 * obstacles) {
         let mut attempt = PatternSearch::attempt(&system, &start.0, WARM_SOLVES);
         attempt.local_only = Some(WARM_LOCAL);
-        attempt.banded = banded;
-        let (solution, converged) = attempt.run(keep_going, &mut observe)?;
-        banded = std::mem::replace(&mut attempt.banded, BandedSystem::empty());
-        if converged {
+        // A warm start that does not settle (or meets a singular pattern) only costs solves.
+        let (settled, solves) = attempt.settle_in(&mut banded, keep_going, &mut observe)?;
+        if let Some((solution, pattern)) = settled {
             banded.keep();
             return condensed_solution(
                 (problem, mesh, &scales),
                 &system,
-                (&solution, &attempt.pattern),
-                (attempt.solves, converged),
+                (&solution, &pattern),
+                (solves, true),
                 keep_going,
             );
         }
-        warm_solves = attempt.solves;
+        warm_solves = solves;
         system.reversal_fraction.set(first_fraction);
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
