@@ -160,8 +160,8 @@ struct InteriorPoint<'a> {
     template: MixedTemplate,
     /// The caller's system (its memory already in use), factored anew by every step.
     banded: &'a mut BandedSystem,
-    /// Per column of `banded`'s system: the DOF whose force it holds.
-    force_column: Vec<Option<usize>>,
+    /// Per friction DOF: does its column of `banded`'s system hold its force?
+    holds_force: Vec<bool>,
     variables: Vec<FrictionVariable>,
     /// The condition of every DOF: those without a variable (no friction) give their force,
     /// the others are set by every step.
@@ -207,9 +207,9 @@ impl ShootingSystem {
                 condition.force = start_force(bound);
             }
         }
-        let mut force_column = Vec::new();
+        let mut holds_force = Vec::new();
         let template = self.mixed_template();
-        let Ok((motion, _)) = self.solve_mixed(&template, &start, banded, &mut force_column) else {
+        let Ok((motion, _)) = self.solve_mixed(&template, &start, banded, &mut holds_force) else {
             return Ok(None);
         };
         // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
@@ -249,7 +249,7 @@ impl ShootingSystem {
             system: self,
             template,
             banded,
-            force_column,
+            holds_force,
             variables,
             mixed: fixed,
             final_centrality: CENTRALITY_TOLERANCE * smallest,
@@ -403,10 +403,10 @@ impl InteriorPoint<'_> {
         let (system, mixed) = (self.system, &self.mixed);
         let solved = if factor {
             system
-                .solve_mixed(&self.template, mixed, self.banded, &mut self.force_column)
+                .solve_mixed(&self.template, mixed, self.banded, &mut self.holds_force)
                 .ok()
         } else {
-            system.resolve_mixed(&self.template, mixed, self.banded, &self.force_column)
+            system.resolve_mixed(&self.template, mixed, self.banded, &self.holds_force)
         };
         let Some((_, force_changes)) = solved else {
             return false;

@@ -51,6 +51,9 @@ pub(super) struct MixedTemplate {
     shared: BandedSystem,
     /// The entries in the friction DOFs' columns, in the order of assembly.
     dof_entries: Vec<DofEntry>,
+    /// Per friction DOF: its column, and its force's entry in its jump row.
+    dof_columns: Vec<usize>,
+    jumps: Vec<JumpEntry>,
 }
 
 thread_local! {
@@ -71,10 +74,19 @@ impl MixedTemplate {
 #[derive(Debug, Clone, Copy)]
 struct DofEntry {
     row: usize,
-    column: usize,
+    /// The friction DOF whose column it is in.
+    dof: usize,
     /// Where the banded system keeps it ([`BandedSystem::position`]).
     position: usize,
     value: f64,
+}
+
+/// A friction DOF's force in its jump row ([`JUMPS`]): m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2.
+#[derive(Debug, Clone, Copy)]
+struct JumpEntry {
+    row: usize,
+    position: usize,
+    sign: f64,
 }
 
 impl ShootingSystem {
@@ -83,16 +95,21 @@ impl ShootingSystem {
     pub(super) fn mixed_template(&self) -> MixedTemplate {
         let size = 4 * self.pieces.len() - 2;
         let dofs = 2 * self.point_of_obstacle.len();
-        let mut is_dof_column = vec![false; size];
+        // Obstacles are at distinct points: one column per friction DOF.
+        let mut dof_of_column = vec![None; size];
         for i in 0..dofs {
-            is_dof_column[self.dof_column(i)] = true;
+            dof_of_column[self.dof_column(i)] = Some(i);
         }
         let MixedTemplate {
             mut shared,
             mut dof_entries,
+            mut dof_columns,
+            mut jumps,
         } = KEPT_TEMPLATE.take().unwrap_or_else(|| MixedTemplate {
             shared: BandedSystem::new(0, BAND_LOWER, BAND_UPPER),
             dof_entries: Vec::new(),
+            dof_columns: Vec::new(),
+            jumps: Vec::new(),
         });
         shared.reset(size);
         dof_entries.clear();
@@ -100,22 +117,32 @@ impl ShootingSystem {
             &vec![Pattern::Positive; dofs],
             |p| self.pieces[p].transfer_matrix(),
             |v| v,
-            |row, column, value| {
-                if is_dof_column[column] {
-                    dof_entries.push(DofEntry {
-                        row,
-                        column,
-                        position: shared.position(row, column),
-                        value,
-                    });
-                } else {
-                    shared.add(row, column, value);
-                }
+            |row, column, value| match dof_of_column[column] {
+                Some(dof) => dof_entries.push(DofEntry {
+                    row,
+                    dof,
+                    position: shared.position(row, column),
+                    value,
+                }),
+                None => shared.add(row, column, value),
             },
         );
+        dof_columns.clear();
+        dof_columns.extend((0..dofs).map(|i| self.dof_column(i)));
+        jumps.clear();
+        jumps.extend((0..dofs).map(|i| {
+            let (row, column, sign) = self.jump_entry(i);
+            JumpEntry {
+                row,
+                position: shared.position(row, column),
+                sign,
+            }
+        }));
         MixedTemplate {
             shared,
             dof_entries,
+            dof_columns,
+            jumps,
         }
     }
 
@@ -125,7 +152,7 @@ impl ShootingSystem {
     }
 
     /// Solves the system with the conditions `mixed` (one per friction DOF), factoring it in
-    /// `banded`, with which column holds which DOF's force written to `force_column` (for
+    /// `banded`, with whether each DOF's column holds its force written to `holds_force` (for
     /// [`ShootingSystem::resolve_mixed`] with the same factors). The beam is unloaded: what it
     /// solves is the change from the held beam (every DOF stuck under the load), which the
     /// interior-point guess works on.
@@ -134,44 +161,44 @@ impl ShootingSystem {
         template: &MixedTemplate,
         mixed: &[Mixed],
         banded: &mut BandedSystem,
-        force_column: &mut Vec<Option<usize>>,
+        holds_force: &mut Vec<bool>,
     ) -> Result<MotionsAndForces, CondensedFailure> {
         banded.reset_to(&template.shared);
-        self.force_columns(mixed, force_column);
-        let rhs = self.assemble_mixed(template, mixed, force_column, Some(banded));
+        self.force_unknowns(mixed, holds_force);
+        let rhs = self.assemble_mixed(template, mixed, holds_force, Some(banded));
         for (row, value) in rhs.into_iter().enumerate() {
             banded.add_rhs(row, value);
         }
         let x = banded
             .solve_from_both_ends()
             .map_err(|e| CondensedFailure::Singular { column: e.column })?;
-        Ok(self.mixed_values(mixed, force_column, &x))
+        Ok(mixed_values(template, mixed, holds_force, &x))
     }
 
     /// The same system (the same weights, so the same factors in `banded` and the same
-    /// `force_column` as the last [`ShootingSystem::solve_mixed`]) with other offsets: one
+    /// `holds_force` as the last [`ShootingSystem::solve_mixed`]) with other offsets: one
     /// back substitution. `None` without factors.
     pub(super) fn resolve_mixed(
         &self,
         template: &MixedTemplate,
         mixed: &[Mixed],
         banded: &BandedSystem,
-        force_column: &[Option<usize>],
+        holds_force: &[bool],
     ) -> Option<MotionsAndForces> {
-        let mut x = self.assemble_mixed(template, mixed, force_column, None);
+        let mut x = self.assemble_mixed(template, mixed, holds_force, None);
         banded.apply_inverse(&mut x).then_some(())?;
-        Some(self.mixed_values(mixed, force_column, &x))
+        Some(mixed_values(template, mixed, holds_force, &x))
     }
 
-    /// Per column: the friction DOF whose force it holds, into `columns`.
-    fn force_columns(&self, mixed: &[Mixed], columns: &mut Vec<Option<usize>>) {
-        columns.clear();
-        columns.resize(4 * self.pieces.len() - 2, None);
-        for (i, m) in mixed.iter().enumerate() {
-            if self.force_unknown(i, m) {
-                columns[self.dof_column(i)] = Some(i);
-            }
-        }
+    /// Per friction DOF: does its column hold its force? Into `holds_force`.
+    fn force_unknowns(&self, mixed: &[Mixed], holds_force: &mut Vec<bool>) {
+        holds_force.clear();
+        holds_force.extend(
+            mixed
+                .iter()
+                .enumerate()
+                .map(|(i, m)| self.force_unknown(i, m)),
+        );
     }
 
     /// The right-hand side of the mixed system, and its matrix into `matrix` when given (which
@@ -182,31 +209,34 @@ impl ShootingSystem {
         &self,
         template: &MixedTemplate,
         mixed: &[Mixed],
-        force_column: &[Option<usize>],
+        holds_force: &[bool],
         mut matrix: Option<&mut BandedSystem>,
     ) -> Vec<f64> {
         let mut rhs = vec![0.0; 4 * self.pieces.len() - 2];
         for &DofEntry {
             row,
-            column,
+            dof,
             position,
             value,
         } in &template.dof_entries
         {
-            let entry = match force_column[column] {
-                Some(i) => {
-                    rhs[row] -= value * mixed[i].offset();
-                    mixed[i].weight * value
-                }
-                None => value,
+            let entry = if holds_force[dof] {
+                rhs[row] -= value * mixed[dof].offset();
+                mixed[dof].weight * value
+            } else {
+                value
             };
             if let Some(m) = matrix.as_deref_mut() {
                 m.add_at(position, entry);
             }
         }
-        for (i, m) in mixed.iter().enumerate() {
-            let (row, column, sign) = self.jump_entry(i);
-            let entry = if force_column[column].is_some() {
+        for ((m, &holds_force), jump) in mixed.iter().zip(holds_force).zip(&template.jumps) {
+            let JumpEntry {
+                row,
+                position,
+                sign,
+            } = *jump;
+            let entry = if holds_force {
                 sign
             } else if m.weight.is_finite() {
                 // λ = λ₀ + (c − m)/D in the jump.
@@ -217,7 +247,7 @@ impl ShootingSystem {
                 continue;
             };
             if let Some(matrix) = matrix.as_deref_mut() {
-                matrix.add(row, column, entry);
+                matrix.add_at(position, entry);
             }
         }
         rhs
@@ -234,27 +264,28 @@ impl ShootingSystem {
         let (_, jump_row, sign) = JUMPS[i % 2];
         (4 * (p - 1) + jump_row, self.dof_column(i), sign)
     }
+}
 
-    /// Motions and forces from a solution `x`.
-    fn mixed_values(
-        &self,
-        mixed: &[Mixed],
-        force_column: &[Option<usize>],
-        x: &[f64],
-    ) -> MotionsAndForces {
-        mixed
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                let value = x[self.dof_column(i)];
-                if force_column[self.dof_column(i)].is_some() {
-                    (m.weight * value + m.offset(), value - m.force)
-                } else if m.weight.is_finite() {
-                    (value, (value - m.motion) / m.weight)
-                } else {
-                    (value, 0.0)
-                }
-            })
-            .unzip()
-    }
+/// Motions and forces from a solution `x`.
+fn mixed_values(
+    template: &MixedTemplate,
+    mixed: &[Mixed],
+    holds_force: &[bool],
+    x: &[f64],
+) -> MotionsAndForces {
+    mixed
+        .iter()
+        .zip(holds_force)
+        .zip(&template.dof_columns)
+        .map(|((m, &holds_force), &column)| {
+            let value = x[column];
+            if holds_force {
+                (m.weight * value + m.offset(), value - m.force)
+            } else if m.weight.is_finite() {
+                (value, (value - m.motion) / m.weight)
+            } else {
+                (value, 0.0)
+            }
+        })
+        .unzip()
 }

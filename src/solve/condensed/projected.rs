@@ -70,13 +70,16 @@ impl ShootingSystem {
             None => 0.0,
         };
         let mut x: Vec<f64> = (0..held.len()).map(|i| project(i, 0.0)).collect();
-        let (mut all_given, mut given_columns) = (Self::empty_band(), Vec::new());
-        let Ok((mut motion, _)) =
-            self.solve_mixed(&template, &given(&x), &mut all_given, &mut given_columns)
-        else {
+        let (mut all_given, mut given_holds_force) = (Self::empty_band(), Vec::new());
+        let Ok((mut motion, _)) = self.solve_mixed(
+            &template,
+            &given(&x),
+            &mut all_given,
+            &mut given_holds_force,
+        ) else {
             return Ok(None);
         };
-        let (mut newton, mut newton_columns) = (Self::empty_band(), Vec::new());
+        let (mut newton, mut newton_holds_force) = (Self::empty_band(), Vec::new());
         let (mut factorizations, mut back_solves) = (1, 0);
         let mut last_active: Option<Vec<Pattern>> = None;
         let mut last_full = false;
@@ -106,7 +109,7 @@ impl ShootingSystem {
                 }
             }
             let Ok((_, newton_forces)) =
-                self.solve_mixed(&template, &conditions, &mut newton, &mut newton_columns)
+                self.solve_mixed(&template, &conditions, &mut newton, &mut newton_holds_force)
             else {
                 break;
             };
@@ -122,7 +125,7 @@ impl ShootingSystem {
                 &template,
                 &project,
                 &given,
-                (&all_given, &given_columns),
+                (&all_given, &given_holds_force),
                 &mut back_solves,
             ) else {
                 break;
@@ -184,7 +187,7 @@ impl ShootingSystem {
         template: &MixedTemplate,
         project: &dyn Fn(usize, f64) -> f64,
         given: &dyn Fn(&[f64]) -> Vec<Mixed>,
-        (all_given, given_columns): (&BandedSystem, &[Option<usize>]),
+        (all_given, given_holds_force): (&BandedSystem, &[bool]),
         back_solves: &mut usize,
     ) -> Option<(Vec<f64>, Vec<f64>, bool)> {
         let trials = (0..MOST_HALVINGS).map(|h| 0.5f64.powi(h as i32));
@@ -193,7 +196,7 @@ impl ShootingSystem {
                 .map(|i| project(i, x[i] + alpha * (target[i] - x[i])))
                 .collect();
             let (y_motion, _) =
-                self.resolve_mixed(template, &given(&y), all_given, given_columns)?;
+                self.resolve_mixed(template, &given(&y), all_given, given_holds_force)?;
             *back_solves += 1;
             // Φ(y) − Φ(x), and what the gradient −c(x) promises.
             let change: f64 = -0.5
