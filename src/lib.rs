@@ -18,6 +18,7 @@
 //! - [`exchange`]: bring your own method: the discrete problem exported as plain files
 //!   (`beamfric export`), an answer computed elsewhere graded (`beamfric grade`).
 //! - [`cli`], [`output`], [`format`]: the command line and what it prints.
+//! - [`memory`]: the allocator set to keep a solve's freed memory for the next.
 
 // Numerical kernels index several arrays in lockstep (matrix rows, vectors, bounds); an index
 // reads closer to the formulas than zipped iterators there.
@@ -31,6 +32,7 @@ pub mod figure;
 pub mod format;
 pub mod lesson;
 pub mod linalg;
+pub mod memory;
 pub mod model;
 pub mod output;
 pub mod plot;
