@@ -5,7 +5,6 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    beamfric::memory::keep_freed_memory();
     match beamfric::cli::Cli::try_parse() {
         Ok(cli) => beamfric::cli::dispatch(cli),
         Err(e) => beamfric::cli::report_usage_error(e),

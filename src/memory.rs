@@ -21,7 +21,10 @@
 pub const KEPT_BYTES: usize = 16 << 20;
 
 /// Sets the allocator's thresholds to [`KEPT_BYTES`] (glibc on Linux; elsewhere nothing).
-/// For a program's start: the binary's `main` and the benchmarks, which measure what it does.
+/// For a program's start, before its threads: `cli::dispatch` for every command but `serve`
+/// and `present`, and the benchmarks, which measure what the binary does. Not for a server:
+/// eight students solving a 3500-obstacle scene at once left `beamfric serve` with 125 MB
+/// resident after they hung up, against 75 MB with glibc's own thresholds.
 pub fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
