@@ -394,7 +394,8 @@ fn write_scenes(dir: &str) {
 
 fn main() {
     // As the binary does: a solve's freed memory is kept for the next (`beamfric::memory`).
-    beamfric::memory::keep_freed_memory();
+    // SAFETY: first thing in main, no other thread runs yet.
+    unsafe { beamfric::memory::keep_freed_memory() };
     let mut tools = std::env::args().skip(1).filter(|arg| !arg.starts_with('-'));
     let tool = tools.next();
     match tool.as_deref() {

@@ -81,11 +81,6 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
 
 /// Runs the parsed command line.
 pub fn dispatch(cli: Cli) -> ExitCode {
-    // One user's solves keep the memory they free for the next; a classroom server, whose
-    // sessions come and go, hands it back to the system (`memory`).
-    if !matches!(cli.command, Some(Command::Serve(_) | Command::Present(_))) {
-        crate::memory::keep_freed_memory();
-    }
     let result = match cli.command {
         Some(Command::Solve(args)) => solve_command(&args),
         Some(Command::Check(args)) => check_command(&args),

@@ -1,6 +1,7 @@
 //! The C library's allocator, set once for the whole process: memory a solve frees is kept
 //! for the next solve rather than handed back to the system. No equation of the paper; a
-//! matter of speed (issue 26, docs/numerics.md, "Freed memory kept for the next solve").
+//! matter of speed (issue 26, docs/numerics.md, "Cheaper steps, and a solve's freed memory
+//! kept for the next (stop 50)").
 //!
 //! glibc's `malloc` gives the top of its heap back to the system once more than a threshold
 //! of it is free, and serves blocks above another threshold with a mapping of their own,
@@ -10,31 +11,42 @@
 //! each zeroed by the kernel on first touch. Page faults were 7 % of a solve of the clustered
 //! family at k = 1000 in a loop of solves.
 //!
-//! Both thresholds are set to [`KEPT_BYTES`]: a heap keeps at most that much free memory at
-//! its top (glibc has up to eight heaps per core, one per thread in use at once), and blocks
-//! up to that size come from the heap. Elsewhere (other C libraries) nothing is changed.
+//! The trim threshold is set to [`KEPT_BYTES`]: an arena keeps at most that much free memory
+//! at its top (glibc makes up to eight arenas per core on 64-bit systems, one per thread
+//! allocating at once). The mmap threshold is set to glibc's own largest, 32 MiB, so blocks up
+//! to that size come from an arena. Setting either stops glibc from moving them by itself.
+//! Elsewhere (other C libraries) nothing is changed.
 
-/// Free memory a heap keeps, and the largest block served from a heap: 16 MiB. Measured in a
-/// loop of solves (`GLIBC_TUNABLES` thresholds, fastest of 61): 4 MiB already gave the whole
-/// gain at k = 4000 (random family 19.4 → 18.1 ms), 1 MiB not (20.3 ms); 16 MiB leaves room
-/// for larger scenes.
+/// Free memory an arena keeps: 16 MiB. Measured in a loop of solves (`GLIBC_TUNABLES`
+/// thresholds, fastest of 61): 4 MiB already gave the whole gain at k = 4000 (random family
+/// 19.4 → 18.1 ms), 1 MiB not (20.3 ms); 16 MiB leaves room for larger scenes.
 pub const KEPT_BYTES: usize = 16 << 20;
 
-/// Sets the allocator's thresholds to [`KEPT_BYTES`] (glibc on Linux; elsewhere nothing).
-/// For a program's start, before its threads: `cli::dispatch` for every command but `serve`
-/// and `present`, and the benchmarks, which measure what the binary does. Not for a server:
-/// eight students solving a 3500-obstacle scene at once left `beamfric serve` with 125 MB
-/// resident after they hung up, against 75 MB with glibc's own thresholds.
-pub fn keep_freed_memory() {
+/// The largest block served from an arena rather than mapped on its own: glibc's own upper
+/// bound for the threshold it would raise by itself on 64-bit systems.
+pub const LARGEST_FROM_ARENA: usize = 32 << 20;
+
+/// Sets the allocator's trim threshold to [`KEPT_BYTES`] and its mmap threshold to
+/// [`LARGEST_FROM_ARENA`] (glibc on Linux; elsewhere nothing). Called by the binary's `main`
+/// for every command but `serve` and `present`, and by the `many_obstacles` benchmark, which
+/// measures what the binary does. Not for a server: eight students solving a 3500-obstacle
+/// scene at once left `beamfric serve` with 125 MB resident after they hung up, against
+/// 75 MB with glibc's own thresholds.
+///
+/// # Safety
+///
+/// No other thread may be running: glibc's `mallopt` is not safe to call while other
+/// threads allocate (it changes parameters they read without its lock). Call it first thing
+/// in `main`.
+pub unsafe fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     {
-        let bytes = KEPT_BYTES as libc::c_int;
-        // SAFETY: mallopt only sets two of glibc's malloc parameters, under its own lock; it
-        // reads and writes no memory of ours. A refusal (return 0) leaves glibc's defaults,
-        // which are only slower.
+        // SAFETY: the caller guarantees no other thread runs; mallopt then only sets two of
+        // glibc's parameters and touches no memory of ours. A refusal (return 0) leaves
+        // glibc's own thresholds, which are only slower.
         unsafe {
-            libc::mallopt(libc::M_MMAP_THRESHOLD, bytes);
-            libc::mallopt(libc::M_TRIM_THRESHOLD, bytes);
+            libc::mallopt(libc::M_MMAP_THRESHOLD, LARGEST_FROM_ARENA as libc::c_int);
+            libc::mallopt(libc::M_TRIM_THRESHOLD, KEPT_BYTES as libc::c_int);
         }
     }
 }

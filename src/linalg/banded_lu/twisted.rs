@@ -94,12 +94,13 @@ impl TwistedFactors {
         // pass of its own before: the same values, one pass over the factors fewer.
         for row in 0..3 {
             row_scale[row] = scale_into(given, row, &mut entries, false);
-            let reversed = size - 1 - row;
-            row_scale[reversed] = scale_into(given, reversed, &mut bottom_entries, true);
+            let from_end = size - 1 - row;
+            row_scale[from_end] = scale_into(given, from_end, &mut bottom_entries, true);
         }
         for j in 0..bottom_columns {
-            let reversed = size - 4 - j;
-            row_scale[reversed] = scale_into(given, reversed, &mut bottom_entries, true);
+            // The bottom's reversed row j + 3.
+            let from_end = size - 4 - j;
+            row_scale[from_end] = scale_into(given, from_end, &mut bottom_entries, true);
             if j < top_columns {
                 row_scale[j + 3] = scale_into(given, j + 3, &mut entries, false);
                 let (best, inverse) = eliminate_condensed(block(&mut entries, j))

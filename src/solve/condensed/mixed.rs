@@ -51,8 +51,9 @@ pub(super) struct MixedTemplate {
     shared: BandedSystem,
     /// The entries in the friction DOFs' columns, in the order of assembly.
     dof_entries: Vec<DofEntry>,
-    /// Per friction DOF: its column, and its force's entry in its jump row.
+    /// Per friction DOF: its column.
     dof_columns: Vec<usize>,
+    /// Per friction DOF: its force's entry in its jump row.
     jumps: Vec<JumpEntry>,
 }
 
@@ -164,7 +165,7 @@ impl ShootingSystem {
         holds_force: &mut Vec<bool>,
     ) -> Result<MotionsAndForces, CondensedFailure> {
         banded.reset_to(&template.shared);
-        self.force_unknowns(mixed, holds_force);
+        self.fill_holds_force(mixed, holds_force);
         let rhs = self.assemble_mixed(template, mixed, holds_force, Some(banded));
         for (row, value) in rhs.into_iter().enumerate() {
             banded.add_rhs(row, value);
@@ -191,7 +192,7 @@ impl ShootingSystem {
     }
 
     /// Per friction DOF: does its column hold its force? Into `holds_force`.
-    fn force_unknowns(&self, mixed: &[Mixed], holds_force: &mut Vec<bool>) {
+    fn fill_holds_force(&self, mixed: &[Mixed], holds_force: &mut Vec<bool>) {
         holds_force.clear();
         holds_force.extend(
             mixed
@@ -230,13 +231,13 @@ impl ShootingSystem {
                 m.add_at(position, entry);
             }
         }
-        for ((m, &holds_force), jump) in mixed.iter().zip(holds_force).zip(&template.jumps) {
+        for ((m, &force_held), jump) in mixed.iter().zip(holds_force).zip(&template.jumps) {
             let JumpEntry {
                 row,
                 position,
                 sign,
             } = *jump;
-            let entry = if holds_force {
+            let entry = if force_held {
                 sign
             } else if m.weight.is_finite() {
                 // λ = λ₀ + (c − m)/D in the jump.
@@ -277,9 +278,9 @@ fn mixed_values(
         .iter()
         .zip(holds_force)
         .zip(&template.dof_columns)
-        .map(|((m, &holds_force), &column)| {
+        .map(|((m, &force_held), &column)| {
             let value = x[column];
-            if holds_force {
+            if force_held {
                 (m.weight * value + m.offset(), value - m.force)
             } else if m.weight.is_finite() {
                 (value, (value - m.motion) / m.weight)
