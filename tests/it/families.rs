@@ -529,8 +529,9 @@ fn dense_stretches_and_clusters_at_ties_settle_from_the_guess_with_its_unclear_d
     // Where the interior-point guess leaves DOFs that it cannot put on either side (obstacles
     // 1e-7·l apart, whose motions apart are below what its f64 steps resolve; forces at
     // their thresholds to the last bits), the same pattern with those DOFs held stuck is
-    // tried once the guess's own pattern is inconsistent, for a few solves. Before (stop 48's code): 1522 and 566 pattern
-    // solves on the dense stretches, 822 on the clusters at ties (0.99 s); now 5 each.
+    // tried once the guess's own pattern is inconsistent, for a few solves. Before (stop 48's
+    // code): 1522 and 566 pattern solves on the dense stretches, 822 on the clusters at ties
+    // (0.99 s); now 5 each.
     use beamfric::check::families::{dense_stretch_scene, lowered_clustered_ties_scene};
     for scene in [
         dense_stretch_scene(3000, 2, 10_000),

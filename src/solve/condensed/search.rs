@@ -218,8 +218,9 @@ struct PatternSearch<'a> {
     give_up_above: Option<usize>,
     /// Solves in a row that changed more than that.
     wide_solves_in_a_row: usize,
-    /// The interior-point guess with the DOFs it left unclear held stuck, tried once the
-    /// guess's own pattern is inconsistent ([`PatternSearch::try_unclear_held`]).
+    /// The interior-point guess with the DOFs it left unclear held stuck
+    /// ([`PatternSearch::try_unclear_held`]): taken at the search's first inconsistent solve,
+    /// and tried there only if that solve changes at least `UNCLEAR_HELD_FROM` DOFs.
     unclear_held: Option<Vec<Pattern>>,
     /// Solves of attempts made on the side (that variant's), counted apart so that the
     /// search's own limits count its own solves.
