@@ -44,6 +44,9 @@ pub struct BandedSystem {
     factor_storage: FactorStorage,
     /// The factors of the last solve, until the system is reset.
     factors: Option<Factored>,
+    /// A⁻¹ r by the one-ended factors of the last solve, before any refinement, until the
+    /// system is reset or factored again (empty otherwise): [`BandedSystem::first_solve`].
+    first_solve: Vec<f64>,
 }
 
 /// Largest number of refinement steps after the first solve.
@@ -60,6 +63,7 @@ impl BandedSystem {
             rhs: vec![0.0; size],
             factor_storage: FactorStorage::default(),
             factors: None,
+            first_solve: Vec::new(),
         }
     }
 
@@ -68,6 +72,7 @@ impl BandedSystem {
         if let Some(factors) = self.factors.take() {
             self.factor_storage = factors.into_storage();
         }
+        self.first_solve.clear();
         self.size = size;
         self.entries.clear();
         self.entries
@@ -87,6 +92,7 @@ impl BandedSystem {
         if let Some(factors) = self.factors.take() {
             self.factor_storage = factors.into_storage();
         }
+        self.first_solve.clear();
         self.size = other.size;
         self.entries.clone_from(&other.entries);
         self.rhs.clear();
@@ -152,17 +158,29 @@ impl BandedSystem {
     pub fn solve_from_both_ends(&mut self) -> Result<Vec<f64>, SingularColumn> {
         self.factor(true)?;
         let factors = self.factors.as_ref().expect("just factored");
-        Ok(self.refine(factors, 0))
+        Ok(self.refine(factors, 0, None))
     }
 
     fn solve_refined(&mut self, steps: usize) -> Result<Vec<f64>, SingularColumn> {
         self.factor(false)?;
+        let mut first = std::mem::take(&mut self.first_solve);
         let factors = self.factors.as_ref().expect("just factored");
-        Ok(self.refine(factors, steps))
+        let solution = self.refine(factors, steps, Some(&mut first));
+        self.first_solve = first;
+        Ok(solution)
+    }
+
+    /// A⁻¹ r as the last [`BandedSystem::solve`] or [`BandedSystem::solve_unrefined`] found it
+    /// by its factors, before any refinement: the bits [`BandedSystem::apply_inverse`] would
+    /// give for [`BandedSystem::rhs`], without the substitutions; `None` after a reset, or
+    /// after a factorisation by [`BandedSystem::solve_from_both_ends`].
+    pub fn first_solve(&self) -> Option<&[f64]> {
+        (self.factors.is_some() && !self.first_solve.is_empty()).then_some(&self.first_solve)
     }
 
     /// Factors the system anew in the memory of the last factors.
     fn factor(&mut self, from_both_ends: bool) -> Result<(), SingularColumn> {
+        self.first_solve.clear();
         let storage = match self.factors.take() {
             Some(factors) => factors.into_storage(),
             None => std::mem::take(&mut self.factor_storage),
@@ -188,9 +206,14 @@ impl BandedSystem {
         }
     }
 
-    fn refine(&self, factors: &Factored, steps: usize) -> Vec<f64> {
+    /// The solution by `factors`, refined by up to `steps` steps; the first solve, before
+    /// refinement, copied into `first` where given ([`BandedSystem::first_solve`]).
+    fn refine(&self, factors: &Factored, steps: usize, first: Option<&mut Vec<f64>>) -> Vec<f64> {
         let mut hi = self.rhs.clone();
         factors.solve_in_place(&mut hi);
+        if let Some(first) = first {
+            first.clone_from(&hi);
+        }
         if steps == 0 {
             return hi;
         }

@@ -22,3 +22,16 @@ pub mod stop;
 mod two_by_two;
 
 pub use block::{BlockMatrix, BlockTridiagonal};
+
+/// Does the processor have AVX and FMA? The twisted factorisation (`banded_lu`) is compiled
+/// a second time for such processors (`#[target_feature]`) and takes that copy where it does:
+/// the VEX encoding of the same operations in the same order, so the same bits (Rust fuses a
+/// multiply and an add only where the code asks for it, and that code does not). Checked at
+/// run time, not assumed at build time: the program still runs on processors without them.
+/// The same copy of the one-ended factorisation and of the condensed method's exact residual
+/// was slower, and is not made (docs/numerics.md, stop 51).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+pub(crate) fn has_avx_and_fma() -> bool {
+    std::arch::is_x86_feature_detected!("avx") && std::arch::is_x86_feature_detected!("fma")
+}

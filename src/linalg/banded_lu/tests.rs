@@ -180,3 +180,55 @@ fn uniform(state: &mut u64) -> f64 {
     *state ^= *state << 17;
     (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
 }
+
+#[test]
+fn the_copy_for_avx_and_fma_gives_the_portable_bits() {
+    // Where the processor has AVX and FMA, the twisted factorisation runs a copy compiled
+    // for them (`linalg::has_avx_and_fma`); every answer must keep the bits of the portable code,
+    // which processors without them run. Both copies on the same systems, with small
+    // diagonals so that rows are exchanged; skipped on a processor without the features.
+    #[cfg(target_arch = "x86_64")]
+    if crate::linalg::has_avx_and_fma() {
+        for (size, seed) in [(64, 11), (67, 12), (1001, 13), (16_002, 14)] {
+            let (system, _) = condensed_and_general(size, 0x51_u64 << 20 | seed);
+            let portable =
+                TwistedFactors::portable(&system.entries, size, FactorStorage::default()).unwrap();
+            let dispatched =
+                TwistedFactors::new(&system.entries, size, FactorStorage::default()).unwrap();
+            let b: Vec<f64> = (0..size).map(|i| ((i * 37) % 17) as f64 - 8.0).collect();
+            let (mut u, mut v) = (b.clone(), b);
+            portable.solve_in_place(&mut u);
+            dispatched.solve_in_place(&mut v);
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&u), bits(&v), "size {size}");
+            assert!(u.iter().all(|v| v.is_finite()), "size {size}");
+            let storage = |f: TwistedFactors| {
+                let s = f.into_storage();
+                [s.entries, s.bottom_entries, s.row_scale, s.inverse_diagonal].map(|v| bits(&v))
+            };
+            assert_eq!(storage(portable), storage(dispatched), "size {size}");
+        }
+    }
+}
+
+#[test]
+fn the_first_solve_is_kept_until_the_system_changes() {
+    // A one-ended solve keeps A⁻¹ r before refinement: the bits a substitution with its
+    // factors gives again. Gone after a reset or a factorisation from both ends, whose
+    // solves are not the one-ended order's.
+    let (mut system, _) = condensed_and_general(200, 21);
+    assert!(system.first_solve().is_none(), "nothing solved yet");
+    let refined = system.solve().unwrap();
+    let mut again = system.rhs().to_vec();
+    assert!(system.apply_inverse(&mut again));
+    assert_eq!(system.first_solve(), Some(&again[..]));
+    assert!(refined.iter().all(|v| v.is_finite()));
+    let unrefined = system.solve_unrefined().unwrap();
+    assert_eq!(system.first_solve(), Some(&unrefined[..]));
+    system.solve_from_both_ends().unwrap();
+    assert!(system.first_solve().is_none(), "factored from both ends");
+    system.solve_unrefined().unwrap();
+    let copy = system.clone();
+    system.reset_to(&copy);
+    assert!(system.first_solve().is_none(), "reset");
+}

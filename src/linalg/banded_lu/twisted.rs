@@ -60,6 +60,33 @@ impl TwistedFactors {
         size: usize,
         storage: FactorStorage,
     ) -> Result<TwistedFactors, SingularColumn> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::linalg::has_avx_and_fma() {
+            // SAFETY: the processor has both features, just checked.
+            return unsafe { Self::new_with_avx(given, size, storage) };
+        }
+        Self::portable(given, size, storage)
+    }
+
+    /// [`TwistedFactors::new`] compiled for processors with AVX and FMA
+    /// (`linalg::has_avx_and_fma`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,fma")]
+    fn new_with_avx(
+        given: &[f64],
+        size: usize,
+        storage: FactorStorage,
+    ) -> Result<TwistedFactors, SingularColumn> {
+        Self::portable(given, size, storage)
+    }
+
+    /// [`TwistedFactors::new`] as compiled for any processor.
+    #[inline(always)]
+    pub(super) fn portable(
+        given: &[f64],
+        size: usize,
+        storage: FactorStorage,
+    ) -> Result<TwistedFactors, SingularColumn> {
         const W: usize = CONDENSED_WIDTH;
         debug_assert!(size >= TWISTED_FROM && given.len() == size * 7);
         let top_columns = (size - MIDDLE) / 2;
@@ -238,6 +265,7 @@ fn block(entries: &mut [f64], j: usize) -> &mut [f64; CONDENSED_BLOCK] {
 
 /// Gaussian elimination with partial pivoting of the middle block in place (multipliers
 /// below the diagonal); its row exchanges, or the first column without a pivot.
+#[inline(always)]
 fn factor_middle(a: &mut [[f64; MIDDLE]; MIDDLE]) -> Result<[usize; MIDDLE], usize> {
     let mut pivot = [0; MIDDLE];
     for j in 0..MIDDLE {

@@ -68,10 +68,18 @@ impl ShootingSystem {
         banded: &BandedSystem,
         accuracy: Accuracy,
     ) -> Result<PatternSolution, CondensedFailure> {
-        let mut x = banded.rhs().to_vec();
-        if !banded.apply_inverse(&mut x) {
-            return Err(CondensedFailure::Singular { column: 0 });
-        }
+        // The plain solve's own solution where the factors are still its (the same bits as
+        // solving again: one substitution fewer per refined solve).
+        let x = match banded.first_solve() {
+            Some(first) => first.to_vec(),
+            None => {
+                let mut x = banded.rhs().to_vec();
+                if !banded.apply_inverse(&mut x) {
+                    return Err(CondensedFailure::Singular { column: 0 });
+                }
+                x
+            }
+        };
         Ok(self.refined_solution(pattern, banded, x, accuracy))
     }
 

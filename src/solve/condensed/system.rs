@@ -183,12 +183,12 @@ impl ShootingSystem {
             .iter()
             .map(|piece| {
                 let (a, b) = (mesh.nodes[piece.first_node], mesh.nodes[piece.last_node]);
-                Piece {
-                    length: length(b - a),
-                    stiffness: times_power_of_two(piece.bending_stiffness, -scales.stiffness),
-                    load_start: load(problem.load_at(a)),
-                    load_end: load(problem.load_at(b)),
-                }
+                Piece::new(
+                    length(b - a),
+                    times_power_of_two(piece.bending_stiffness, -scales.stiffness),
+                    load(problem.load_at(a)),
+                    load(problem.load_at(b)),
+                )
             })
             .collect();
         let mut obstacle_at_point = vec![None; pieces.len() + 1];
