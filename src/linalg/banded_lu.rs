@@ -45,7 +45,8 @@ pub struct BandedSystem {
     /// The factors of the last solve, until the system is reset.
     factors: Option<Factored>,
     /// A⁻¹ r by the one-ended factors of the last solve, before any refinement, until the
-    /// system is reset or factored again (empty otherwise): [`BandedSystem::first_solve`].
+    /// system is reset or factored again (emptied first thing by both, so never stale):
+    /// [`BandedSystem::first_solve`].
     first_solve: Vec<f64>,
 }
 
@@ -175,7 +176,7 @@ impl BandedSystem {
     /// give for [`BandedSystem::rhs`], without the substitutions; `None` after a reset, or
     /// after a factorisation by [`BandedSystem::solve_from_both_ends`].
     pub fn first_solve(&self) -> Option<&[f64]> {
-        (self.factors.is_some() && !self.first_solve.is_empty()).then_some(&self.first_solve)
+        (!self.first_solve.is_empty()).then_some(&self.first_solve)
     }
 
     /// Factors the system anew in the memory of the last factors.
