@@ -9,6 +9,7 @@
 //! cargo bench --bench many_obstacles -- lowered      # ties with one threshold lowered
 //! cargo bench --bench many_obstacles -- clustered-ties  # clusters at ties, one swivel lowered
 //! cargo bench --bench many_obstacles -- dense        # half the obstacles in 1e-4·l (worst found)
+//! cargo bench --bench many_obstacles -- pairs        # obstacles in pairs 1e-9·l to 1e-5·l apart
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -22,7 +23,7 @@ use std::time::{Duration, Instant};
 
 use beamfric::check::families::{
     Family, NOTCH, dense_stretch_scene, family_problem, family_scene, lowered_clustered_ties_scene,
-    lowered_ties_scene_at,
+    lowered_ties_scene_at, pairs_scene,
 };
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
@@ -352,6 +353,15 @@ fn dense_report() {
     });
 }
 
+/// Obstacles in pairs 1e-9·l to 1e-5·l apart ([`pairs_scene`], found in stop 48's hostile
+/// pass), solved cold once each. Sizes from `BEAMFRIC_FAMILY_K` (default 1000,2000,3000),
+/// seeds 1 to `BEAMFRIC_SEEDS` (default 6).
+fn pairs_report() {
+    seeded_report(&[1000, 2000, 3000], 6, |k, seed| {
+        pairs_scene(k, seed, ELEMENTS)
+    });
+}
+
 /// One cold solve of `scene_of(k, seed)` per size (`BEAMFRIC_FAMILY_K`, else `sizes`) and
 /// seed (1 to `BEAMFRIC_SEEDS`, else `seeds`), as a table.
 fn seeded_report(
@@ -408,6 +418,7 @@ fn main() {
         Some("lowered") => lowered_report(),
         Some("clustered-ties") => clustered_ties_report(),
         Some("dense") => dense_report(),
+        Some("pairs") => pairs_report(),
         _ => criterion_runs(),
     }
 }

@@ -238,6 +238,43 @@ pub fn dense_stretch_scene(k: usize, seed: u64, elements: usize) -> Scene {
     scene
 }
 
+/// Obstacles in pairs: `k / 2` positions of the random family (from `seed`), each with a
+/// second obstacle 1e-9·l to 1e-5·l after it (log-uniform), any two at least 1e-9·l apart;
+/// thresholds 0–2 × the stuck forces on a mesh of `elements`. Two obstacles that close move
+/// together to within what an f64 solve resolves, and which of them is stuck is decided by
+/// motions of 1e-27 of the common one: found in the hostile pass of stop 48 (194–579 pattern
+/// solves), settled from the guess since stop 52 (docs/numerics.md, "The monotone search
+/// from a close guess").
+pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
+    let mut scene = family_scene(Family::Random, k / 2, seed, elements);
+    scene.title = format!("pairs k={k} seed={seed}");
+    let mut random = Uniform(seed.wrapping_mul(0xD1B5_4A32_D192_ED03) ^ k as u64);
+    let length = scene.beam.length;
+    let mut xs: Vec<f64> = scene
+        .obstacles
+        .iter()
+        .flat_map(|o| [o.x, o.x + 10f64.powf(-9.0 + 4.0 * random.next()) * length])
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    for i in 1..xs.len() {
+        xs[i] = xs[i].max(xs[i - 1] + 1e-9 * length);
+    }
+    scene.obstacles = xs
+        .into_iter()
+        .map(|x| ObstacleSpec {
+            x,
+            sliding: 0.0,
+            swivel: 0.0,
+        })
+        .collect();
+    let stuck = stuck_forces(&scene, elements);
+    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
+        o.sliding = force * 2.0 * random.next();
+        o.swivel = moment * 2.0 * random.next();
+    }
+    scene
+}
+
 /// [`family_scene`] validated, with its mesh.
 pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
     let scene = family_scene(family, k, seed, elements);

@@ -1,11 +1,13 @@
 //! The search for the friction pattern: semismooth Newton phases, then a monotone search (exact
 //! line search on the convex objective, feature-sign fallback) that can neither cycle nor
 //! stall. Where the interior-point guess's own pattern is inconsistent, its variant with the
-//! unclear DOFs held is tried first (`unclear_held`). When a convergence history is asked
-//! for, every pattern solve is recorded as one iterate ([`record_pattern`]).
+//! unclear DOFs held (`unclear_held`) and then the monotone search from the guess are tried
+//! first (`from_guess`). When a convergence history is asked for, every pattern solve is
+//! recorded as one iterate ([`record_pattern`]).
 
 use std::collections::HashSet;
 
+mod from_guess;
 mod unclear_held;
 
 use super::answer::{condensed_solution, record_pattern};
@@ -161,6 +163,7 @@ pub(super) fn solve_with_newton_phases(
                 search.pattern = guess.pattern.clone();
                 search.newton.start = Some(guess.pattern);
                 search.unclear_held = guess.unclear_held;
+                search.monotone_from_guess = true;
             }
             search.newton.held = Some(held);
         }
@@ -219,12 +222,18 @@ struct PatternSearch<'a> {
     /// Solves in a row that changed more than that.
     wide_solves_in_a_row: usize,
     /// The interior-point guess with the DOFs it left unclear held stuck
-    /// ([`PatternSearch::try_unclear_held`]): taken at the search's first inconsistent solve,
+    /// ([`PatternSearch::try_from_guess`]): taken at the search's first inconsistent solve,
     /// and tried there only if that solve changes at least `UNCLEAR_HELD_FROM` DOFs.
     unclear_held: Option<Vec<Pattern>>,
     /// Solves of attempts made on the side (that variant's), counted apart so that the
     /// search's own limits count its own solves.
     side_solves: usize,
+    /// The monotone search from the guess, tried at the search's first inconsistent solve
+    /// where that leaves few DOFs inconsistent ([`PatternSearch::try_from_guess`]).
+    monotone_from_guess: bool,
+    /// A solve of `pattern` already made (by the search that began this attempt): decided
+    /// first instead of solved again.
+    handed: Option<PatternSolution>,
     newton: NewtonPhases<'a>,
     monotone: MonotoneSearch,
 }
@@ -248,6 +257,8 @@ impl<'a> PatternSearch<'a> {
             wide_solves_in_a_row: 0,
             unclear_held: None,
             side_solves: 0,
+            monotone_from_guess: false,
+            handed: None,
             certain_only: false,
             newton: NewtonPhases {
                 fractions: newton_phases,
@@ -323,15 +334,20 @@ impl<'a> PatternSearch<'a> {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
-            let (solution, changes) = self.solve_and_decide()?;
-            observe(&solution, &self.pattern);
+            let (solution, changes) = match self.handed.take() {
+                // Observed already, by the search that made it.
+                Some(solution) => self.decide(solution)?,
+                None => {
+                    let decided = self.solve_and_decide()?;
+                    observe(&decided.0, &self.pattern);
+                    decided
+                }
+            };
             if changes.is_empty() {
                 return Ok((solution, true));
             }
-            if let Some(variant) = self.unclear_held.take()
-                && changes.len() >= unclear_held::UNCLEAR_HELD_FROM
-                && let Some((solution, pattern)) =
-                    self.try_unclear_held(variant, keep_going, observe)?
+            if let Some((solution, pattern)) =
+                self.try_from_guess(&solution, changes.len(), keep_going, observe)?
             {
                 self.pattern = pattern;
                 return Ok((solution, true));
@@ -376,10 +392,20 @@ impl<'a> PatternSearch<'a> {
     fn solve_and_decide(
         &mut self,
     ) -> Result<(PatternSolution, Vec<(usize, Pattern)>), CondensedFailure> {
-        let system = self.system;
-        let mut solution =
-            system.solve_pattern(&self.pattern, Accuracy::Plain, &mut self.banded)?;
+        let solution =
+            self.system
+                .solve_pattern(&self.pattern, Accuracy::Plain, &mut self.banded)?;
         self.solves += 1;
+        self.decide(solution)
+    }
+
+    /// [`PatternSearch::solve_and_decide`] for a solve made already: the decisions, with the
+    /// refinement they need.
+    fn decide(
+        &mut self,
+        mut solution: PatternSolution,
+    ) -> Result<(PatternSolution, Vec<(usize, Pattern)>), CondensedFailure> {
+        let system = self.system;
         let mut changes = system.inconsistent_dofs(&solution, &self.pattern);
         if self.is_not_local(&changes) {
             // A warm start that gives up here: no refinement to decide anything.

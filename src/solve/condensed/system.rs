@@ -85,6 +85,7 @@ pub(super) struct ShootingSystem {
 }
 
 /// The states of one solve of a fixed pattern.
+#[derive(Clone)]
 pub(super) struct PatternSolution {
     /// State just right of every special point 0..P−1 (u, u', m, m').
     pub(super) start: Vec<[f64; 4]>,
@@ -104,6 +105,7 @@ pub(super) struct PatternSolution {
 }
 
 /// The friction DOFs of a refined solve, in double-double.
+#[derive(Clone)]
 pub(super) struct ExactValues {
     /// λ_i (±g for a moving DOF).
     pub(super) force: Vec<DoubleDouble>,

@@ -14,10 +14,15 @@ use crate::solve::condensed::system::{Pattern, PatternSolution};
 const UNCLEAR_HELD_SOLVES: usize = 16;
 
 /// The attempt is made only where the solve of the guess's own pattern changes at least this
-/// many DOFs. On the eight scenes measured where it changed one or two, the attempt never
-/// saved a solve and cost one to three (ties at k = 3000: 3 → 5 pattern solves; lowered ties
-/// at k = 4096: 28 → 30).
-pub(super) const UNCLEAR_HELD_FROM: usize = 3;
+/// many DOFs. In stop 49, on the eight scenes measured where it changed one or two, the
+/// attempt never saved a solve and cost one to three (ties at k = 3000: 3 → 5 pattern
+/// solves; lowered ties at k = 4096: 28 → 30), so it was 3. Since the guess holds motions
+/// below what its steps resolve (stop 52), a guess with two DOFs inconsistent can be tens of
+/// DOFs from the answer while its variant is a few: with 2 instead of 3, on the 240 scenes
+/// of stop 52's sweep, dense k = 3000 seed 3 took 5 pattern solves instead of 50 and lowered
+/// ties at k = 4096 (obstacle 1365's swivel, one notch) 4 instead of 13; no scene took more.
+/// With 1, ties at k = 3000 took 5 instead of 3.
+pub(super) const UNCLEAR_HELD_FROM: usize = 2;
 
 /// The attempt gives up once two solves in a row change more DOFs than this. Traced with the
 /// cap alone, the attempts that settled never had two such solves in a row but one (clustered
