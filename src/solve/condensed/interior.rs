@@ -371,7 +371,7 @@ impl InteriorPoint<'_> {
             let motion_length = (TO_BOUNDARY * motion_reach).min(1.0);
             // One pass: the step, the next μ (summed in the same order as
             // [`InteriorPoint::centrality`]) and whether every DOF is clearly on its side.
-            let (mut sum, mut clear) = (0.0, true);
+            let (mut sum, mut clear, mut largest) = (0.0, true, [0.0f64; 2]);
             let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
                 v.slack_above -= force_length * dl;
@@ -380,9 +380,12 @@ impl InteriorPoint<'_> {
                 v.negative += motion_length * dq;
                 sum += v.complementarity();
                 clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
+                let largest = &mut largest[v.dof % 2];
+                *largest = largest.max(v.motion().abs());
             }
             mu = sum / (2 * self.variables.len()) as f64;
-            if offers.settled(self.pattern(), clear, self.banded, keep_going, crossover)? {
+            let pattern = self.pattern_given(largest);
+            if offers.settled(pattern, clear, self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
         }
@@ -495,6 +498,16 @@ impl InteriorPoint<'_> {
     /// diagonal stiffness makes of it) exceeds its slack; a DOF without friction moves the
     /// way it does at the start.
     fn pattern(&self) -> Vec<Pattern> {
+        let mut largest_motion = [0.0f64; 2];
+        for v in &self.variables {
+            let largest = &mut largest_motion[v.dof % 2];
+            *largest = largest.max(v.motion().abs());
+        }
+        self.pattern_given(largest_motion)
+    }
+
+    /// [`InteriorPoint::pattern`] given the largest |motion| of each kind (even and odd DOFs).
+    fn pattern_given(&self, largest_motion: [f64; 2]) -> Vec<Pattern> {
         let sign = |c: f64| {
             if c >= 0.0 {
                 Pattern::Positive
@@ -503,11 +516,6 @@ impl InteriorPoint<'_> {
             }
         };
         let mut pattern: Vec<Pattern> = self.free_motion.iter().map(|&c| sign(c)).collect();
-        let mut largest_motion = [0.0f64; 2];
-        for v in &self.variables {
-            let largest = &mut largest_motion[v.dof % 2];
-            *largest = largest.max(v.motion().abs());
-        }
         for v in &self.variables {
             let slack = v.slack_above.min(v.slack_below);
             let stiffness = self.system.diagonal_stiffness(v.dof);
