@@ -16,7 +16,8 @@ use crate::solve::condensed::system::{Pattern, PatternSolution};
 /// sweep (docs/numerics.md): at 32, pairs k = 1000 seed 4 took 152 pattern solves (its
 /// guess one DOF off, whose solve left 59 inconsistent), at 64 every pairs scene took at
 /// most 18, and at 256 the 96 clusters at ties took 5189 instead of 4329 (the attempt
-/// wandering where Newton from the guess settles); no other scene changed.
+/// wandering where Newton from the guess settles; before `PROJECTED_ABOVE`); no other
+/// scene changed.
 const FROM_GUESS_MOST_INCONSISTENT: usize = 64;
 
 /// Most solves of the monotone attempt; where it does not settle, the search goes on from the
