@@ -130,8 +130,27 @@ fn generated_scene(
     scene.description = String::new();
     scene.mesh.elements = elements;
     let mut random = Uniform(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ k as u64);
-    let length = scene.beam.length;
-    scene.obstacles = positions(positions_of, k, &mut random, length)
+    let xs = positions(positions_of, k, &mut random, scene.beam.length);
+    let fractions = match thresholds_of {
+        Family::Random => (0.0, 2.0),
+        Family::Clustered => (0.05, 0.5),
+        Family::ClusteredMixed => (0.5, 1.5),
+        Family::Ties => (1.0, 1.0),
+    };
+    place_with_stuck_thresholds(&mut scene, xs, fractions, &mut random, elements);
+    scene
+}
+
+/// `scene`'s obstacles at `xs` [m], each threshold a fraction in [low, high) of its stuck
+/// force on a mesh of `elements`, drawn from `random` (sliding, then swivel, per obstacle).
+fn place_with_stuck_thresholds(
+    scene: &mut Scene,
+    xs: Vec<f64>,
+    (low, high): (f64, f64),
+    random: &mut Uniform,
+    elements: usize,
+) {
+    scene.obstacles = xs
         .into_iter()
         .map(|x| ObstacleSpec {
             x,
@@ -139,19 +158,12 @@ fn generated_scene(
             swivel: 0.0,
         })
         .collect();
-    let stuck = stuck_forces(&scene, elements);
+    let stuck = stuck_forces(scene, elements);
     for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
-        let (low, high) = match thresholds_of {
-            Family::Random => (0.0, 2.0),
-            Family::Clustered => (0.05, 0.5),
-            Family::ClusteredMixed => (0.5, 1.5),
-            Family::Ties => (1.0, 1.0),
-        };
         let mut fraction = || low + (high - low) * random.next();
         o.sliding = force * fraction();
         o.swivel = moment * fraction();
     }
-    scene
 }
 
 /// One notch of the explorer's fine threshold step (×10^0.1).
@@ -259,19 +271,7 @@ pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
     for i in 1..xs.len() {
         xs[i] = xs[i].max(xs[i - 1] + 1e-9 * length);
     }
-    scene.obstacles = xs
-        .into_iter()
-        .map(|x| ObstacleSpec {
-            x,
-            sliding: 0.0,
-            swivel: 0.0,
-        })
-        .collect();
-    let stuck = stuck_forces(&scene, elements);
-    for (o, [force, moment]) in scene.obstacles.iter_mut().zip(stuck) {
-        o.sliding = force * 2.0 * random.next();
-        o.swivel = moment * 2.0 * random.next();
-    }
+    place_with_stuck_thresholds(&mut scene, xs, (0.0, 2.0), &mut random, elements);
     scene
 }
 
