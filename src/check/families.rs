@@ -275,6 +275,26 @@ pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
     scene
 }
 
+/// The random family's obstacles (from `seed`) with every other obstacle's thresholds equal
+/// to its stuck forces on a mesh of `elements` (the first, the third, …) and the others' 0–2 ×
+/// them. The others that move load the tied ones past their thresholds, and the
+/// interior-point guess stalled on bounds 1e-18 wide while the answer moved away from them:
+/// found in the hostile pass of stop 53 (up to 1289 pattern solves and 2.1 s at k = 3000),
+/// settled by a second guess with those ties widened since (docs/numerics.md, "Near ties
+/// that the answer moves away from").
+pub fn half_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
+    let mut scene = family_scene(Family::Random, k, seed, elements);
+    scene.title = format!("half ties k={k} seed={seed}");
+    let mut random = Uniform(seed.wrapping_mul(0x8CB9_2BA7_2F3D_8DD7) ^ k as u64);
+    let stuck = stuck_forces(&scene, elements);
+    for (i, (o, [force, moment])) in scene.obstacles.iter_mut().zip(stuck).enumerate() {
+        let mut fraction = || if i % 2 == 0 { 1.0 } else { 2.0 * random.next() };
+        o.sliding = force * fraction();
+        o.swivel = moment * fraction();
+    }
+    scene
+}
+
 /// [`family_scene`] validated, with its mesh.
 pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
     let scene = family_scene(family, k, seed, elements);

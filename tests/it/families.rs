@@ -345,7 +345,7 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
 }
 
 /// The pattern solves of `condensed` on `scene` with `elements`, which must converge.
-fn converged_pattern_solves(scene: &beamfric::scene::Scene, elements: usize) -> usize {
+pub(crate) fn converged_pattern_solves(scene: &beamfric::scene::Scene, elements: usize) -> usize {
     let problem = scene.problem().expect("a generated scene is valid");
     let mesh = beamfric::fem::Mesh::new(&problem, elements);
     let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("the scene solves");

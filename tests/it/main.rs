@@ -23,6 +23,7 @@ mod families;
 mod figure;
 mod fitting;
 mod fuzz;
+mod half_ties;
 mod headless;
 mod history;
 mod lessons;

@@ -15,6 +15,17 @@ use crate::linalg::double_double::DoubleDouble;
 /// 1e-12; the families' counts the same from 1e-16 to 1e-14.
 const UNRESOLVED_BOUND: f64 = 1e-15;
 
+/// The floor of [`widen_unresolved`] for a second interior-point iteration where the first
+/// stalled (`interior`): a bound nearer zero than this fraction of its DOF's range (at most
+/// of the largest force change at the start) is moved out to it. Measured on the hostile
+/// arrangement of stop 53 (every other obstacle's thresholds at its stuck forces, the rest
+/// 0–2 × them; `check::families::half_ties_scene`) at k = 1000 and 3000, seeds 1–3, pattern
+/// solves after the second iteration: 1e-8: 2–4, 1e-7: 2–3, 1e-6: 2–4, 3e-6: 2–6, 1e-4:
+/// 3–54. Taken for the first iteration instead, it cost the lowered ties and the clusters at
+/// ties hundreds of solves (4985 and 12 325 on stop 52's sweep, against 164 and 4054): there
+/// a tie's decision is the answer's.
+pub(super) const WIDENED_TIE: f64 = 1e-6;
+
 /// Per DOF, the bounds of its force change (`None` without friction), and the conditions
 /// with those of the frictionless DOFs set (their force back to zero).
 pub(super) type HeldBounds = (Vec<Option<(f64, f64)>>, Vec<Mixed>);
@@ -74,9 +85,13 @@ pub(super) fn start_force((lower, upper): (f64, f64)) -> f64 {
 /// such a DOF like any other. One floor for forces and moments alike: in the system's units
 /// (length scaled to about 1) both kinds of change come out of the same solve, whose
 /// rounding is that of its largest value.
+///
+/// With `range_fraction` > 0 ([`WIDENED_TIE`]), a bound nearer zero than that fraction of
+/// its DOF's range (at most of the largest force change) is moved out to it as well.
 pub(super) fn widen_unresolved(
     mut bounds: Vec<Option<(f64, f64)>>,
     fixed: &[Mixed],
+    range_fraction: f64,
 ) -> Vec<Option<(f64, f64)>> {
     let largest_change = bounds
         .iter()
@@ -88,6 +103,7 @@ pub(super) fn widen_unresolved(
         .fold(0.0f64, f64::max);
     let floor = UNRESOLVED_BOUND * largest_change;
     for (lower, upper) in bounds.iter_mut().flatten() {
+        let floor = floor.max(range_fraction * (*upper - *lower).min(largest_change));
         if lower.abs() < floor {
             *lower = -floor;
         }

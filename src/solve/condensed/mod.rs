@@ -166,6 +166,7 @@ mod mixed;
 mod monotone;
 mod newton_phases;
 mod nodes;
+mod offers;
 pub(in crate::solve) mod pattern;
 mod projected;
 mod refinement;

@@ -215,7 +215,7 @@ mod unresolved_bounds {
         let mut fixed: Vec<Mixed> = (0..5).map(Mixed::free).collect();
         fixed[3].force = -0.1;
         assert_eq!(start_force((-2.2, -0.2)), -0.4);
-        let widened = widen_unresolved(bounds.clone(), &fixed);
+        let widened = widen_unresolved(bounds.clone(), &fixed, 0.0);
         let floor = 1e-15 * 0.4;
         assert_eq!(widened[0], bounds[0]);
         assert_eq!(widened[1], Some((-2.0, floor)));
@@ -225,7 +225,26 @@ mod unresolved_bounds {
         // A frictionless DOF's change counts too: with a held force of 10 there, the floor is
         // 1e-14 and a bound of 5e-15 below zero is moved to "within".
         fixed[3].force = -10.0;
-        let widened = widen_unresolved(vec![Some((-1.0, -5e-15)), None], &fixed[2..4]);
+        let widened = widen_unresolved(vec![Some((-1.0, -5e-15)), None], &fixed[2..4], 0.0);
         assert_eq!(widened[0], Some((-1.0, 1e-15 * 10.0)));
+    }
+
+    #[test]
+    fn a_range_fraction_widens_ties_to_a_fraction_of_their_range() {
+        // Largest change 0.4 (DOF 0). With a fraction of 1e-6: DOF 1 (range 2) is floored at
+        // 1e-6 · min(2, 0.4), DOF 2 (range 3e-3) at 1e-6 · 3e-3; DOF 3's bounds (2e-8 from
+        // zero, above its floor of 1e-6 · 1e-2) and DOF 0's stay.
+        let bounds = vec![
+            Some((-2.2, -0.2)),
+            Some((-2.0, 1e-20)),
+            Some((-1e-20, 3e-3)),
+            Some((-1e-2, 2e-8)),
+        ];
+        let fixed: Vec<Mixed> = (0..4).map(Mixed::free).collect();
+        let widened = widen_unresolved(bounds.clone(), &fixed, 1e-6);
+        assert_eq!(widened[0], bounds[0]);
+        assert_eq!(widened[1], Some((-2.0, 1e-6 * 0.4)));
+        assert_eq!(widened[2], Some((-(1e-6 * (3e-3 + 1e-20)), 3e-3)));
+        assert_eq!(widened[3], bounds[3]);
     }
 }
