@@ -10,6 +10,7 @@
 //! cargo bench --bench many_obstacles -- clustered-ties  # clusters at ties, one swivel lowered
 //! cargo bench --bench many_obstacles -- dense        # half the obstacles in 1e-4·l (worst found)
 //! cargo bench --bench many_obstacles -- pairs        # obstacles in pairs 1e-9·l to 1e-5·l apart
+//! cargo bench --bench many_obstacles -- partial-ties # some thresholds at the stuck forces
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -22,8 +23,8 @@
 use std::time::{Duration, Instant};
 
 use beamfric::check::families::{
-    Family, NOTCH, dense_stretch_scene, family_problem, family_scene, lowered_clustered_ties_scene,
-    lowered_ties_scene_at, pairs_scene,
+    Family, NOTCH, dense_stretch_scene, family_problem, family_scene, half_ties_scene,
+    lowered_clustered_ties_scene, lowered_ties_scene_at, pairs_scene, sliding_ties_scene,
 };
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
@@ -362,6 +363,21 @@ fn pairs_report() {
     });
 }
 
+/// Some thresholds at the stuck forces, the others 0–2 × them: every other obstacle's
+/// ([`half_ties_scene`]) and every sliding threshold ([`sliding_ties_scene`]), found in stop
+/// 53's hostile pass; solved cold once each. Sizes from `BEAMFRIC_FAMILY_K` (default
+/// 1000,3000), seeds 1 to `BEAMFRIC_SEEDS` (default 6).
+fn partial_ties_report() {
+    println!("Every other obstacle's thresholds at its stuck forces:\n");
+    seeded_report(&[1000, 3000], 6, |k, seed| {
+        half_ties_scene(k, seed, ELEMENTS)
+    });
+    println!("\nEvery sliding threshold at its stuck force:\n");
+    seeded_report(&[1000, 3000], 6, |k, seed| {
+        sliding_ties_scene(k, seed, ELEMENTS)
+    });
+}
+
 /// One cold solve of `scene_of(k, seed)` per size (`BEAMFRIC_FAMILY_K`, else `sizes`) and
 /// seed (1 to `BEAMFRIC_SEEDS`, else `seeds`), as a table.
 fn seeded_report(
@@ -419,6 +435,7 @@ fn main() {
         Some("clustered-ties") => clustered_ties_report(),
         Some("dense") => dense_report(),
         Some("pairs") => pairs_report(),
+        Some("partial-ties") => partial_ties_report(),
         _ => criterion_runs(),
     }
 }

@@ -279,18 +279,44 @@ pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
 /// to its stuck forces on a mesh of `elements` (the first, the third, …) and the others' 0–2 ×
 /// them. The others that move load the tied ones past their thresholds, and the
 /// interior-point guess stalled on bounds 1e-18 wide while the answer moved away from them:
-/// found in the hostile pass of stop 53 (up to 1289 pattern solves and 2.1 s at k = 3000),
+/// found in the hostile pass of stop 53 (up to 1277 pattern solves at k = 3000, 2.2 s),
 /// settled by a second guess with those ties widened since (docs/numerics.md, "Near ties
 /// that the answer moves away from").
 pub fn half_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
+    partial_ties_scene((k, seed, elements), "half ties", |obstacle, _| {
+        obstacle % 2 == 0
+    })
+}
+
+/// [`half_ties_scene`] with every sliding threshold at its stuck force instead, the swivel
+/// thresholds 0–2 × the stuck moments: the slowest arrangement of stop 53's hostile pass
+/// (up to 1310 pattern solves at k = 3000 before the second guess).
+pub fn sliding_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
+    partial_ties_scene((k, seed, elements), "sliding ties", |_, kind| kind == 0)
+}
+
+/// The random family's obstacles (`k`, from `seed`) with the thresholds `tied(obstacle, kind)`
+/// (kind 0 sliding, 1 swivel) equal to the stuck forces on a mesh of `elements`, the others
+/// 0–2 × them (drawn in order: sliding, then swivel, per obstacle).
+fn partial_ties_scene(
+    (k, seed, elements): (usize, u64, usize),
+    name: &str,
+    tied: impl Fn(usize, usize) -> bool,
+) -> Scene {
     let mut scene = family_scene(Family::Random, k, seed, elements);
-    scene.title = format!("half ties k={k} seed={seed}");
+    scene.title = format!("{name} k={k} seed={seed}");
     let mut random = Uniform(seed.wrapping_mul(0x8CB9_2BA7_2F3D_8DD7) ^ k as u64);
     let stuck = stuck_forces(&scene, elements);
     for (i, (o, [force, moment])) in scene.obstacles.iter_mut().zip(stuck).enumerate() {
-        let mut fraction = || if i % 2 == 0 { 1.0 } else { 2.0 * random.next() };
-        o.sliding = force * fraction();
-        o.swivel = moment * fraction();
+        let mut threshold = |kind: usize, stuck: f64| {
+            if tied(i, kind) {
+                stuck
+            } else {
+                stuck * 2.0 * random.next()
+            }
+        };
+        o.sliding = threshold(0, force);
+        o.swivel = threshold(1, moment);
     }
     scene
 }
