@@ -375,8 +375,9 @@ fn scan_stable_method_on_hard_scenes() {
 }
 
 /// `families`: the stable method against the reference on `BEAMFRIC_HARD_SCENES` (default
-/// 200) seeds of every family of `check::families`, with k drawn from 2..=200 per seed, on
-/// 400 elements. Minutes.
+/// 200) seeds of every family of `check::families` and of its partial ties
+/// (`half_ties_scene`, `sliding_ties_scene`), with k drawn from 2..=200 per seed, on 400
+/// elements. Minutes.
 fn scan_stable_method_on_families() {
     use beamfric::check::families::{Family, family_scene};
     let count = env_number("BEAMFRIC_HARD_SCENES", 200);
@@ -393,6 +394,25 @@ fn scan_stable_method_on_families() {
             }
         }
         println!("{}: {failures} of {count} scenes fail", family.name());
+    }
+    // Stop 53's hostile arrangements: some thresholds at the stuck forces, the others not.
+    use beamfric::check::families::{half_ties_scene, sliding_ties_scene};
+    let partial: [(&str, fn(usize, u64, usize) -> beamfric::scene::Scene); 2] = [
+        ("half ties", half_ties_scene),
+        ("sliding ties", sliding_ties_scene),
+    ];
+    for (name, scene_of) in partial {
+        let mut rng = reference::scenes::Rng::new(17);
+        let mut failures = 0;
+        for seed in 0..count {
+            let k = rng.range(2, 200);
+            let scene = scene_of(k, seed, 400);
+            if let Err(why) = check_stable(&scene.title, &scene) {
+                failures += 1;
+                println!("{}", why.lines().next().unwrap_or_default());
+            }
+        }
+        println!("{name}: {failures} of {count} scenes fail");
     }
 }
 
