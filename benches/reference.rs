@@ -397,7 +397,8 @@ fn scan_stable_method_on_families() {
     }
     // Stop 53's hostile arrangements: some thresholds at the stuck forces, the others not.
     use beamfric::check::families::{half_ties_scene, sliding_ties_scene};
-    let partial: [(&str, fn(usize, u64, usize) -> beamfric::scene::Scene); 2] = [
+    type SceneOf = fn(usize, u64, usize) -> beamfric::scene::Scene;
+    let partial: [(&str, SceneOf); 2] = [
         ("half ties", half_ties_scene),
         ("sliding ties", sliding_ties_scene),
     ];
