@@ -45,7 +45,7 @@
 use super::CondensedFailure;
 use super::held_bounds::{WIDENED_TIE, start_force, widen_unresolved};
 use super::mixed::{Mixed, MixedTemplate};
-use super::offers::Offers;
+use super::offers::{Crossover, Offers};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
@@ -99,17 +99,6 @@ const TO_BOUNDARY: f64 = 0.99;
 /// had taken 33 (`cargo bench --bench many_obstacles -- report`, fastest of three
 /// alternating runs); with it, 29 ms, one offer, right.
 const CLEAR_SIDE: f64 = 100.0;
-
-/// Where the iteration has settled on a pattern (the same after two steps in a row, every DOF
-/// clearly on its side after the second, and not the one it started from), it offers it to its
-/// caller, which solves it and says whether the search is settled from there (true: the
-/// iteration ends). Measured (`cargo bench --bench many_obstacles -- report`): on the
-/// clustered family at k = 1000 and 4000 the pattern is final after 4 of 15 steps.
-///
-/// The offer solves in the iteration's own banded system (given with it), whose factors the
-/// iteration's next step makes anew.
-pub(super) type Crossover<'c> = dyn FnMut(&[Pattern], &mut BandedSystem, &mut dyn FnMut() -> bool) -> Result<bool, CondensedFailure>
-    + 'c;
 
 /// A friction DOF with a positive threshold in the interior-point method: the bounds of its
 /// force change, ±g − λ_h, each to its own last bits, and the iterate (s⁺, s⁻, p, q), δλ

@@ -48,7 +48,7 @@ const WARM_SOLVES: usize = 16;
 /// notch on the ties family it leaves 1750 of 8000 (every force is at its threshold, so one
 /// change moves them all) and the monotone search would take hundreds of solves.
 const WARM_LOCAL: usize = 16;
-/// Solves of a pattern the interior-point iteration offers (`interior::Crossover`): one, so no
+/// Solves of a pattern the interior-point iteration offers (`offers::Crossover`): one, so no
 /// Newton or monotone step is taken and the search's state (σ included) is untouched; a
 /// consistent pattern is refined and decided again on the refined values like any other.
 const CROSSOVER_SOLVES: usize = 1;
@@ -300,7 +300,7 @@ impl<'a> PatternSearch<'a> {
         attempt
     }
 
-    /// The check of a pattern the interior-point iteration offers (`interior::Crossover`): one
+    /// The check of a pattern the interior-point iteration offers (`offers::Crossover`): one
     /// solve, no refinement once a DOF is certainly inconsistent.
     fn offered(system: &'a ShootingSystem, candidate: &[Pattern]) -> PatternSearch<'a> {
         let mut attempt = PatternSearch::attempt(system, candidate, CROSSOVER_SOLVES);
