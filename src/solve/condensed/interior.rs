@@ -36,6 +36,11 @@
 //! consistent, as interior-point methods for linear programs cross over to a vertex: on the
 //! clustered family 4–5 steps instead of 14–15.
 //!
+//! Where the iteration stalls instead (all [`MOST_STEPS`] taken, μ still [`STALLED_SHORT_OF`]
+//! times short: thresholds equal to the held forces among others that move, stop 53), a second
+//! iteration starts with those near ties widened to 1e-6 of their range
+//! (`held_bounds::WIDENED_TIE`), and its guess is taken.
+//!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
 //! exactly; where the guess is poor, it costs solves, never the answer. With it comes the same
 //! pattern with the DOFs the iteration leaves unclear held stuck ([`Guess`]), which the search
@@ -217,9 +222,18 @@ impl ShootingSystem {
         // A first iteration about the bounds as they are; where it stalls, a second with
         // near ties widened to a fraction of their range.
         let (mut steps, mut range_fraction) = (0, 0.0);
+        // Each step: a factorisation with its solve, and one more solve with its factors.
+        let count_steps = |steps| {
+            self.count(|c| {
+                c.interior_steps += steps;
+                c.factorizations += steps;
+                c.back_solves += steps;
+            })
+        };
         loop {
             let widened = widen_unresolved(bounds.clone(), &fixed, range_fraction);
             let Some(mut method) = self.start_interior_point(widened, &fixed, banded) else {
+                count_steps(steps);
                 return Ok(None);
             };
             let taken = method.run(keep_going, crossover)?;
@@ -232,12 +246,7 @@ impl ShootingSystem {
             let pattern = method.pattern();
             let unclear_held = method.unclear_held(&pattern);
             method.template.keep();
-            // Each step: a factorisation with its solve, and one more solve with its factors.
-            self.count(|c| {
-                c.interior_steps += steps;
-                c.factorizations += steps;
-                c.back_solves += steps;
-            });
+            count_steps(steps);
             return Ok(Some(Guess {
                 pattern,
                 unclear_held,
