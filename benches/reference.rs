@@ -379,35 +379,32 @@ fn scan_stable_method_on_hard_scenes() {
 /// (`half_ties_scene`, `sliding_ties_scene`), with k drawn from 2..=200 per seed, on 400
 /// elements. Minutes.
 fn scan_stable_method_on_families() {
-    use beamfric::check::families::{Family, family_scene};
+    use beamfric::check::families::{Family, family_scene, half_ties_scene, sliding_ties_scene};
+    use beamfric::scene::Scene;
     let count = env_number("BEAMFRIC_HARD_SCENES", 200);
-    for family in Family::ALL {
-        let mut rng = reference::scenes::Rng::new(17);
-        let mut failures = 0;
-        for seed in 0..count {
-            let k = rng.range(2, 200);
-            let scene = family_scene(family, k, seed, 400);
-            if let Err(why) = check_stable(&format!("{} k={k} seed={seed}", family.name()), &scene)
-            {
-                failures += 1;
-                println!("{}", why.lines().next().unwrap_or_default());
-            }
-        }
-        println!("{}: {failures} of {count} scenes fail", family.name());
-    }
+    type SceneOf = Box<dyn Fn(usize, u64) -> Scene>;
+    let mut arrangements: Vec<(&str, SceneOf)> = Family::ALL
+        .into_iter()
+        .map(|family| {
+            let scene_of: SceneOf = Box::new(move |k, seed| family_scene(family, k, seed, 400));
+            (family.name(), scene_of)
+        })
+        .collect();
     // Stop 53's hostile arrangements: some thresholds at the stuck forces, the others not.
-    use beamfric::check::families::{half_ties_scene, sliding_ties_scene};
-    type SceneOf = fn(usize, u64, usize) -> beamfric::scene::Scene;
-    let partial: [(&str, SceneOf); 2] = [
-        ("half ties", half_ties_scene),
-        ("sliding ties", sliding_ties_scene),
-    ];
-    for (name, scene_of) in partial {
+    arrangements.push((
+        "half ties",
+        Box::new(|k, seed| half_ties_scene(k, seed, 400)),
+    ));
+    arrangements.push((
+        "sliding ties",
+        Box::new(|k, seed| sliding_ties_scene(k, seed, 400)),
+    ));
+    for (name, scene_of) in arrangements {
         let mut rng = reference::scenes::Rng::new(17);
         let mut failures = 0;
         for seed in 0..count {
             let k = rng.range(2, 200);
-            let scene = scene_of(k, seed, 400);
+            let scene = scene_of(k, seed);
             if let Err(why) = check_stable(&scene.title, &scene) {
                 failures += 1;
                 println!("{}", why.lines().next().unwrap_or_default());

@@ -190,8 +190,6 @@ struct InteriorPoint<'a> {
     /// Per friction variable, D = p/s⁺ + q/s⁻ at the iterate of the step under way (set by
     /// its factoring solve, [`InteriorPoint::step`]).
     weights: Vec<f64>,
-    /// μ after the last step taken.
-    last_centrality: f64,
 }
 
 impl ShootingSystem {
@@ -230,16 +228,19 @@ impl ShootingSystem {
                 c.back_solves += steps;
             })
         };
+        // One template for both: the moving pattern's matrix does not depend on the bounds.
+        let mut template = self.mixed_template();
         loop {
             let widened = widen_unresolved(bounds.clone(), &fixed, range_fraction);
-            let Some(mut method) = self.start_interior_point(widened, &fixed, banded) else {
+            let Some(mut method) = self.start_interior_point(widened, &fixed, template, banded)
+            else {
                 count_steps(steps);
                 return Ok(None);
             };
             let taken = method.run(keep_going, crossover)?;
             steps += taken;
             if range_fraction == 0.0 && method.stalled(taken) {
-                method.template.keep();
+                template = method.template;
                 range_fraction = WIDENED_TIE;
                 continue;
             }
@@ -254,12 +255,14 @@ impl ShootingSystem {
         }
     }
 
-    /// The interior-point iteration within `bounds` (the held beam's, widened), started
-    /// from one solve in `banded`; `None` when that system is singular.
+    /// The interior-point iteration within `bounds` (the held beam's, widened), on
+    /// `template` ([`ShootingSystem::mixed_template`]), started from one solve in `banded`;
+    /// `None` when that system is singular.
     fn start_interior_point<'a>(
         &'a self,
         bounds: Vec<Option<(f64, f64)>>,
         fixed: &[Mixed],
+        template: MixedTemplate,
         banded: &'a mut BandedSystem,
     ) -> Option<InteriorPoint<'a>> {
         let mut start = fixed.to_vec();
@@ -269,7 +272,6 @@ impl ShootingSystem {
             }
         }
         let mut holds_force = Vec::new();
-        let template = self.mixed_template();
         let (motion, _) = self
             .solve_mixed(&template, &start, banded, &mut holds_force)
             .ok()?;
@@ -316,7 +318,6 @@ impl ShootingSystem {
             final_centrality: CENTRALITY_TOLERANCE * smallest,
             free_motion: motion,
             weights: Vec::new(),
-            last_centrality: f64::NAN,
         })
     }
 }
@@ -337,7 +338,7 @@ impl InteriorPoint<'_> {
     /// Has the iteration stalled: `taken` all of its [`MOST_STEPS`] and ended with μ above
     /// [`STALLED_SHORT_OF`] times the μ it was to reach?
     fn stalled(&self, taken: usize) -> bool {
-        taken == MOST_STEPS && self.last_centrality > STALLED_SHORT_OF * self.final_centrality
+        taken == MOST_STEPS && self.centrality() > STALLED_SHORT_OF * self.final_centrality
     }
 
     /// μ: the mean complementarity product.
@@ -417,7 +418,6 @@ impl InteriorPoint<'_> {
                 *largest = largest.max(v.motion().abs());
             }
             mu = sum / (2 * self.variables.len()) as f64;
-            self.last_centrality = mu;
             let pattern = self.pattern_given(largest);
             if offers.settled(pattern, clear, self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
