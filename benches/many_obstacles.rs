@@ -11,6 +11,7 @@
 //! cargo bench --bench many_obstacles -- dense        # half the obstacles in 1e-4·l (worst found)
 //! cargo bench --bench many_obstacles -- pairs        # obstacles in pairs 1e-9·l to 1e-5·l apart
 //! cargo bench --bench many_obstacles -- partial-ties # some thresholds at the stuck forces
+//! cargo bench --bench many_obstacles -- tight-clusters # clusters 1e-7·l wide at ties
 //! cargo bench --bench many_obstacles -- scenes DIR   # the scenes as TOML (for other solvers)
 //! ```
 //!
@@ -25,6 +26,7 @@ use std::time::{Duration, Instant};
 use beamfric::check::families::{
     Family, NOTCH, dense_stretch_scene, family_problem, family_scene, half_ties_scene,
     lowered_clustered_ties_scene, lowered_ties_scene_at, pairs_scene, sliding_ties_scene,
+    tight_clusters_ties_scene,
 };
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
@@ -378,6 +380,17 @@ fn partial_ties_report() {
     });
 }
 
+/// Tight clusters at ties ([`tight_clusters_ties_scene`]: ten obstacles 1e-7·l apart per
+/// cluster, every threshold at its stuck force), found in stop 54's hostile pass; solved cold
+/// once each. Most seeds settle in a few pattern solves; a few in a hundred take hundreds
+/// (scan with `BEAMFRIC_SEEDS=300`). Sizes from `BEAMFRIC_FAMILY_K` (default 1000,2000),
+/// seeds 1 to `BEAMFRIC_SEEDS` (default 6).
+fn tight_clusters_report() {
+    seeded_report(&[1000, 2000], 6, |k, seed| {
+        tight_clusters_ties_scene(k, seed, ELEMENTS)
+    });
+}
+
 /// One cold solve of `scene_of(k, seed)` per size (`BEAMFRIC_FAMILY_K`, else `sizes`) and
 /// seed (1 to `BEAMFRIC_SEEDS`, else `seeds`), as a table.
 fn seeded_report(
@@ -436,6 +449,7 @@ fn main() {
         Some("dense") => dense_report(),
         Some("pairs") => pairs_report(),
         Some("partial-ties") => partial_ties_report(),
+        Some("tight-clusters") => tight_clusters_report(),
         _ => criterion_runs(),
     }
 }

@@ -321,6 +321,35 @@ fn partial_ties_scene(
     scene
 }
 
+/// Tight clusters at ties: `k / 10` clusters of ten obstacles 1e-7·l apart (the last
+/// `k % 10` obstacles in one more), centred at random in [0.05, 0.95]·l (from `seed`), every
+/// threshold equal to its stuck force on a mesh of `elements`. Inside a cluster the swivel
+/// thresholds are 1e-18 of the first obstacle's and the beam nearly a mechanism; the
+/// interior-point iteration can stall there, and its second guess, with the ties widened,
+/// was then the worse one: found in the hostile pass of stop 54 (k = 2000, up to 1449
+/// pattern solves and 6 s), settled by weighing both guesses since (docs/numerics.md, "Two
+/// guesses where the first stalled").
+pub fn tight_clusters_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
+    let mut scene = base_scene();
+    scene.description = String::new();
+    scene.title = format!("tight clusters at ties k={k} seed={seed}");
+    scene.mesh.elements = elements;
+    let mut random = Uniform(seed.wrapping_mul(0x94D0_49BB_1331_11EB) ^ k as u64);
+    let length = scene.beam.length;
+    let mut xs = Vec::with_capacity(k);
+    while xs.len() < k {
+        let centre = 0.05 + 0.9 * random.next();
+        let members = (k - xs.len()).min(10);
+        xs.extend((0..members).map(|j| (centre + j as f64 * 1e-7) * length));
+    }
+    xs.sort_by(f64::total_cmp);
+    for i in 1..xs.len() {
+        xs[i] = xs[i].max(xs[i - 1] + 1e-8 * length);
+    }
+    place_with_stuck_thresholds(&mut scene, xs, (1.0, 1.0), &mut random, elements);
+    scene
+}
+
 /// [`family_scene`] validated, with its mesh.
 pub fn family_problem(family: Family, k: usize, seed: u64, elements: usize) -> (Problem, Mesh) {
     let scene = family_scene(family, k, seed, elements);

@@ -26,9 +26,9 @@
 //! force by the last steps), below the rounding of δλ, and as a difference it became exactly
 //! zero, its weight infinite and the step NaN, which ended the iteration with a pattern two
 //! DOFs off (at two pairs of obstacles 2e-6·l and 2e-5·l apart; random k = 1000, seed 5)
-//! and cost the search 146 pattern solves. And a
-//! bound nearer zero than a few ulps of the largest force change is widened to that
-//! (`held_bounds::widen_unresolved`): no step resolves it, and the iteration stalled on it.
+//! and cost the search 146 pattern solves. And a bound nearer zero than a few ulps of the
+//! largest force change is widened to that (`held_bounds::widen_unresolved`): no step
+//! resolves it, and the iteration stalled on it.
 //!
 //! Its pattern is usually right long before μ is that small. Where the pattern stays the same
 //! over two steps with every DOF clearly on its side after the second, the iteration offers it
@@ -39,7 +39,7 @@
 //! Where the iteration stalls instead (all [`MOST_STEPS`] taken, μ still [`STALLED_SHORT_OF`]
 //! times short: thresholds equal to the held forces among others that move, stop 53), a second
 //! iteration starts with those near ties widened to 1e-6 of their range
-//! (`held_bounds::WIDENED_TIE`), and its guess is taken.
+//! (`held_bounds::WIDENED_TIE`); the search weighs both guesses (`search::stalled_first`).
 //!
 //! The result is only a guess: the search (`search`) starts from it and decides every DOF
 //! exactly; where the guess is poor, it costs solves, never the answer. With it comes the same
@@ -215,6 +215,7 @@ impl ShootingSystem {
             return Ok(Some(Guess {
                 pattern: vec![Pattern::Stuck; held.len()],
                 unclear_held: None,
+                stalled_first: None,
             }));
         }
         // A first iteration about the bounds as they are; where it stalls, a second with
@@ -230,28 +231,27 @@ impl ShootingSystem {
         };
         // One template for both: the moving pattern's matrix does not depend on the bounds.
         let mut template = self.mixed_template();
+        let mut stalled_first = None;
         loop {
             let widened = widen_unresolved(bounds.clone(), &fixed, range_fraction);
             let Some(mut method) = self.start_interior_point(widened, &fixed, template, banded)
             else {
                 count_steps(steps);
-                return Ok(None);
+                return Ok(stalled_first);
             };
             let taken = method.run(keep_going, crossover)?;
             steps += taken;
+            let mut guess = method.guess();
             if range_fraction == 0.0 && method.stalled(taken) {
                 template = method.template;
                 range_fraction = WIDENED_TIE;
+                stalled_first = Some(guess);
                 continue;
             }
-            let pattern = method.pattern();
-            let unclear_held = method.unclear_held(&pattern);
             method.template.keep();
             count_steps(steps);
-            return Ok(Some(Guess {
-                pattern,
-                unclear_held,
-            }));
+            guess.stalled_first = stalled_first.map(Box::new);
+            return Ok(Some(guess));
         }
     }
 
@@ -569,22 +569,30 @@ impl InteriorPoint<'_> {
         pattern
     }
 
-    /// `pattern` with every DOF that is not clearly on its side ([`CLEAR_SIDE`]) held stuck;
-    /// `None` where that changes nothing.
-    fn unclear_held(&self, pattern: &[Pattern]) -> Option<Vec<Pattern>> {
-        let mut held = pattern.to_vec();
+    /// The iterate's guess: its pattern, and that pattern with every DOF that is not clearly
+    /// on its side ([`CLEAR_SIDE`]) held stuck (`None` where that changes nothing).
+    fn guess(&self) -> Guess {
+        let pattern = self.pattern();
+        let mut held = pattern.clone();
         for v in &self.variables {
             if !v.clearly_on_its_side(self.system.diagonal_stiffness(v.dof)) {
                 held[v.dof] = Pattern::Stuck;
             }
         }
-        (held != pattern).then_some(held)
+        let unclear_held = (held != pattern).then_some(held);
+        Guess {
+            pattern,
+            unclear_held,
+            stalled_first: None,
+        }
     }
 }
 
-/// The interior-point guess: the pattern its iterate describes, and, where it leaves DOFs
-/// not clearly on their side, the same pattern with those DOFs held stuck.
+/// The interior-point guess ([`InteriorPoint::guess`]).
 pub(super) struct Guess {
     pub(super) pattern: Vec<Pattern>,
     pub(super) unclear_held: Option<Vec<Pattern>>,
+    /// Where this is a second iteration's guess: the first's, which stalled (the search
+    /// weighs the two, `search::stalled_first`).
+    pub(super) stalled_first: Option<Box<Guess>>,
 }

@@ -1,13 +1,15 @@
 //! The search for the friction pattern: semismooth Newton phases, then a monotone search (exact
 //! line search on the convex objective, feature-sign fallback) that can neither cycle nor
-//! stall. Where the interior-point guess's own pattern is inconsistent, its variant with the
-//! unclear DOFs held (`unclear_held`) and then the monotone search from the guess are tried
-//! first (`from_guess`). When a convergence history is asked for, every pattern solve is
-//! recorded as one iterate ([`record_pattern`]).
+//! stall. It starts from the interior-point guess (of two, where the iteration stalled once,
+//! the one that leaves fewer DOFs inconsistent: `stalled_first`); where the guess's own
+//! pattern is inconsistent, its variant with the unclear DOFs held (`unclear_held`) and then
+//! the monotone search from the guess are tried first (`from_guess`). When a convergence
+//! history is asked for, every pattern solve is recorded as one iterate ([`record_pattern`]).
 
 use std::collections::HashSet;
 
 mod from_guess;
+mod stalled_first;
 mod unclear_held;
 
 use super::answer::{condensed_solution, record_pattern};
@@ -169,11 +171,8 @@ pub(super) fn solve_with_newton_phases(
                 };
             let banded = &mut search.banded;
             let guess = system.interior_point_pattern(&held, banded, keep_going, &mut crossover);
-            if let Some(guess) = guess? {
-                search.pattern = guess.pattern.clone();
-                search.newton.start = Some(guess.pattern);
-                search.unclear_held = guess.unclear_held;
-                search.monotone_from_guess = true;
+            if let Some(guess) = guess?.filter(|_| crossed.is_none()) {
+                search.start_from_guess(guess, keep_going, &mut observe)?;
             }
             search.newton.held = Some(held);
         }
