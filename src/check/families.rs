@@ -323,12 +323,12 @@ fn partial_ties_scene(
 
 /// Tight clusters at ties: `k / 10` clusters of ten obstacles 1e-7·l apart (the last
 /// `k % 10` obstacles in one more), centred at random in [0.05, 0.95]·l (from `seed`), every
-/// threshold equal to its stuck force on a mesh of `elements`. Inside a cluster the swivel
-/// thresholds are 1e-18 of the first obstacle's and the beam nearly a mechanism; the
+/// threshold equal to its stuck force on a mesh of `elements`. Inside a cluster the beam is
+/// nearly a mechanism, the others' swivel thresholds 1e-19–1e-11 of the first's; the
 /// interior-point iteration can stall there, and its second guess, with the ties widened,
-/// was then the worse one: found in the hostile pass of stop 54 (k = 2000, up to 1449
-/// pattern solves and 6 s), settled by weighing both guesses since (docs/numerics.md, "Two
-/// guesses where the first stalled").
+/// was then often the worse one: found in the hostile pass of stop 54 (up to 1545 pattern
+/// solves, 9.5 s at k = 3000). Weighing both guesses settles most of those since, not all
+/// (docs/numerics.md, "Two guesses where the first stalled").
 pub fn tight_clusters_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
     let mut scene = base_scene();
     scene.description = String::new();
