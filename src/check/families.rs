@@ -324,7 +324,7 @@ fn partial_ties_scene(
 /// Tight clusters at ties: `k / 10` clusters of ten obstacles 1e-7·l apart (the last
 /// `k % 10` obstacles in one more), centred at random in [0.05, 0.95]·l (from `seed`), every
 /// threshold equal to its stuck force on a mesh of `elements`. Inside a cluster the beam is
-/// nearly a mechanism, the others' swivel thresholds 1e-19–1e-11 of the first's; the
+/// nearly a mechanism, the inner obstacles' swivel thresholds 1e-19–1e-11 of the first's; the
 /// interior-point iteration can stall there, and its second guess, with the ties widened,
 /// was then often the worse one: found in the hostile pass of stop 54 (up to 1545 pattern
 /// solves, 9.5 s at k = 3000). Weighing both guesses settles most of those since, not all
