@@ -171,10 +171,10 @@ pub(super) fn solve_with_newton_phases(
                 };
             let banded = &mut search.banded;
             let guess = system.interior_point_pattern(&held, banded, keep_going, &mut crossover);
-            if let Some(guess) = guess?.filter(|_| crossed.is_none()) {
-                search.start_from_guess(guess, keep_going, &mut observe)?;
-            }
             search.newton.held = Some(held);
+            if let Some(guess) = guess?.filter(|_| crossed.is_none()) {
+                crossed = search.start_from_guess(guess, keep_going, &mut observe)?;
+            }
         }
     }
     let solves = warm_solves + crossover_solves;
