@@ -308,8 +308,8 @@ impl<'a> PatternSearch<'a> {
     }
 
     /// Runs this attempt in `banded` (handed back after) until it settles or gives up: the
-    /// consistent solution and its pattern if it settled, and its solves. A singular pattern
-    /// is only one that failed (the caller goes on); [`CondensedFailure::Stopped`] goes up.
+    /// consistent solution and its pattern if it settled, and its solves (its own attempts'
+    /// too). A singular pattern is one that failed (the caller goes on); `Stopped` goes up.
     fn settle_in(
         mut self,
         banded: &mut BandedSystem,
@@ -319,9 +319,10 @@ impl<'a> PatternSearch<'a> {
         self.banded = std::mem::replace(banded, BandedSystem::empty());
         let result = self.run(keep_going, observe);
         *banded = std::mem::replace(&mut self.banded, BandedSystem::empty());
+        let solves = self.solves_in_all();
         match result {
-            Ok((solution, true)) => Ok((Some((solution, self.pattern)), self.solves)),
-            Ok(_) | Err(CondensedFailure::Singular { .. }) => Ok((None, self.solves)),
+            Ok((solution, true)) => Ok((Some((solution, self.pattern)), solves)),
+            Ok(_) | Err(CondensedFailure::Singular { .. }) => Ok((None, solves)),
             Err(stopped) => Err(stopped),
         }
     }

@@ -22,7 +22,7 @@ use crate::solve::condensed::system::{Accuracy, Pattern, PatternSolution};
 /// the search starts from the second guess as it would have without the first. Measured on
 /// tight clusters at ties (docs/numerics.md): where the search from the first guess settles,
 /// the whole solve takes 8–14 pattern solves (one 82, with 128 allowed); where it does not,
-/// each allowed solve is one more (0.3 s at k = 2000 with 128).
+/// each allowed solve is one more.
 const FIRST_GUESS_SOLVES: usize = 32;
 
 impl PatternSearch<'_> {
