@@ -62,10 +62,13 @@ impl Uniform {
     }
 }
 
-/// Benchmark 3's beam and load.
-fn base_scene() -> Scene {
+/// Benchmark 3's beam and load, without its description, on a mesh of `elements`.
+fn base_scene(elements: usize) -> Scene {
     let preset = preset("benchmark-3").expect("the benchmark-3 preset exists");
-    Scene::from_toml(preset.text, preset.name).expect("the preset is valid")
+    let mut scene = Scene::from_toml(preset.text, preset.name).expect("the preset is valid");
+    scene.description = String::new();
+    scene.mesh.elements = elements;
+    scene
 }
 
 /// Obstacle positions [m] of `family` (sorted, distinct) for `k` obstacles.
@@ -126,9 +129,7 @@ fn generated_scene(
     seed: u64,
     elements: usize,
 ) -> Scene {
-    let mut scene = base_scene();
-    scene.description = String::new();
-    scene.mesh.elements = elements;
+    let mut scene = base_scene(elements);
     let mut random = Uniform(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ k as u64);
     let xs = positions(positions_of, k, &mut random, scene.beam.length);
     let fractions = match thresholds_of {
@@ -217,10 +218,8 @@ pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements:
 /// "Still slow: obstacles nearly on top of each other" and "The guess with its unclear DOFs
 /// held, tried first").
 pub fn dense_stretch_scene(k: usize, seed: u64, elements: usize) -> Scene {
-    let mut scene = base_scene();
-    scene.description = String::new();
+    let mut scene = base_scene(elements);
     scene.title = format!("dense stretch k={k} seed={seed}");
-    scene.mesh.elements = elements;
     let mut random = Uniform(seed.wrapping_mul(0x9E6C_63D0_676A_9A99) ^ k as u64);
     let length = scene.beam.length;
     let (dense, start) = (k / 2, 0.2 + 0.6 * random.next());
@@ -330,10 +329,8 @@ fn partial_ties_scene(
 /// solves, 9.5 s at k = 3000). Weighing both guesses settles most of those since, not all
 /// (docs/numerics.md, "Two guesses where the first stalled").
 pub fn tight_clusters_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
-    let mut scene = base_scene();
-    scene.description = String::new();
+    let mut scene = base_scene(elements);
     scene.title = format!("tight clusters at ties k={k} seed={seed}");
-    scene.mesh.elements = elements;
     let mut random = Uniform(seed.wrapping_mul(0x94D0_49BB_1331_11EB) ^ k as u64);
     let length = scene.beam.length;
     let mut xs = Vec::with_capacity(k);

@@ -1,10 +1,10 @@
 //! The search for the friction pattern: semismooth Newton phases, then a monotone search (exact
 //! line search on the convex objective, feature-sign fallback) that can neither cycle nor
-//! stall. It starts from the interior-point guess (of two, where the iteration stalled once,
-//! the one that leaves fewer DOFs inconsistent: `stalled_first`); where the guess's own
-//! pattern is inconsistent, its variant with the unclear DOFs held (`unclear_held`) and then
-//! the monotone search from the guess are tried first (`from_guess`). When a convergence
-//! history is asked for, every pattern solve is recorded as one iterate ([`record_pattern`]).
+//! stall. It starts from the interior-point guess (where the iteration stalled once, after a
+//! short search from the stalled guess: `stalled_first`); where the guess's own pattern is
+//! inconsistent, its variant with the unclear DOFs held (`unclear_held`) and then the
+//! monotone search from the guess are tried first (`from_guess`). When a convergence history
+//! is asked for, every pattern solve is recorded as one iterate ([`record_pattern`]).
 
 use std::collections::HashSet;
 

@@ -24,7 +24,7 @@ const FROM_GUESS_MOST_INCONSISTENT: usize = 64;
 /// guess as it would have without it.
 const FROM_GUESS_SOLVES: usize = 64;
 
-impl PatternSearch<'_> {
+impl<'a> PatternSearch<'a> {
     /// At the search's first inconsistent solve (`solution` of the guess, leaving
     /// `inconsistent` DOFs to change; nothing at any later solve): the variant with the
     /// unclear DOFs held ([`PatternSearch::try_unclear_held`], where at least
@@ -58,10 +58,39 @@ impl PatternSearch<'_> {
         }
         let mut attempt = PatternSearch::attempt(self.system, &self.pattern, FROM_GUESS_SOLVES);
         attempt.handed = factors_are_its_own.then(|| solution.clone());
+        self.settle_on_the_side(attempt, keep_going, observe)
+    }
+
+    /// Runs `attempt` in this search's banded system until it settles or gives up: its
+    /// solves counted apart (`side_solves`) and observed, the system's σ fraction (which
+    /// every search shares) as this search had it; the consistent solution and its pattern if
+    /// it settled.
+    pub(super) fn settle_on_the_side(
+        &mut self,
+        attempt: PatternSearch<'_>,
+        keep_going: &mut dyn FnMut() -> bool,
+        observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
+    ) -> Result<Settled, CondensedFailure> {
         let fraction = self.system.reversal_fraction.get();
         let (settled, solves) = attempt.settle_in(&mut self.banded, keep_going, observe)?;
         self.system.reversal_fraction.set(fraction);
         self.side_solves += solves;
         Ok(settled)
+    }
+
+    /// A search with the Newton phases `fractions` from the interior-point guess `pattern`
+    /// (the held forces as this search has them), for at most `limit` solves.
+    pub(super) fn attempt_from_guess(
+        &self,
+        pattern: Vec<Pattern>,
+        fractions: &'a [f64],
+        limit: usize,
+    ) -> PatternSearch<'a> {
+        let mut attempt = PatternSearch::new(self.system, pattern.len() / 2, fractions);
+        attempt.pattern = pattern.clone();
+        attempt.newton.start = Some(pattern);
+        attempt.newton.held = self.newton.held.clone();
+        attempt.limit = limit;
+        attempt
     }
 }

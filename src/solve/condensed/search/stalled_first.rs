@@ -73,20 +73,12 @@ impl PatternSearch<'_> {
         keep_going: &mut dyn FnMut() -> bool,
         observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
     ) -> Result<Settled, CondensedFailure> {
-        let mut attempt =
-            PatternSearch::new(self.system, first.pattern.len() / 2, self.newton.fractions);
-        attempt.limit = FIRST_GUESS_SOLVES;
+        let fractions = self.newton.fractions;
+        let mut attempt = self.attempt_from_guess(first.pattern, fractions, FIRST_GUESS_SOLVES);
         attempt.handed = solution;
-        attempt.pattern = first.pattern.clone();
-        attempt.newton.start = Some(first.pattern);
-        attempt.newton.held = self.newton.held.clone();
         attempt.unclear_held = first.unclear_held;
         attempt.monotone_from_guess = true;
-        let fraction = self.system.reversal_fraction.get();
-        let (settled, solves) = attempt.settle_in(&mut self.banded, keep_going, observe)?;
-        self.system.reversal_fraction.set(fraction);
-        self.side_solves += solves;
-        Ok(settled)
+        self.settle_on_the_side(attempt, keep_going, observe)
     }
 
     /// One plain solve of `pattern` in the search's banded system, if `keep_going` says yes:

@@ -47,18 +47,9 @@ impl PatternSearch<'_> {
         observe: &mut dyn FnMut(&PatternSolution, &[Pattern]),
     ) -> Result<Settled, CondensedFailure> {
         let first_phase = &self.newton.fractions[..self.newton.fractions.len().min(1)];
-        let mut attempt = PatternSearch::new(self.system, variant.len() / 2, first_phase);
-        attempt.pattern = variant.clone();
-        attempt.newton.start = Some(variant);
-        attempt.newton.held = self.newton.held.clone();
-        attempt.limit = UNCLEAR_HELD_SOLVES;
+        let mut attempt = self.attempt_from_guess(variant, first_phase, UNCLEAR_HELD_SOLVES);
         attempt.give_up_above = Some(UNCLEAR_HELD_MOST_CHANGES);
-        // The system's σ fraction is shared; the search's is kept whatever the attempt did.
-        let fraction = self.system.reversal_fraction.get();
-        let (settled, solves) = attempt.settle_in(&mut self.banded, keep_going, observe)?;
-        self.system.reversal_fraction.set(fraction);
-        self.side_solves += solves;
-        Ok(settled)
+        self.settle_on_the_side(attempt, keep_going, observe)
     }
 
     /// Counts this solve's `changes` against the attempt's [`PatternSearch::give_up_above`]
