@@ -20,6 +20,7 @@ pub struct DoubleDouble {
 }
 
 /// a + b = s + e exactly (TwoSum, any order of magnitude).
+#[inline]
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let v = s - a;
@@ -27,18 +28,21 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 }
 
 /// a + b = s + e exactly when |a| ≥ |b| (FastTwoSum).
+#[inline]
 fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     (s, b - (s - a))
 }
 
 /// a·b = p + e exactly (unless it underflows).
+#[inline]
 fn two_product(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     (p, a.mul_add(b, -p))
 }
 
 impl From<f64> for DoubleDouble {
+    #[inline]
     fn from(v: f64) -> DoubleDouble {
         DoubleDouble { hi: v, lo: 0.0 }
     }
@@ -48,22 +52,32 @@ impl DoubleDouble {
     pub const ZERO: DoubleDouble = DoubleDouble { hi: 0.0, lo: 0.0 };
 
     /// a − b exactly.
+    #[inline]
     pub fn difference(a: f64, b: f64) -> DoubleDouble {
         let (hi, lo) = two_sum(a, -b);
         DoubleDouble { hi, lo }
     }
 
     /// a·b exactly.
+    #[inline]
     pub fn product(a: f64, b: f64) -> DoubleDouble {
         let (hi, lo) = two_product(a, b);
         DoubleDouble { hi, lo }
     }
 
+    /// Exactly zero (hi and lo; a normalised number with hi = 0 has lo = 0).
+    #[inline]
+    pub fn is_zero(self) -> bool {
+        self.hi == 0.0 && self.lo == 0.0
+    }
+
     /// The nearest double.
+    #[inline]
     pub fn value(self) -> f64 {
         self.hi + self.lo
     }
 
+    #[inline]
     pub fn abs(self) -> DoubleDouble {
         if self.hi < 0.0 || (self.hi == 0.0 && self.lo < 0.0) {
             -self
@@ -73,6 +87,7 @@ impl DoubleDouble {
     }
 
     /// −1, 0 or +1.
+    #[inline]
     pub fn signum(self) -> f64 {
         match self.cmp_zero() {
             Ordering::Less => -1.0,
@@ -81,12 +96,14 @@ impl DoubleDouble {
         }
     }
 
+    #[inline]
     fn cmp_zero(self) -> Ordering {
         let lead = if self.hi != 0.0 { self.hi } else { self.lo };
         lead.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
     }
 
     /// self + d for a double d.
+    #[inline]
     pub fn plus(self, d: f64) -> DoubleDouble {
         let (s, e) = two_sum(self.hi, d);
         let (hi, lo) = fast_two_sum(s, e + self.lo);
@@ -94,6 +111,7 @@ impl DoubleDouble {
     }
 
     /// self·d for a double d.
+    #[inline]
     pub fn times(self, d: f64) -> DoubleDouble {
         let (p, e) = two_product(self.hi, d);
         let (hi, lo) = fast_two_sum(p, e + self.lo * d);
@@ -101,6 +119,7 @@ impl DoubleDouble {
     }
 
     /// self·2^k-style exact scaling by a power of two `factor`.
+    #[inline]
     pub fn scaled(self, factor: f64) -> DoubleDouble {
         DoubleDouble {
             hi: self.hi * factor,
@@ -111,6 +130,7 @@ impl DoubleDouble {
 
 impl Neg for DoubleDouble {
     type Output = DoubleDouble;
+    #[inline]
     fn neg(self) -> DoubleDouble {
         DoubleDouble {
             hi: -self.hi,
@@ -122,6 +142,7 @@ impl Neg for DoubleDouble {
 impl Add for DoubleDouble {
     type Output = DoubleDouble;
     /// The accurate ("IEEE") double-double sum.
+    #[inline]
     fn add(self, other: DoubleDouble) -> DoubleDouble {
         let (s, e) = two_sum(self.hi, other.hi);
         let (t, f) = two_sum(self.lo, other.lo);
@@ -133,6 +154,7 @@ impl Add for DoubleDouble {
 
 impl Sub for DoubleDouble {
     type Output = DoubleDouble;
+    #[inline]
     fn sub(self, other: DoubleDouble) -> DoubleDouble {
         self + (-other)
     }
@@ -140,6 +162,7 @@ impl Sub for DoubleDouble {
 
 impl Mul for DoubleDouble {
     type Output = DoubleDouble;
+    #[inline]
     fn mul(self, other: DoubleDouble) -> DoubleDouble {
         let (p, e) = two_product(self.hi, other.hi);
         let e = e + (self.hi * other.lo + self.lo * other.hi);
@@ -151,6 +174,7 @@ impl Mul for DoubleDouble {
 impl Div for DoubleDouble {
     type Output = DoubleDouble;
     /// Long division: a first quotient, then one correction from the exact remainder.
+    #[inline]
     fn div(self, other: DoubleDouble) -> DoubleDouble {
         let q1 = self.hi / other.hi;
         let remainder = self - other * DoubleDouble::from(q1);
@@ -163,6 +187,7 @@ impl Div for DoubleDouble {
 }
 
 impl PartialOrd for DoubleDouble {
+    #[inline]
     fn partial_cmp(&self, other: &DoubleDouble) -> Option<Ordering> {
         Some((*self - *other).cmp_zero())
     }
