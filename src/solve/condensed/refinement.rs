@@ -43,6 +43,28 @@ const RESIDUAL_NOISE: f64 = 1.0 / (1u128 << 96) as f64;
 /// double-double go on as before.
 const EVEN_PIECES: f64 = 1e-3;
 
+/// With the exact relations factored in double-double, a step of the search's refinement
+/// ([`Accuracy::RefineForSearch`], [`Accuracy::RefineForDecisions`]) that shrinks the largest
+/// correction by less than this factor has reached the floor of the residual's rounding, and
+/// refinement stops there. Those factors gain about 106 − log₂ κ bits a step; on clusters at
+/// ties (k = 2000–3000, a threshold moved) the largest correction stayed 25–135 times
+/// [`RESIDUAL_NOISE`] from the first step to the eighth while a few hundred small components'
+/// corrections wandered by more than 16 now and then, so nearly every run went on to the cap
+/// or to a growth that looked like divergence (5.3 steps a run). Stopping at the floor, the
+/// 69 scenes of stop 54's hunt kept every answer's bits and took 19 205 → 19 211 pattern
+/// solves, 57.1 → 46.6 s (docs/numerics.md, stop 55). The answer's own solve
+/// ([`Accuracy::RefineLast`]) goes on as before.
+const FLOOR_SHRINK: f64 = 4.0;
+
+/// Which factors a run of refinement steps applies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Factors {
+    /// The f64 factors of the pattern's solve.
+    Rounded,
+    /// The exact relations factored in double-double.
+    DoubleDouble,
+}
+
 /// How a run of refinement steps ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Refinement {
@@ -117,9 +139,13 @@ impl ShootingSystem {
         let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
         // Per component: the last correction (the error estimate once it stops shrinking).
         let mut correction_size = vec![f64::INFINITY; x.len()];
-        let with_f64_factors = self.refine(pattern, &mut x, &mut correction_size, accuracy, |d| {
-            banded.apply_inverse(d)
-        });
+        let with_f64_factors = self.refine(
+            pattern,
+            &mut x,
+            &mut correction_size,
+            (accuracy, Factors::Rounded),
+            |d| banded.apply_inverse(d),
+        );
         if with_f64_factors == Refinement::Diverged {
             // The f64 factors are too far from the exact relations: factor those themselves,
             // in double-double (banded_lu_dd), and go on from the last iterate.
@@ -130,7 +156,8 @@ impl ShootingSystem {
             });
             if matrix.factor().is_ok() {
                 correction_size.fill(f64::INFINITY);
-                self.refine(pattern, &mut x, &mut correction_size, accuracy, |d| {
+                let factors = (accuracy, Factors::DoubleDouble);
+                self.refine(pattern, &mut x, &mut correction_size, factors, |d| {
                     let solved = matrix.solve(d);
                     for (d, s) in d.iter_mut().zip(solved) {
                         *d = s.value();
@@ -171,14 +198,16 @@ impl ShootingSystem {
     }
 
     /// Refinement steps x += A⁻¹ (b − A x) with the exact residual and `apply_inverse` for
-    /// A⁻¹, until no component converges any more or the corrections grow, or `accuracy`
-    /// asks for no more ([`Accuracy::RefineForDecisions`], [`Accuracy::RefineForSearch`]).
+    /// A⁻¹ (`factors`), until no component converges any more or the corrections grow, or
+    /// `accuracy` asks for no more ([`Accuracy::RefineForDecisions`],
+    /// [`Accuracy::RefineForSearch`]; with factors in double-double, at the floor of the
+    /// residual's rounding: [`FLOOR_SHRINK`]).
     fn refine(
         &self,
         pattern: &[Pattern],
         x: &mut [DoubleDouble],
         correction_size: &mut [f64],
-        accuracy: Accuracy,
+        (accuracy, factors): (Accuracy, Factors),
         mut apply_inverse: impl FnMut(&mut [f64]) -> bool,
     ) -> Refinement {
         let mut previous_largest = f64::INFINITY;
@@ -200,6 +229,9 @@ impl ShootingSystem {
                 // Diverging (singular to working precision): keep the last iterate.
                 return Refinement::Diverged;
             }
+            let at_floor = factors == Factors::DoubleDouble
+                && accuracy != Accuracy::RefineLast
+                && largest > previous_largest / FLOOR_SHRINK;
             previous_largest = largest;
             // A component needs another step while its correction shrinks fast (refinement
             // gains digits geometrically; at the noise floor of its rows corrections only
@@ -229,7 +261,7 @@ impl ShootingSystem {
                 }
                 Accuracy::Plain | Accuracy::RefineLast => false,
             };
-            if !converging || enough {
+            if !converging || enough || at_floor {
                 break;
             }
         }
