@@ -58,26 +58,30 @@ fn a_stalled_first_guess_is_searched_first_where_its_solve_leaves_fewer_dofs_inc
 }
 
 #[test]
-fn the_searchs_refinements_in_double_double_stop_at_the_floor_of_the_residual() {
+fn the_searchs_refinement_stops_at_the_floor_of_the_residual_without_double_double() {
     // Tight clusters at ties where neither guess is near (k = 2000, seed 42): 587 pattern
-    // solves, 125 of them refactored in double-double. Those factors' first step reaches the
-    // floor of the residual's rounding (the largest correction then stays 25–135 times
-    // 2⁻⁹⁶ of the largest component), and the search's refinement went on wandering for 5.3
-    // steps a run: 3812 back solves in all. Stopping where a step shrinks the largest
-    // correction less than fourfold (`refinement::FLOOR_SHRINK`): 3374, the same answer to
-    // the bit and the same pattern solves (docs/numerics.md, stop 55).
+    // solves. The search's f64 refinement reached the floor of the residual's rounding by
+    // its third step, wandered there, grew by 2–5 and was taken for divergence: 125 of the
+    // solves were refactored in double-double, whose refinement stayed at that floor, 3812
+    // back solves in all. Stopping at the wander instead (`refinement::SEARCH_WANDER`): one
+    // refactorisation (the answer's), 3124 back solves, the same answer to the bit and the
+    // same pattern solves (docs/numerics.md, stop 55).
     let scene = tight_clusters_ties_scene(2000, 42, 10_000);
     let problem = scene.problem().expect("a generated scene is valid");
     let mesh = beamfric::fem::Mesh::new(&problem, 10_000);
     let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("it solves");
     assert!(solution.converged, "{}: not converged", scene.title);
     let counts = solution.counts;
-    // Still a test of the search's refinements in double-double: if a better guess settles
-    // the scene sooner, this test needs another one.
+    // Still a test of a long search: if a better guess settles the scene sooner, this test
+    // needs another one.
     assert!(
-        counts.pattern_solves >= 200 && counts.double_double_factorizations >= 50,
-        "{}: no longer a test of refinement in double-double: {counts:?}",
+        counts.pattern_solves >= 200,
+        "{}: no longer a test of the search's refinement: {counts:?}",
         scene.title
     );
-    assert!(counts.back_solves <= 3500, "{}: {counts:?}", scene.title);
+    assert!(
+        counts.double_double_factorizations <= 4 && counts.back_solves <= 3300,
+        "{}: {counts:?}",
+        scene.title
+    );
 }

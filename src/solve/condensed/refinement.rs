@@ -43,27 +43,19 @@ const RESIDUAL_NOISE: f64 = 1.0 / (1u128 << 96) as f64;
 /// double-double go on as before.
 const EVEN_PIECES: f64 = 1e-3;
 
-/// With the exact relations factored in double-double, a step of the search's refinement
-/// ([`Accuracy::RefineForSearch`], [`Accuracy::RefineForDecisions`]) that shrinks the largest
-/// correction by less than this factor has reached the floor of the residual's rounding, and
-/// refinement stops there. Those factors gain about 106 − log₂ κ bits a step; on clusters at
-/// ties (k = 2000–3000, a threshold moved) the largest correction stayed 25–135 times
-/// [`RESIDUAL_NOISE`] from the first step to the eighth while a few hundred small components'
-/// corrections wandered by more than 16 now and then, so nearly every run went on to the cap
-/// or to a growth that looked like divergence (5.3 steps a run). Stopping at the floor, the
-/// 69 scenes of stop 54's hunt kept every answer's bits and took 19 205 → 19 211 pattern
-/// solves, 57.1 → 46.6 s (docs/numerics.md, stop 55). The answer's own solve
-/// ([`Accuracy::RefineLast`]) goes on as before.
-const FLOOR_SHRINK: f64 = 4.0;
-
-/// Which factors a run of refinement steps applies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Factors {
-    /// The f64 factors of the pattern's solve.
-    Rounded,
-    /// The exact relations factored in double-double.
-    DoubleDouble,
-}
+/// In the search's refinement ([`Accuracy::RefineForSearch`], [`Accuracy::RefineForDecisions`]),
+/// a growth of the largest correction from below this many times [`RESIDUAL_NOISE`] is the
+/// wander at the floor of the residual's rounding, not divergence, and refinement stops there
+/// instead of going on with factors in double-double. On clusters at ties (stop 54's hunt,
+/// k = 2000–3000) the f64 refinement reached that floor (6–50 × [`RESIDUAL_NOISE`]) by its
+/// third step, wandered, grew by 2–5 and was refactored in double-double, whose refinement
+/// stayed at the same floor (25–135 ×) for up to eight steps: 944 such refactorisations in
+/// the 2304 pattern solves of the slowest scene, 1–2 with this stop, the answers the same to
+/// the bit (docs/numerics.md, stop 55). The answer's own solve ([`Accuracy::RefineLast`])
+/// goes on in double-double as before: with pieces 1e-9·l among others 0.3·l the f64
+/// factors' corrections of the smallest components are not to be trusted ([`EVEN_PIECES`]),
+/// and a decision the search takes on them is checked there.
+const SEARCH_WANDER: f64 = 1024.0;
 
 /// How a run of refinement steps ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -139,13 +131,9 @@ impl ShootingSystem {
         let mut x: Vec<DoubleDouble> = x.into_iter().map(DoubleDouble::from).collect();
         // Per component: the last correction (the error estimate once it stops shrinking).
         let mut correction_size = vec![f64::INFINITY; x.len()];
-        let with_f64_factors = self.refine(
-            pattern,
-            &mut x,
-            &mut correction_size,
-            (accuracy, Factors::Rounded),
-            |d| banded.apply_inverse(d),
-        );
+        let with_f64_factors = self.refine(pattern, &mut x, &mut correction_size, accuracy, |d| {
+            banded.apply_inverse(d)
+        });
         if with_f64_factors == Refinement::Diverged {
             // The f64 factors are too far from the exact relations: factor those themselves,
             // in double-double (banded_lu_dd), and go on from the last iterate.
@@ -156,8 +144,7 @@ impl ShootingSystem {
             });
             if matrix.factor().is_ok() {
                 correction_size.fill(f64::INFINITY);
-                let factors = (accuracy, Factors::DoubleDouble);
-                self.refine(pattern, &mut x, &mut correction_size, factors, |d| {
+                self.refine(pattern, &mut x, &mut correction_size, accuracy, |d| {
                     let solved = matrix.solve(d);
                     for (d, s) in d.iter_mut().zip(solved) {
                         *d = s.value();
@@ -198,16 +185,14 @@ impl ShootingSystem {
     }
 
     /// Refinement steps x += A⁻¹ (b − A x) with the exact residual and `apply_inverse` for
-    /// A⁻¹ (`factors`), until no component converges any more or the corrections grow, or
-    /// `accuracy` asks for no more ([`Accuracy::RefineForDecisions`],
-    /// [`Accuracy::RefineForSearch`]; with factors in double-double, at the floor of the
-    /// residual's rounding: [`FLOOR_SHRINK`]).
+    /// A⁻¹, until no component converges any more or the corrections grow, or `accuracy`
+    /// asks for no more ([`Accuracy::RefineForDecisions`], [`Accuracy::RefineForSearch`]).
     fn refine(
         &self,
         pattern: &[Pattern],
         x: &mut [DoubleDouble],
         correction_size: &mut [f64],
-        (accuracy, factors): (Accuracy, Factors),
+        accuracy: Accuracy,
         mut apply_inverse: impl FnMut(&mut [f64]) -> bool,
     ) -> Refinement {
         let mut previous_largest = f64::INFINITY;
@@ -226,12 +211,16 @@ impl ShootingSystem {
                 {
                     return Refinement::Settled;
                 }
+                // The wander at the floor, for the search ([`SEARCH_WANDER`]).
+                if largest.is_finite()
+                    && accuracy != Accuracy::RefineLast
+                    && previous_largest <= SEARCH_WANDER * residual_noise(x)
+                {
+                    return Refinement::Settled;
+                }
                 // Diverging (singular to working precision): keep the last iterate.
                 return Refinement::Diverged;
             }
-            let at_floor = factors == Factors::DoubleDouble
-                && accuracy != Accuracy::RefineLast
-                && largest > previous_largest / FLOOR_SHRINK;
             previous_largest = largest;
             // A component needs another step while its correction shrinks fast (refinement
             // gains digits geometrically; at the noise floor of its rows corrections only
@@ -261,7 +250,7 @@ impl ShootingSystem {
                 }
                 Accuracy::Plain | Accuracy::RefineLast => false,
             };
-            if !converging || enough || at_floor {
+            if !converging || enough {
                 break;
             }
         }
