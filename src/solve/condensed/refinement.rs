@@ -47,14 +47,14 @@ const EVEN_PIECES: f64 = 1e-3;
 /// a growth of the largest correction from below this many times [`RESIDUAL_NOISE`] is the
 /// wander at the floor of the residual's rounding, not divergence, and refinement stops there
 /// instead of going on with factors in double-double. On clusters at ties (stop 54's hunt,
-/// k = 2000–3000) the f64 refinement reached that floor (6–50 × [`RESIDUAL_NOISE`]) by its
-/// third step, wandered, grew by 2–5 and was refactored in double-double, whose refinement
-/// stayed at the same floor (25–135 ×) for up to eight steps: 944 such refactorisations in
-/// the 2304 pattern solves of the slowest scene, 1–2 with this stop, the answers the same to
-/// the bit (docs/numerics.md, stop 55). The answer's own solve ([`Accuracy::RefineLast`])
-/// goes on in double-double as before: with pieces 1e-9·l among others 0.3·l the f64
-/// factors' corrections of the smallest components are not to be trusted ([`EVEN_PIECES`]),
-/// and a decision the search takes on them is checked there.
+/// k = 2000–3000) the f64 refinement reached that floor (at most 50 × [`RESIDUAL_NOISE`]) by
+/// its third step, wandered, grew by 2–5 and was refactored in double-double, whose
+/// refinement stayed at the same floor (25–135 ×) for up to eight steps: 944 such
+/// refactorisations in the 2304 pattern solves of the slowest scene, 1–2 with this stop, the
+/// answers the same to the bit (docs/numerics.md, stop 55). The answer's own solve
+/// ([`Accuracy::RefineLast`]) goes on in double-double as before: with pieces 1e-9·l among
+/// others 0.3·l the f64 factors' corrections of the smallest components are not to be
+/// trusted ([`EVEN_PIECES`]), and a decision the search takes on them is checked there.
 const SEARCH_WANDER: f64 = 1024.0;
 
 /// How a run of refinement steps ended.
