@@ -346,11 +346,9 @@ fn ties_with_one_threshold_lowered_settle_in_tens_of_solves_and_agree_with_the_r
 
 /// The pattern solves of `condensed` on `scene` with `elements`, which must converge.
 pub(crate) fn converged_pattern_solves(scene: &beamfric::scene::Scene, elements: usize) -> usize {
-    let problem = scene.problem().expect("a generated scene is valid");
-    let mesh = beamfric::fem::Mesh::new(&problem, elements);
-    let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("the scene solves");
-    assert!(solution.converged, "{}: not converged", scene.title);
-    solution.counts.pattern_solves
+    crate::harness::scenes::converged_condensed(scene, elements)
+        .counts
+        .pattern_solves
 }
 
 #[test]
@@ -442,13 +440,8 @@ fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
 #[test]
 fn monotone_steps_refine_to_the_noise_of_the_residual() {
     use beamfric::check::families::lowered_clustered_ties_scene;
-    use beamfric::solve::solve_condensed;
     let scene = lowered_clustered_ties_scene(2000, 7, 3, 10_000);
-    let problem = scene.problem().unwrap();
-    let mesh = beamfric::fem::Mesh::new(&problem, 10_000);
-    let solution = solve_condensed(&problem, &mesh).unwrap();
-    assert!(solution.converged, "{}", scene.title);
-    let counts = solution.counts;
+    let counts = crate::harness::scenes::converged_condensed(&scene, 10_000).counts;
     // The scene must still need the monotone search (121 pattern solves, 62 of them its
     // steps); if a better guess settles it sooner, this test needs another scene.
     assert!(

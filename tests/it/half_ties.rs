@@ -7,6 +7,7 @@
 //! guess goes first (docs/numerics.md, "Two guesses where the first stalled").
 
 use crate::families::converged_pattern_solves;
+use crate::harness::scenes::converged_condensed;
 use crate::reference::check_stable;
 use beamfric::check::families::{half_ties_scene, sliding_ties_scene, tight_clusters_ties_scene};
 
@@ -46,10 +47,7 @@ fn a_stalled_first_guess_is_searched_first_where_its_solve_leaves_fewer_dofs_inc
     // with the same answers to the bit (docs/numerics.md).
     for seed in [123, 186] {
         let scene = tight_clusters_ties_scene(2000, seed, 10_000);
-        let problem = scene.problem().expect("a generated scene is valid");
-        let mesh = beamfric::fem::Mesh::new(&problem, 10_000);
-        let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("it solves");
-        assert!(solution.converged, "{}: not converged", scene.title);
+        let solution = converged_condensed(&scene, 10_000);
         let solves = solution.counts.pattern_solves;
         assert!(solves <= 24, "{}: {solves} pattern solves", scene.title);
         // The solves it reports are every pattern solve, the searches' on the side included.
@@ -67,11 +65,7 @@ fn the_searchs_refinement_stops_at_the_floor_of_the_residual_without_double_doub
     // refactorisation (the answer's), 3124 back solves, the same answer to the bit and the
     // same pattern solves (docs/numerics.md, stop 55).
     let scene = tight_clusters_ties_scene(2000, 42, 10_000);
-    let problem = scene.problem().expect("a generated scene is valid");
-    let mesh = beamfric::fem::Mesh::new(&problem, 10_000);
-    let solution = beamfric::solve::solve_condensed(&problem, &mesh).expect("it solves");
-    assert!(solution.converged, "{}: not converged", scene.title);
-    let counts = solution.counts;
+    let counts = converged_condensed(&scene, 10_000).counts;
     // Still a test of a long search: if a better guess settles the scene sooner, this test
     // needs another one.
     assert!(

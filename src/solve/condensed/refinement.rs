@@ -204,17 +204,15 @@ impl ShootingSystem {
             }
             let largest = d.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             if !largest.is_finite() || largest > 2.0 * previous_largest {
-                // The noise's wander on even pieces ([`EVEN_PIECES`]): as far as refinement goes.
+                // A growth from the floor of the residual's rounding is its wander: as far as
+                // refinement goes. For the search below [`SEARCH_WANDER`] times the noise; for
+                // the answer from the noise itself, on even pieces only ([`EVEN_PIECES`]).
+                let wander_below = match accuracy {
+                    Accuracy::RefineLast => self.pieces_are_even().then_some(1.0),
+                    _ => Some(SEARCH_WANDER),
+                };
                 if largest.is_finite()
-                    && previous_largest <= residual_noise(x)
-                    && self.pieces_are_even()
-                {
-                    return Refinement::Settled;
-                }
-                // The wander at the floor, for the search ([`SEARCH_WANDER`]).
-                if largest.is_finite()
-                    && accuracy != Accuracy::RefineLast
-                    && previous_largest <= SEARCH_WANDER * residual_noise(x)
+                    && wander_below.is_some_and(|f| previous_largest <= f * residual_noise(x))
                 {
                     return Refinement::Settled;
                 }

@@ -1,7 +1,8 @@
 //! What the integration tests share.
 //!
-//! - [`scenes`]: presets as scenes, loaded scenes and validated problems, solve options, the
-//!   reference values of `tests/data/`, the crowded scene whose solve takes seconds.
+//! - [`scenes`]: presets as scenes, loaded scenes and validated problems, solve options, a
+//!   converged `condensed` solve, the reference values of `tests/data/`, the crowded scene
+//!   whose solve takes seconds.
 //! - [`process`]: the program run to its end as a script runs it (no terminal), and the names
 //!   of the files it leaves.
 //! - [`pty`]: the program on a pseudo-terminal of its own, as a person at a terminal runs it.

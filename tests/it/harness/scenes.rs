@@ -7,7 +7,9 @@ use beamfric::fem::Mesh;
 use beamfric::model::Problem;
 use beamfric::plot::Look;
 use beamfric::scene::{self, LoadedScene, Scene};
-use beamfric::solve::{ConditionLevel, Method, Solution, SolveOptions, solve};
+use beamfric::solve::{
+    CondensedSolution, ConditionLevel, Method, Solution, SolveOptions, solve, solve_condensed,
+};
 
 /// A preset's scene.
 pub fn preset_scene(name: &str) -> Scene {
@@ -40,6 +42,15 @@ pub fn solve_with(problem: &Problem, elements: usize, method: Method, epsilon: f
     let mesh = Mesh::new(problem, elements);
     solve(problem, &mesh, method, &options(epsilon))
         .unwrap_or_else(|e| panic!("{method} failed: {e}"))
+}
+
+/// `condensed` on `scene` with `elements`, which must converge.
+pub fn converged_condensed(scene: &Scene, elements: usize) -> CondensedSolution {
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = Mesh::new(&problem, elements);
+    let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
+    assert!(solution.converged, "{}: not converged", scene.title);
+    solution
 }
 
 /// max |a − b| / max |b|.
