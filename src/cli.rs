@@ -1,8 +1,6 @@
 //! The command line (clap): the commands behind the argument types of `cli/args.rs`. `main.rs`
 //! parses and calls [`dispatch`]; everything else lives here and in the modules it calls.
 
-use std::io::Write;
-
 use serde_json::json;
 use std::process::ExitCode;
 
@@ -17,6 +15,7 @@ mod history;
 
 pub use args::*;
 pub use error::CliError;
+use error::write_stdout;
 
 /// A line on stderr. Unlike `eprintln!`, a closed stderr (a terminal that went away) is no
 /// reason to panic.
@@ -290,7 +289,7 @@ fn render_command(args: &RenderArgs) -> Result<ExitCode, CliError> {
     };
     let buffer = crate::tui::render(loaded, &keys, options)?;
     let text = crate::plot::buffer_to_text(&buffer, args.color);
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    write_stdout(&text)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -370,20 +369,16 @@ fn check_elements_range(from: usize, to: usize) -> Result<(), CliError> {
     Ok(())
 }
 
-fn write_stdout(text: &str) {
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
-}
-
 /// Prints a sweep as CSV, or as a JSON document.
 fn print_table(
     format: TableFormat,
     csv: impl FnOnce() -> String,
     json: impl FnOnce() -> serde_json::Value,
-) {
+) -> Result<(), CliError> {
     write_stdout(&match format {
         TableFormat::Csv => csv(),
         TableFormat::Json => json_text(&json()),
-    });
+    })
 }
 
 fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> {
@@ -437,7 +432,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> 
             ];
             crate::output::sweep_json(&source, &ran_with, &points)
         },
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -477,7 +472,7 @@ fn elements_sweep_command(args: &ElementsSweepArgs) -> Result<ExitCode, CliError
             ];
             crate::output::sweep_json(&source, &ran_with, &points)
         },
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -526,7 +521,7 @@ fn check_command(args: &CheckArgs) -> Result<ExitCode, CliError> {
         CheckFormat::Markdown => crate::check::markdown(&reports),
         CheckFormat::Json => json_text(&reports),
     };
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    write_stdout(&text)?;
     let failed = reports.iter().filter(|r| !r.passed()).count();
     if failed > 0 {
         say!("beamfric: {failed} of {} cases failed", reports.len());
@@ -564,7 +559,6 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
         title: &scene.title,
         mesh: &mesh,
     };
-    let mut stdout = std::io::stdout().lock();
     match solve(&problem, &mesh, settings.method, &options) {
         Ok(solution) => {
             let at: Vec<_> = args
@@ -577,7 +571,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
                 Format::Table => solution_table(&context, &solution, &at, true),
                 Format::Csv => history::csv_text(&solution),
             };
-            let _ = stdout.write_all(text.as_bytes());
+            write_stdout(&text)?;
             // Exactly when the user is told, by the `non-finite` warning.
             if solution.has_warning(WarningCode::NonFinite) {
                 say!(
@@ -591,7 +585,7 @@ fn solve_command(args: &SolveArgs) -> Result<ExitCode, CliError> {
         }
         Err(error) => {
             if args.format == Format::Json {
-                let _ = stdout.write_all(json_text(&refusal_json(&context, &error)).as_bytes());
+                write_stdout(&json_text(&refusal_json(&context, &error)))?;
             }
             say!("beamfric: {error}");
             Ok(ExitCode::from(EXIT_NO_SOLUTION))

@@ -34,6 +34,9 @@ pub enum CliError {
     /// An export cannot be written, or an answer cannot be read or graded (the text names
     /// the file, the field and the rule).
     Exchange(crate::exchange::ExchangeError),
+    /// Standard output cannot be written (a full disk behind a redirection): the answer
+    /// printed is incomplete.
+    Output(std::io::Error),
 }
 
 impl std::fmt::Display for CliError {
@@ -49,6 +52,10 @@ impl std::fmt::Display for CliError {
             CliError::Report(e) => e.fmt(f),
             CliError::Figure(text) => f.write_str(text),
             CliError::Exchange(e) => e.fmt(f),
+            CliError::Output(e) => write!(
+                f,
+                "cannot write to standard output ({e}): what was printed is incomplete"
+            ),
         }
     }
 }
@@ -83,5 +90,16 @@ impl From<ExploreError> for CliError {
 impl From<ReportError> for CliError {
     fn from(e: ReportError) -> Self {
         CliError::Report(e)
+    }
+}
+
+/// Writes `text` to standard output. A reader that stopped reading (a broken pipe: `beamfric
+/// solve | head`) is no failure; any other error (a full disk behind `> file`) is
+/// [`CliError::Output`], so that a script is not handed a cut answer with exit status 0.
+pub(super) fn write_stdout(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Output(e)),
+        _ => Ok(()),
     }
 }

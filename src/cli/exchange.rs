@@ -1,7 +1,6 @@
 //! `beamfric export` and `beamfric grade` (bring your own method, issue 24): the thin commands
 //! over [`crate::exchange`], which does the work (their arguments are in `args`).
 
-use std::io::Write;
 use std::process::ExitCode;
 
 use super::args::{ExportArgs, GradeArgs};
@@ -56,7 +55,7 @@ pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
         Format::Json => json_text(&graded.json(&context)),
         Format::Table | Format::Csv => graded.text(&context),
     };
-    let _ = std::io::stdout().lock().write_all(text.as_bytes());
+    super::error::write_stdout(&text)?;
     Ok(if graded.verdict == Verdict::Exact {
         ExitCode::SUCCESS
     } else {

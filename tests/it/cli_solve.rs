@@ -356,3 +356,71 @@ fn a_sweeps_refusals_name_their_own_size() {
         assert!(row.contains(&format!("for n = {n} elements")), "{row}");
     }
 }
+
+/// Standard output that cannot be written (a full disk behind `> file`, here /dev/full) is an
+/// error with exit status 2 and one line on stderr, not a cut answer with status 0; a reader
+/// that stops reading (`beamfric solve | head`) is no error. Before stop 55 every command
+/// ignored the write's error and ended with 0.
+#[cfg(target_os = "linux")]
+#[test]
+fn output_that_cannot_be_written_is_an_error_and_a_closed_pipe_is_not() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    let binary = env!("CARGO_BIN_EXE_beamfric");
+    for args in [
+        &["solve", "--scene", "benchmark-1", "--format", "json"][..],
+        &["sweep", "epsilon", "--scene", "benchmark-1"][..],
+        &["check", "--scene", "benchmark-1"][..],
+    ] {
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .expect("/dev/full opens");
+        let out = Command::new(binary)
+            .args(args)
+            .env("NO_COLOR", "1")
+            .stdout(full)
+            .output()
+            .expect("the binary runs");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("cannot write to standard output"),
+            "{args:?}: {stderr}"
+        );
+    }
+    // A reader that takes one byte and closes the pipe, of an answer far larger than the
+    // pipe's buffer (4000 obstacles' values as JSON).
+    let scene = std::env::temp_dir().join(format!("beamfric-pipe-{}.toml", std::process::id()));
+    std::fs::write(
+        &scene,
+        crate::harness::scenes::crowded_scene_text_of(4000, 10_000),
+    )
+    .expect("the scene is written");
+    let mut child = Command::new(binary)
+        .args([
+            "solve",
+            "--method",
+            "condensed",
+            "--format",
+            "json",
+            "--scene",
+        ])
+        .arg(&scene)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut byte = [0u8; 1];
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_exact(&mut byte)
+        .expect("a first byte");
+    let out = child.wait_with_output().expect("it ends");
+    let _ = std::fs::remove_file(&scene);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
+    assert!(stderr.is_empty(), "{stderr}");
+}
