@@ -112,7 +112,7 @@ impl BandedSystem {
     }
 
     /// Where entry (row, column), which must lie in the band, is kept: for
-    /// [`BandedSystem::add_at`], the same in every system of this band.
+    /// [`BandedSystem::matrix_and_rhs_mut`], the same in every system of this band.
     pub fn position(&self, row: usize, column: usize) -> usize {
         assert!(
             column + self.lower >= row && column <= row + self.upper,
@@ -123,9 +123,10 @@ impl BandedSystem {
         row * (self.lower + self.upper + 1) + column + self.lower - row
     }
 
-    /// Adds `value` to the entry kept at `position` ([`BandedSystem::position`]).
-    pub fn add_at(&mut self, position: usize, value: f64) {
-        self.entries[position] += value;
+    /// The matrix's entries (each at its [`BandedSystem::position`]) and the right-hand side,
+    /// to write in place.
+    pub fn matrix_and_rhs_mut(&mut self) -> (&mut [f64], &mut [f64]) {
+        (&mut self.entries, &mut self.rhs)
     }
 
     /// Adds `value` to the right-hand side of `row`.

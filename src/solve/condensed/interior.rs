@@ -49,7 +49,7 @@
 
 use super::CondensedFailure;
 use super::held_bounds::{WIDENED_TIE, start_force, widen_unresolved};
-use super::mixed::{Mixed, MixedTemplate};
+use super::mixed::{Mixed, MixedTemplate, StepSolves};
 use super::offers::{Crossover, Offers};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
@@ -177,8 +177,9 @@ struct InteriorPoint<'a> {
     template: MixedTemplate,
     /// The caller's system (its memory already in use), factored anew by every step.
     banded: &'a mut BandedSystem,
-    /// Per friction DOF: does its column of `banded`'s system hold its force?
-    holds_force: Vec<bool>,
+    /// What its solves keep between them (whether each DOF's column holds its force, the
+    /// force changes found).
+    solves: StepSolves,
     variables: Vec<FrictionVariable>,
     /// The condition of every DOF: those without a variable (no friction) give their force,
     /// the others are set by every step.
@@ -312,7 +313,7 @@ impl ShootingSystem {
             system: self,
             template,
             banded,
-            holds_force,
+            solves: StepSolves::new(holds_force),
             variables,
             mixed: fixed.to_vec(),
             final_centrality: CENTRALITY_TOLERANCE * smallest,
@@ -453,17 +454,14 @@ impl InteriorPoint<'_> {
                 motion: v.motion() + rho,
             };
         }
-        let (system, mixed) = (self.system, &self.mixed);
-        let solved = if factor {
-            system
-                .solve_mixed(&self.template, mixed, self.banded, &mut self.holds_force)
-                .ok()
-        } else {
-            system.resolve_mixed(&self.template, mixed, self.banded, &self.holds_force)
-        };
-        let Some((_, force_changes)) = solved else {
+        let solves = &mut self.solves;
+        if !self
+            .system
+            .solve_step(&self.template, &self.mixed, self.banded, factor, solves)
+        {
             return false;
-        };
+        }
+        let force_changes = &solves.force_changes;
         step.clear();
         step.extend(
             self.variables

@@ -38,6 +38,26 @@ impl Mixed {
     }
 }
 
+/// What an interior-point step's solves keep ([`ShootingSystem::solve_step`]): per friction
+/// DOF whether its column holds its force (set by the factoring solve, for the other), the
+/// last solve's unknowns and its force changes (memory reused from step to step).
+pub(super) struct StepSolves {
+    holds_force: Vec<bool>,
+    unknowns: Vec<f64>,
+    pub(super) force_changes: Vec<f64>,
+}
+
+impl StepSolves {
+    /// After a factoring [`ShootingSystem::solve_mixed`] that set `holds_force`.
+    pub(super) fn new(holds_force: Vec<bool>) -> StepSolves {
+        StepSolves {
+            holds_force,
+            unknowns: Vec::new(),
+            force_changes: Vec::new(),
+        }
+    }
+}
+
 /// Motions c and the changes of the forces λ − λ₀ per friction DOF.
 pub(super) type MotionsAndForces = (Vec<f64>, Vec<f64>);
 
@@ -71,22 +91,42 @@ impl MixedTemplate {
     }
 }
 
-/// An entry of the template in a friction DOF's column.
+/// Entries a row of the band holds ([`BandedSystem::position`] is row × this + offset).
+const BAND_WIDTH: usize = BAND_LOWER + BAND_UPPER + 1;
+
+/// Where the band keeps an entry ([`BandedSystem::position`]), in 32 bits: the template's
+/// entries are read twice a step (28 000 of them at 4000 obstacles, where a step's data no
+/// longer fits the processor's cache), and at 16 bytes instead of 32 they take half the
+/// memory traffic (docs/numerics.md, stop 56).
+#[derive(Debug, Clone, Copy)]
+struct Position(u32);
+
+impl Position {
+    fn new(position: usize) -> Position {
+        Position(u32::try_from(position).expect("a band of fewer than 2^32 entries"))
+    }
+    fn index(self) -> usize {
+        self.0 as usize
+    }
+    /// The row of the entry.
+    fn row(self) -> usize {
+        self.index() / BAND_WIDTH
+    }
+}
+
+/// An entry of the template in a friction DOF's column (16 bytes).
 #[derive(Debug, Clone, Copy)]
 struct DofEntry {
-    row: usize,
+    position: Position,
     /// The friction DOF whose column it is in.
-    dof: usize,
-    /// Where the banded system keeps it ([`BandedSystem::position`]).
-    position: usize,
+    dof: u32,
     value: f64,
 }
 
 /// A friction DOF's force in its jump row ([`JUMPS`]): m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2.
 #[derive(Debug, Clone, Copy)]
 struct JumpEntry {
-    row: usize,
-    position: usize,
+    position: Position,
     sign: f64,
 }
 
@@ -120,9 +160,8 @@ impl ShootingSystem {
             |v| v,
             |row, column, value| match dof_of_column[column] {
                 Some(dof) => dof_entries.push(DofEntry {
-                    row,
-                    dof,
-                    position: shared.position(row, column),
+                    position: Position::new(shared.position(row, column)),
+                    dof: u32::try_from(dof).expect("fewer than 2^32 DOFs"),
                     value,
                 }),
                 None => shared.add(row, column, value),
@@ -134,8 +173,7 @@ impl ShootingSystem {
         jumps.extend((0..dofs).map(|i| {
             let (row, column, sign) = self.jump_entry(i);
             JumpEntry {
-                row,
-                position: shared.position(row, column),
+                position: Position::new(shared.position(row, column)),
                 sign,
             }
         }));
@@ -164,16 +202,58 @@ impl ShootingSystem {
         banded: &mut BandedSystem,
         holds_force: &mut Vec<bool>,
     ) -> Result<MotionsAndForces, CondensedFailure> {
+        let x = self.solve_mixed_unknowns(template, mixed, banded, holds_force)?;
+        Ok(mixed_values(template, mixed, holds_force, &x))
+    }
+
+    /// An interior-point step's solve ([`ShootingSystem::solve_mixed`] when `factor`, else
+    /// [`ShootingSystem::resolve_mixed`] with the factors of the last) for the force changes
+    /// alone, into `solves`: no motions computed, no vectors allocated; false where the
+    /// system is singular.
+    pub(super) fn solve_step(
+        &self,
+        template: &MixedTemplate,
+        mixed: &[Mixed],
+        banded: &mut BandedSystem,
+        factor: bool,
+        solves: &mut StepSolves,
+    ) -> bool {
+        let StepSolves {
+            holds_force,
+            unknowns,
+            force_changes,
+        } = solves;
+        if factor {
+            let Ok(x) = self.solve_mixed_unknowns(template, mixed, banded, holds_force) else {
+                return false;
+            };
+            *unknowns = x;
+        } else if self
+            .resolve_mixed_unknowns(template, mixed, banded, holds_force, unknowns)
+            .is_none()
+        {
+            return false;
+        }
+        force_changes_into(template, mixed, holds_force, unknowns, force_changes);
+        true
+    }
+
+    /// Every unknown of the mixed system (see [`ShootingSystem::solve_mixed`]).
+    fn solve_mixed_unknowns(
+        &self,
+        template: &MixedTemplate,
+        mixed: &[Mixed],
+        banded: &mut BandedSystem,
+        holds_force: &mut Vec<bool>,
+    ) -> Result<Vec<f64>, CondensedFailure> {
         banded.reset_to(&template.shared);
         self.fill_holds_force(mixed, holds_force);
-        let rhs = self.assemble_mixed(template, mixed, holds_force, Some(banded));
-        for (row, value) in rhs.into_iter().enumerate() {
-            banded.add_rhs(row, value);
-        }
-        let x = banded
+        // Into the system's own (zero) right-hand side and matrix.
+        let (matrix, rhs) = banded.matrix_and_rhs_mut();
+        self.assemble_mixed(template, mixed, holds_force, Some(matrix), rhs);
+        banded
             .solve_from_both_ends()
-            .map_err(|e| CondensedFailure::Singular { column: e.column })?;
-        Ok(mixed_values(template, mixed, holds_force, &x))
+            .map_err(|e| CondensedFailure::Singular { column: e.column })
     }
 
     /// The same system (the same weights, so the same factors in `banded` and the same
@@ -186,9 +266,24 @@ impl ShootingSystem {
         banded: &BandedSystem,
         holds_force: &[bool],
     ) -> Option<MotionsAndForces> {
-        let mut x = self.assemble_mixed(template, mixed, holds_force, None);
-        banded.apply_inverse(&mut x).then_some(())?;
+        let mut x = Vec::new();
+        self.resolve_mixed_unknowns(template, mixed, banded, holds_force, &mut x)?;
         Some(mixed_values(template, mixed, holds_force, &x))
+    }
+
+    /// Every unknown of [`ShootingSystem::resolve_mixed`]'s system, into `x`.
+    fn resolve_mixed_unknowns(
+        &self,
+        template: &MixedTemplate,
+        mixed: &[Mixed],
+        banded: &BandedSystem,
+        holds_force: &[bool],
+        x: &mut Vec<f64>,
+    ) -> Option<()> {
+        x.clear();
+        x.resize(4 * self.pieces.len() - 2, 0.0);
+        self.assemble_mixed(template, mixed, holds_force, None, x);
+        banded.apply_inverse(x).then_some(())
     }
 
     /// Per friction DOF: does its column hold its force? Into `holds_force`.
@@ -202,25 +297,25 @@ impl ShootingSystem {
         );
     }
 
-    /// The right-hand side of the mixed system, and its matrix into `matrix` when given (which
-    /// holds the template's shared part): the moving pattern's matrix with c = D λ + r
-    /// substituted where a force is the unknown, and λ = (c − r)/D in the jump where the
-    /// motion is.
+    /// The right-hand side of the mixed system added to `rhs` (zero), and its matrix into
+    /// `matrix` when given (the entries of a system holding the template's shared part): the
+    /// moving pattern's matrix with c = D λ + r substituted where a force is the unknown, and
+    /// λ = (c − r)/D in the jump where the motion is.
     fn assemble_mixed(
         &self,
         template: &MixedTemplate,
         mixed: &[Mixed],
         holds_force: &[bool],
-        mut matrix: Option<&mut BandedSystem>,
-    ) -> Vec<f64> {
-        let mut rhs = vec![0.0; 4 * self.pieces.len() - 2];
+        mut matrix: Option<&mut [f64]>,
+        rhs: &mut [f64],
+    ) {
         for &DofEntry {
-            row,
-            dof,
             position,
+            dof,
             value,
         } in &template.dof_entries
         {
+            let (row, dof) = (position.row(), dof as usize);
             let entry = if holds_force[dof] {
                 rhs[row] -= value * mixed[dof].offset();
                 mixed[dof].weight * value
@@ -228,15 +323,12 @@ impl ShootingSystem {
                 value
             };
             if let Some(m) = matrix.as_deref_mut() {
-                m.add_at(position, entry);
+                m[position.index()] += entry;
             }
         }
         for ((m, &force_held), jump) in mixed.iter().zip(holds_force).zip(&template.jumps) {
-            let JumpEntry {
-                row,
-                position,
-                sign,
-            } = *jump;
+            let JumpEntry { position, sign } = *jump;
+            let row = position.row();
             let entry = if force_held {
                 sign
             } else if m.weight.is_finite() {
@@ -248,10 +340,9 @@ impl ShootingSystem {
                 continue;
             };
             if let Some(matrix) = matrix.as_deref_mut() {
-                matrix.add_at(position, entry);
+                matrix[position.index()] += entry;
             }
         }
-        rhs
     }
 
     /// The column of friction DOF i (its motion, or its force).
@@ -265,6 +356,33 @@ impl ShootingSystem {
         let (_, jump_row, sign) = JUMPS[i % 2];
         (4 * (p - 1) + jump_row, self.dof_column(i), sign)
     }
+}
+
+/// The force changes alone of [`mixed_values`], into `forces`.
+fn force_changes_into(
+    template: &MixedTemplate,
+    mixed: &[Mixed],
+    holds_force: &[bool],
+    x: &[f64],
+    forces: &mut Vec<f64>,
+) {
+    forces.clear();
+    forces.extend(
+        mixed
+            .iter()
+            .zip(holds_force)
+            .zip(&template.dof_columns)
+            .map(|((m, &force_held), &column)| {
+                let value = x[column];
+                if force_held {
+                    value - m.force
+                } else if m.weight.is_finite() {
+                    (value - m.motion) / m.weight
+                } else {
+                    0.0
+                }
+            }),
+    );
 }
 
 /// Motions and forces from a solution `x`.

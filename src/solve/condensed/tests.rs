@@ -248,3 +248,61 @@ mod unresolved_bounds {
         assert_eq!(widened[3], bounds[3]);
     }
 }
+
+/// The interior-point steps solve for the force changes alone
+/// (`ShootingSystem::solve_mixed_forces`, `resolve_mixed_forces`: no motions, the right-hand
+/// side assembled in the system's own, buffers kept): the same bits as the full solves, for
+/// every kind of condition (a column holding the force or the motion, D = 0, D infinite).
+#[test]
+fn the_steps_force_changes_are_the_full_solves_bits() {
+    use super::mixed::{Mixed, StepSolves};
+    use super::scaling::Scales;
+    use super::system::ShootingSystem;
+    use crate::linalg::banded_lu::BandedSystem;
+    for (k, seed) in [(12, 1), (40, 2), (90, 3)] {
+        let problem = crowded(k, seed);
+        let mesh = Mesh::new(&problem, 4 * (k + 1));
+        let system = ShootingSystem::new(&problem, &mesh, &Scales::of(&problem), 0.0);
+        let template = system.mixed_template();
+        // Weights from 0 to infinite, over about 40 decades, forces and motions of both signs.
+        let conditions = |shift: f64| -> Vec<Mixed> {
+            (0..2 * k)
+                .map(|i| {
+                    let weight = match i % 5 {
+                        0 => 0.0,
+                        1 => f64::INFINITY,
+                        _ => 10f64.powf((i % 41) as f64 - 20.0),
+                    };
+                    Mixed {
+                        weight,
+                        force: (i as f64 - k as f64) * 0.37 + shift,
+                        motion: ((i * 7) % 13) as f64 * 1e-3 - 4e-3 + shift,
+                    }
+                })
+                .collect()
+        };
+        let (first, second) = (conditions(0.0), conditions(0.25));
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        let (mut full, mut lean) = (BandedSystem::new(0, 3, 3), BandedSystem::new(0, 3, 3));
+        let mut full_holds = Vec::new();
+        let (_, forces) = system
+            .solve_mixed(&template, &first, &mut full, &mut full_holds)
+            .unwrap();
+        assert!(full_holds.contains(&true) && full_holds.contains(&false));
+        // Kept vectors of other lengths and contents: overwritten.
+        let mut solves = StepSolves::new(vec![false; 3]);
+        solves.force_changes = vec![f64::NAN; 5];
+        assert!(system.solve_step(&template, &first, &mut lean, true, &mut solves));
+        assert_eq!(
+            bits(&forces),
+            bits(&solves.force_changes),
+            "k = {k}, factoring solve"
+        );
+        let (_, forces) = system
+            .resolve_mixed(&template, &second, &full, &full_holds)
+            .unwrap();
+        assert!(system.solve_step(&template, &second, &mut lean, false, &mut solves));
+        let lean_forces = &solves.force_changes;
+        assert_eq!(bits(&forces), bits(lean_forces), "k = {k}, second solve");
+    }
+}
