@@ -208,8 +208,9 @@ impl ShootingSystem {
 
     /// An interior-point step's solve ([`ShootingSystem::solve_mixed`] when `factor`, else
     /// [`ShootingSystem::resolve_mixed`] with the factors of the last) for the force changes
-    /// alone, into `solves`: no motions computed, no vectors allocated; false where the
-    /// system is singular.
+    /// alone, into `solves`: no motions computed, and the force changes (and the second
+    /// solve's unknowns) written into the vectors kept there; false where the system is
+    /// singular.
     pub(super) fn solve_step(
         &self,
         template: &MixedTemplate,
