@@ -98,7 +98,13 @@ impl From<ReportError> for CliError {
 /// [`CliError::Output`], so that a script is not handed a cut answer with exit status 0.
 pub(super) fn write_stdout(text: &str) -> Result<(), CliError> {
     use std::io::Write;
-    match std::io::stdout().lock().write_all(text.as_bytes()) {
+    let mut stdout = std::io::stdout().lock();
+    // Flushed here, not at exit (where an error would go unseen): a text not ending in a
+    // newline stays in the line buffer until then.
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(CliError::Output(e)),
         _ => Ok(()),
     }

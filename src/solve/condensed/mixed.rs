@@ -36,6 +36,28 @@ impl Mixed {
     fn offset(&self) -> f64 {
         self.motion - self.weight * self.force
     }
+
+    /// The force change λ − λ₀ from the unknown `value` of the DOF's column, which holds the
+    /// force where `force_held`, else the motion.
+    fn force_change_from(&self, force_held: bool, value: f64) -> f64 {
+        if force_held {
+            value - self.force
+        } else if self.weight.is_finite() {
+            (value - self.motion) / self.weight
+        } else {
+            0.0
+        }
+    }
+
+    /// The motion c from the unknown `value` of the DOF's column (see
+    /// [`Mixed::force_change_from`]).
+    fn motion_from(&self, force_held: bool, value: f64) -> f64 {
+        if force_held {
+            self.weight * value + self.offset()
+        } else {
+            value
+        }
+    }
 }
 
 /// What an interior-point step's solves keep ([`ShootingSystem::solve_step`]): per friction
@@ -373,16 +395,7 @@ fn force_changes_into(
             .iter()
             .zip(holds_force)
             .zip(&template.dof_columns)
-            .map(|((m, &force_held), &column)| {
-                let value = x[column];
-                if force_held {
-                    value - m.force
-                } else if m.weight.is_finite() {
-                    (value - m.motion) / m.weight
-                } else {
-                    0.0
-                }
-            }),
+            .map(|((m, &force_held), &column)| m.force_change_from(force_held, x[column])),
     );
 }
 
@@ -399,13 +412,10 @@ fn mixed_values(
         .zip(&template.dof_columns)
         .map(|((m, &force_held), &column)| {
             let value = x[column];
-            if force_held {
-                (m.weight * value + m.offset(), value - m.force)
-            } else if m.weight.is_finite() {
-                (value, (value - m.motion) / m.weight)
-            } else {
-                (value, 0.0)
-            }
+            (
+                m.motion_from(force_held, value),
+                m.force_change_from(force_held, value),
+            )
         })
         .unzip()
 }
