@@ -228,7 +228,7 @@ fn warm_report() {
 }
 
 /// Writes every family's scene at every k to `DIR/<family>-<k>.toml`, for `beamfric export`
-/// and another solver (docs/numerics.md compares Clarabel on them).
+/// and another solver (docs/many-obstacles/guess-and-warm-starts.md compares Clarabel on them).
 /// The explorer's whole re-solve (`condensed` with its certificate, as the worker runs it)
 /// after one notch up of the middle obstacle's sliding threshold: from scratch, and from the
 /// pattern of the solve shown before (what the explorer does).

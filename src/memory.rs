@@ -1,7 +1,7 @@
 //! The C library's allocator, set once for the whole process: memory a solve frees is kept
 //! for the next solve rather than handed back to the system. No equation of the paper; a
-//! matter of speed (issue 26, docs/numerics.md, "Cheaper steps, and a solve's freed memory
-//! kept for the next (stop 50)").
+//! matter of speed (issue 26, docs/many-obstacles/close-obstacles-and-near-ties.md, "Cheaper steps,
+//! and a solve's freed memory kept for the next (stop 50)").
 //!
 //! glibc's `malloc` gives the top of its heap back to the system once more than a threshold
 //! of it is free, and serves blocks above another threshold with a mapping of their own,

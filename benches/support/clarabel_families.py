@@ -1,7 +1,8 @@
 # Clarabel (a generic interior-point solver) on the primal of (38) with |Bc| <= t, for the
-# comparison in docs/numerics.md: `cargo bench --bench many_obstacles -- scenes DIR`, then per
-# scene `beamfric export --scene DIR/S.toml --out OUT/S` and `python3 clarabel_families.py OUT/S`
-# (pip install clarabel numpy scipy); grade OUT/S/clarabel.json with `beamfric grade`.
+# comparison in docs/many-obstacles/guess-and-warm-starts.md: `cargo bench --bench many_obstacles --
+# scenes DIR`, then per scene `beamfric export --scene DIR/S.toml --out OUT/S` and `python3
+# clarabel_families.py OUT/S` (pip install clarabel numpy scipy); grade OUT/S/clarabel.json with
+# `beamfric grade`.
 import json, sys, time
 import numpy as np
 import scipy.sparse as sp

@@ -172,7 +172,8 @@ pub const NOTCH: f64 = 1.258_925_411_794_167_2;
 
 /// The ties scene (seed 14) with the first obstacle's sliding threshold `notches` notches
 /// down: every other force at its threshold while that obstacle slides, an arrangement slow
-/// for the pattern search (docs/numerics.md, "An arrangement still slow").
+/// for the pattern search (docs/many-obstacles/guess-and-warm-starts.md, "An arrangement still
+/// slow").
 pub fn lowered_ties_scene(k: usize, notches: i32, elements: usize) -> Scene {
     lowered_ties_scene_at(k, (0, false), notches, elements)
 }
@@ -199,7 +200,7 @@ pub fn lowered_ties_scene_at(
 /// threshold equal to its stuck force, and the swivel threshold of obstacle
 /// (7919 · seed) mod k lowered by `notches` notches: the arrangement of issue 26's slowest
 /// reports (clusters at exact ties), on which the monotone search took up to thousands of
-/// solves (docs/numerics.md, "Clusters at ties with one threshold lowered").
+/// solves (docs/many-obstacles/monotone-search.md, "Clusters at ties with one threshold lowered").
 pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements: usize) -> Scene {
     let mut scene = generated_scene((Family::Clustered, Family::Ties), k, seed, elements);
     scene.title = format!("clustered ties k={k} seed={seed} notches={notches}");
@@ -214,9 +215,9 @@ pub fn lowered_clustered_ties_scene(k: usize, seed: u64, notches: i32, elements:
 /// 1–1000 N and 1e-4–1 N·m, log-uniform. Obstacles 1e-7·l apart move together
 /// to within what an f64 solve resolves of their motion, and the interior-point guess cannot
 /// tell which of them is stuck: found in the hostile pass of stop 48 (up to 1191 pattern
-/// solves at k = 3000), the worst arrangement of issue 26 measured since (docs/numerics.md,
-/// "Still slow: obstacles nearly on top of each other" and "The guess with its unclear DOFs
-/// held, tried first").
+/// solves at k = 3000), the worst arrangement of issue 26 measured since
+/// (docs/many-obstacles/close-obstacles-and-near-ties.md, "Still slow: obstacles nearly on top of
+/// each other" and "The guess with its unclear DOFs held, tried first").
 pub fn dense_stretch_scene(k: usize, seed: u64, elements: usize) -> Scene {
     let mut scene = base_scene(elements);
     scene.title = format!("dense stretch k={k} seed={seed}");
@@ -254,8 +255,9 @@ pub fn dense_stretch_scene(k: usize, seed: u64, elements: usize) -> Scene {
 /// thresholds 0–2 × the stuck forces on a mesh of `elements`. Two obstacles that close move
 /// together to within what an f64 solve resolves, and which of them is stuck is decided by
 /// motions of 1e-27 of the common one: found in the hostile pass of stop 48 (194–579 pattern
-/// solves), settled from the guess since stop 52 (docs/numerics.md, "The monotone search
-/// from a close guess").
+/// solves), settled from the guess since stop 52
+/// (docs/many-obstacles/close-obstacles-and-near-ties.md, "The monotone search from a close
+/// guess").
 pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
     let mut scene = family_scene(Family::Random, k / 2, seed, elements);
     scene.title = format!("pairs k={k} seed={seed}");
@@ -279,8 +281,9 @@ pub fn pairs_scene(k: usize, seed: u64, elements: usize) -> Scene {
 /// them. The others that move load the tied ones past their thresholds, and the
 /// interior-point guess stalled on bounds 1e-18 wide while the answer moved away from them:
 /// found in the hostile pass of stop 53 (up to 1277 pattern solves at k = 3000, 2.2 s),
-/// settled by a second guess with those ties widened since (docs/numerics.md, "Near ties
-/// that the answer moves away from").
+/// settled by a second guess with those ties widened since
+/// (docs/many-obstacles/close-obstacles-and-near-ties.md, "Near ties that the answer moves away
+/// from").
 pub fn half_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
     partial_ties_scene((k, seed, elements), "half ties", |obstacle, _| {
         obstacle % 2 == 0
@@ -327,7 +330,7 @@ fn partial_ties_scene(
 /// interior-point iteration can stall there, and its second guess, with the ties widened,
 /// was then often the worse one: found in the hostile pass of stop 54 (up to 1545 pattern
 /// solves, 9.5 s at k = 3000). Weighing both guesses settles most of those since, not all
-/// (docs/numerics.md, "Two guesses where the first stalled").
+/// (docs/many-obstacles/step-costs.md, "Two guesses where the first stalled").
 pub fn tight_clusters_ties_scene(k: usize, seed: u64, elements: usize) -> Scene {
     let mut scene = base_scene(elements);
     scene.title = format!("tight clusters at ties k={k} seed={seed}");

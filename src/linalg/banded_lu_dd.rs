@@ -11,15 +11,14 @@
 //! digit (seed 10597097354911579289 of the tests' hard scenes). About 30 times the work of
 //! the f64 elimination; only used when refinement with that one diverges.
 //!
-//! Two things make it cheaper without changing a bit (docs/numerics.md, stop 55). Products
-//! with an entry that is exactly zero (most of the fill-in room, and the zeros of the
-//! shooting relations) are skipped: subtracting a zero product leaves a double-double as it
-//! was. And factor and solve are compiled a second time for processors with AVX and FMA
+//! Two things make it cheaper without changing a bit (docs/many-obstacles/step-costs.md, stop 55).
+//! Products with an entry that is exactly zero (most of the fill-in room, and the zeros of the
+//! shooting relations) are skipped: subtracting a zero product leaves a double-double as it was.
+//! And factor and solve are compiled a second time for processors with AVX and FMA
 //! (`linalg::has_avx_and_fma`), where the fused multiply–add of every two-product is one
 //! instruction instead of a call. Clusters at ties with one threshold moved (k = 3000), whose
-//! search then refactored in double-double 944 times: 15.6 → 11.3 s (since then the search
-//! stops at the floor of the residual instead, `refinement::SEARCH_WANDER`, and refactors
-//! once or twice).
+//! search then refactored in double-double 944 times: 15.6 → 11.3 s (since then the search stops at
+//! the floor of the residual instead, `refinement::SEARCH_WANDER`, and refactors once or twice).
 
 use super::banded_lu::SingularColumn;
 use super::double_double::DoubleDouble;

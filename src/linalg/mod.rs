@@ -29,8 +29,8 @@ pub use block::{BlockMatrix, BlockTridiagonal};
 /// multiply and an add only where the code asks for it, and that code does not). Checked at
 /// run time, not assumed at build time: the program still runs on processors without them.
 /// The same copy of the one-ended factorisation and of the condensed method's exact residual
-/// was slower, and is not made (docs/numerics.md, stop 51); the double-double factorisation
-/// and solve (`banded_lu_dd`) have one (stop 55).
+/// was slower, and is not made (docs/many-obstacles/close-obstacles-and-near-ties.md, stop 51); the
+/// double-double factorisation and solve (`banded_lu_dd`) have one (stop 55).
 #[cfg(target_arch = "x86_64")]
 #[inline]
 pub(crate) fn has_avx_and_fma() -> bool {

@@ -100,8 +100,9 @@ fn the_guess_keeps_slacks_that_rounding_would_close() {
     // became exactly zero, the next step NaN, and the iteration ended with two DOFs on the
     // wrong side; from there the search took 146 pattern solves (k = 1000, seed 5) and 143
     // (k = 3000, seed 1). With the slacks as variables of their own: 2 and 2 (the answers
-    // the same bits as before, measured in `docs/numerics.md`, stop 48; the reference checks
-    // the family at small k in `every_family_agrees_with_the_reference_at_small_k`).
+    // the same bits as before, measured in `docs/many-obstacles/monotone-search.md`, stop 48; the
+    // reference checks the family at small k in
+    // `every_family_agrees_with_the_reference_at_small_k`).
     use beamfric::check::families::family_problem;
     use beamfric::solve::solve_condensed;
     for (k, seed) in [(1000, 5), (3000, 1)] {
@@ -431,12 +432,12 @@ fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
 /// small components go on gaining two or three digits a step to the cap of eight steps, and
 /// the noise's wander sent refinements on to factors in double-double. Measured at stop 43
 /// on ties with a swivel threshold three notches down (k = 600 and 1500): 281 and 1835 back
-/// solves refining fully, 174 and 1041 to the noise (`docs/numerics.md`, stop 43). Since
-/// stop 48 the interior-point guess settles those in 9 and 3 pattern solves without a
-/// monotone step; the arrangement where the monotone search still works is clusters at ties
-/// with a swivel threshold lowered: seed 7, k = 2000, three notches, 121 pattern solves of
-/// which 62 monotone steps. There, refining the monotone steps fully: 1233 back solves, 252
-/// factorisations (65 of them in double-double); to the noise: 735, 188 (1).
+/// solves refining fully, 174 and 1041 to the noise (`docs/many-obstacles/monotone-search.md`, stop
+/// 43). Since stop 48 the interior-point guess settles those in 9 and 3 pattern solves without a
+/// monotone step; the arrangement where the monotone search still works is clusters at ties with a
+/// swivel threshold lowered: seed 7, k = 2000, three notches, 121 pattern solves of which 62
+/// monotone steps. There, refining the monotone steps fully: 1233 back solves, 252 factorisations
+/// (65 of them in double-double); to the noise: 735, 188 (1).
 #[test]
 fn monotone_steps_refine_to_the_noise_of_the_residual() {
     use beamfric::check::families::lowered_clustered_ties_scene;
@@ -506,9 +507,9 @@ fn clusters_at_ties_with_a_swivel_threshold_lowered_settle() {
     // then went back and forth between two patterns until its limit (32 385 solves, 102 s,
     // not converged); at k = 3000 (seed 2, ten notches) it ran to its limit too (24 384
     // solves, 68 s, not converged). With the forces in double-double: 2067 and 4966 solves;
-    // holding what an optimum reversed and freeing by the refined excess (docs/numerics.md,
-    // stop 46): 348 and 2478; with the interior-point guess kept within what its steps
-    // resolve (stop 48): 20 and 36.
+    // holding what an optimum reversed and freeing by the refined excess
+    // (docs/many-obstacles/monotone-search.md, stop 46): 348 and 2478; with the interior-point
+    // guess kept within what its steps resolve (stop 48): 20 and 36.
     use beamfric::check::families::lowered_clustered_ties_scene;
     for (k, seed, notches, most) in [(4000, 2, 3, 60), (3000, 2, 10, 100)] {
         let scene = lowered_clustered_ties_scene(k, seed, notches, 10_000);

@@ -81,9 +81,9 @@ pub(super) fn start_force((lower, upper): (f64, f64)) -> f64 {
 /// side of "within": a held force that equals its threshold to what the iteration's f64
 /// solves resolve is a tie the iteration cannot decide, and keeping its bound (1.6e-27
 /// against force changes of 3e-4 on lowered ties) made the iteration stall
-/// (docs/numerics.md, "Within what a step resolves (stop 48)"). The exact search decides
-/// such a DOF like any other. One floor for forces and moments alike: in the system's units
-/// (length scaled to about 1) both kinds of change come out of the same solve, whose
+/// (docs/many-obstacles/monotone-search.md, "Within what a step resolves (stop 48)"). The exact
+/// search decides such a DOF like any other. One floor for forces and moments alike: in the
+/// system's units (length scaled to about 1) both kinds of change come out of the same solve, whose
 /// rounding is that of its largest value.
 ///
 /// With `range_fraction` > 0 ([`WIDENED_TIE`]), a bound nearer zero than that fraction of

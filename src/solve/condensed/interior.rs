@@ -20,14 +20,14 @@
 //! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 14–25
 //! steps on the random and clustered families, 33–48 on ties.
 //!
-//! Two things keep the iteration within what its f64 steps resolve (docs/numerics.md, stop
-//! 48). The slacks s⁺ and s⁻ are variables of their own, each stepped by its own update, not
-//! differences g − λ_h − δλ of the force: a moving DOF's slack falls to μ/p (1e-18 of the
-//! force by the last steps), below the rounding of δλ, and as a difference it became exactly
-//! zero, its weight infinite and the step NaN, which ended the iteration with a pattern two
-//! DOFs off (at two pairs of obstacles 2e-6·l and 2e-5·l apart; random k = 1000, seed 5)
-//! and cost the search 146 pattern solves. And a bound nearer zero than a few ulps of the
-//! largest force change is widened to that (`held_bounds::widen_unresolved`): no step
+//! Two things keep the iteration within what its f64 steps resolve
+//! (docs/many-obstacles/monotone-search.md, stop 48). The slacks s⁺ and s⁻ are variables of their
+//! own, each stepped by its own update, not differences g − λ_h − δλ of the force: a moving DOF's
+//! slack falls to μ/p (1e-18 of the force by the last steps), below the rounding of δλ, and as a
+//! difference it became exactly zero, its weight infinite and the step NaN, which ended the
+//! iteration with a pattern two DOFs off (at two pairs of obstacles 2e-6·l and 2e-5·l apart; random
+//! k = 1000, seed 5) and cost the search 146 pattern solves. And a bound nearer zero than a few
+//! ulps of the largest force change is widened to that (`held_bounds::widen_unresolved`): no step
 //! resolves it, and the iteration stalled on it.
 //!
 //! Its pattern is usually right long before μ is that small. Where the pattern stays the same
@@ -45,7 +45,7 @@
 //! exactly; where the guess is poor, it costs solves, never the answer. With it comes the same
 //! pattern with the DOFs the iteration leaves unclear held stuck ([`Guess`]), which the search
 //! tries where the guess's own pattern is inconsistent (near-coincident obstacles, clusters at
-//! ties: docs/numerics.md, stop 49).
+//! ties: docs/many-obstacles/close-obstacles-and-near-ties.md, stop 49).
 
 use super::CondensedFailure;
 use super::held_bounds::{WIDENED_TIE, start_force, widen_unresolved};
@@ -63,12 +63,12 @@ const MOST_STEPS: usize = 80;
 
 /// An iteration that took all its steps and ended with μ above this many times the μ it was
 /// to reach has stalled, and a second one starts with near ties widened
-/// (`held_bounds::WIDENED_TIE`). Measured in stop 53 (docs/numerics.md, "Near ties that the
-/// answer moves away from"): on 60 scenes with some thresholds at the stuck forces and others
-/// not, the iterations at the cap ended 1e5–1e22 times short of their μ (μ at 1e-15–1e-12
-/// from about step 11 on, each step going 0.1–10 % of the way), their guesses a hundred DOFs
-/// off (up to 1887 pattern solves); the lowered ties that run to the cap end 0.9–3.2 times
-/// their μ, their guesses right or nearly.
+/// (`held_bounds::WIDENED_TIE`). Measured in stop 53
+/// (docs/many-obstacles/close-obstacles-and-near-ties.md, "Near ties that the answer moves away
+/// from"): on 60 scenes with some thresholds at the stuck forces and others not, the iterations at
+/// the cap ended 1e5–1e22 times short of their μ (μ at 1e-15–1e-12 from about step 11 on, each step
+/// going 0.1–10 % of the way), their guesses a hundred DOFs off (up to 1887 pattern solves); the
+/// lowered ties that run to the cap end 0.9–3.2 times their μ, their guesses right or nearly.
 const STALLED_SHORT_OF: f64 = 1e3;
 
 /// μ, relative to the smallest DOF's own scale, at which the guess is taken.
@@ -83,11 +83,11 @@ const TIE_RESOLUTION: f64 = 1e-5;
 /// the guess holds it stuck. Judged by its diagonal stiffness instead, such noise looked
 /// like a large force on obstacles 1e-9·l to 1e-7·l apart (stiffnesses of 1e20–1e27), and
 /// the guess moved hundreds of DOFs that are stuck in the answer. Traced on 17 scenes of
-/// pairs and dense stretches (docs/numerics.md, stop 52): of the DOFs the guess moved with a
-/// slack above 1e-4 of their range (all of them sliding DOFs), those with a motion below
-/// 3e-18 of the largest were stuck in the answer 2787 times and moving 37, those between
-/// 3e-18 and 3e-16 stuck 147 times and moving 155. With ε/8 = 2.8e-17, the guesses of those
-/// scenes were 147 DOFs from their answers in all instead of 2962.
+/// pairs and dense stretches (docs/many-obstacles/close-obstacles-and-near-ties.md, stop 52): of
+/// the DOFs the guess moved with a slack above 1e-4 of their range (all of them sliding DOFs),
+/// those with a motion below 3e-18 of the largest were stuck in the answer 2787 times and moving
+/// 37, those between 3e-18 and 3e-16 stuck 147 times and moving 155. With ε/8 = 2.8e-17, the
+/// guesses of those scenes were 147 DOFs from their answers in all instead of 2962.
 const UNRESOLVED_MOTION: f64 = f64::EPSILON / 8.0;
 
 /// See [`UNRESOLVED_MOTION`]: a slack that far from its bound, relative to the DOF's range,
@@ -153,7 +153,8 @@ impl FrictionVariable {
 /// shorter: the bits of `length.min(distance / rate)`, with the division only where the
 /// product test (with a margin of 8 ulps for its rounding) says the quotient may be shorter.
 /// Most variables do not limit a step, so most of the step lengths' divisions go (unit tests
-/// `step_lengths::*`; docs/numerics.md, "Fewer divisions per interior-point step").
+/// `step_lengths::*`; docs/many-obstacles/monotone-search.md, "Fewer divisions per interior-point
+/// step").
 #[inline(always)]
 pub(super) fn shorten(length: &mut f64, distance: f64, rate: f64) {
     const MARGIN: f64 = 1.0 + 8.0 * f64::EPSILON;

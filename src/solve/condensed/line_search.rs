@@ -16,7 +16,8 @@ use crate::linalg::double_double::DoubleDouble;
 /// decided them, and on clusters at ties with a swivel threshold lowered the search went back
 /// and forth between two patterns (k = 4000: 32 385 solves, 102 s, not converged) or stopped
 /// lowering J (k = 3000: 24 384 solves, not converged); with the forces' own bits, 2067 and
-/// 4966 solves (docs/numerics.md, "Clusters at ties with one threshold lowered").
+/// 4966 solves (docs/many-obstacles/monotone-search.md, "Clusters at ties with one threshold
+/// lowered").
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct SearchPoint {
     pub(super) motion: Vec<f64>,

@@ -119,7 +119,7 @@ const BAND_WIDTH: usize = BAND_LOWER + BAND_UPPER + 1;
 /// Where the band keeps an entry ([`BandedSystem::position`]), in 32 bits: the template's
 /// entries are read twice a step (28 000 of them at 4000 obstacles, where a step's data no
 /// longer fits the processor's cache), and at 16 bytes instead of 32 they take half the
-/// memory traffic (docs/numerics.md, stop 56).
+/// memory traffic (docs/many-obstacles/step-costs.md, stop 56).
 #[derive(Debug, Clone, Copy)]
 struct Position(u32);
 

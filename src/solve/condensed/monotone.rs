@@ -4,7 +4,8 @@
 //! stall. At an optimum it frees at most twice as many DOFs as the last freeing that gave
 //! descent, then fewer, those whose refined force exceeds the threshold most first. Where a
 //! step stops short of the optimum, the next pattern holds every DOF that optimum reversed,
-//! not only the one that reached zero (design notes: `docs/numerics.md`, stops 42 and 46).
+//! not only the one that reached zero (design notes: `docs/many-obstacles/monotone-search.md`,
+//! stops 42 and 46).
 
 use super::line_search::SearchPoint;
 use super::system::{Pattern, PatternSolution, ShootingSystem};
@@ -129,7 +130,7 @@ impl MonotoneSearch {
     /// tiny, so with the signs alone each solve settled one DOF: clusters at ties with a
     /// swivel threshold lowered took 2067 solves at k = 4000 and 4966 at k = 3000; holding
     /// the reversed, 376 and 2021, and ranking the DOFs freed by their refined excess as well
-    /// 348 and 2478 (`docs/numerics.md`, "What the optimum reversed, held").
+    /// 348 and 2478 (`docs/many-obstacles/monotone-search.md`, "What the optimum reversed, held").
     fn hold_the_reversed(
         &mut self,
         system: &ShootingSystem,
@@ -163,8 +164,8 @@ impl MonotoneSearch {
     /// order. With the last obstacle's swivel threshold lowered one or ten notches on equally
     /// spaced ties at k = 4096, a freeing of 2m DOFs then gave no descent again and again (396
     /// of 1082 solves); ranked by the refined excess, 543 and 598 solves instead of 1082 and
-    /// 1079, the answers the same bits (`docs/numerics.md`, "What the optimum reversed,
-    /// held").
+    /// 1079, the answers the same bits (`docs/many-obstacles/monotone-search.md`, "What the optimum
+    /// reversed, held").
     fn free_the_most_excessive(
         &mut self,
         system: &ShootingSystem,

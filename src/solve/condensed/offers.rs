@@ -46,9 +46,9 @@ impl Offers {
 
     /// After a step whose iterate describes `pattern`, with every DOF clearly on its side
     /// where `clear`: offers it when it is clear, is the last step's pattern too (that step
-    /// need not have been clear: docs/numerics.md, "Offered one step sooner"), is not the
-    /// start's and was not offered just before (at most [`MOST_CROSSOVERS`] times); whether
-    /// `crossover` settled the search from it.
+    /// need not have been clear: docs/many-obstacles/monotone-search.md, "Offered one step
+    /// sooner"), is not the start's and was not offered just before (at most [`MOST_CROSSOVERS`]
+    /// times); whether `crossover` settled the search from it.
     pub(super) fn settled(
         &mut self,
         pattern: Vec<Pattern>,

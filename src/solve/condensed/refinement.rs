@@ -36,10 +36,10 @@ const RESIDUAL_NOISE: f64 = 1.0 / (1u128 << 96) as f64;
 /// that turn at 8e-32 of the largest component (the corrections of the components not yet
 /// converged all below 1e-34 of it), and the factors in double-double cost a fifth of the
 /// solve; stopping there changes the nodal values by at most 2e-26 of max |u|, the forces and
-/// states not at all (docs/numerics.md, "The noise's wander on even pieces"). With pieces
-/// 1e-9 to 1e-8 long among others 0.3 long (wide seed 5269794724525844341) the same stop left
-/// a force of 4e-44 wrong by 1e-5 of itself and a KKT residual of 1.4e-7: the f64 factors'
-/// corrections of such small components are not to be trusted, and there the factors in
+/// states not at all (docs/many-obstacles/monotone-search.md, "The noise's wander on even pieces").
+/// With pieces 1e-9 to 1e-8 long among others 0.3 long (wide seed 5269794724525844341) the same
+/// stop left a force of 4e-44 wrong by 1e-5 of itself and a KKT residual of 1.4e-7: the f64
+/// factors' corrections of such small components are not to be trusted, and there the factors in
 /// double-double go on as before.
 const EVEN_PIECES: f64 = 1e-3;
 
@@ -51,7 +51,7 @@ const EVEN_PIECES: f64 = 1e-3;
 /// its third step, wandered, grew by 2–5 and was refactored in double-double, whose
 /// refinement stayed at the same floor (25–135 ×) for up to eight steps: 944 such
 /// refactorisations in the 2304 pattern solves of the slowest scene, 1–2 with this stop, the
-/// answers the same to the bit (docs/numerics.md, stop 55). The answer's own solve
+/// answers the same to the bit (docs/many-obstacles/step-costs.md, stop 55). The answer's own solve
 /// ([`Accuracy::RefineLast`]) goes on in double-double as before: with pieces 1e-9·l among
 /// others 0.3·l the f64 factors' corrections of the smallest components are not to be
 /// trusted ([`EVEN_PIECES`]), and a decision the search takes on them is checked there.

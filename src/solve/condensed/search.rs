@@ -67,12 +67,11 @@ const MONOTONE_BEFORE_PROJECTED: usize = 32;
 /// The monotone search restarts from the projected Newton guess (after
 /// [`MONOTONE_BEFORE_PROJECTED`] solves) only where its last solve leaves more DOFs
 /// inconsistent than this; with fewer it is near the answer and goes on. Measured on the 96
-/// clusters at ties of stop 52's sweep (docs/numerics.md): four scenes took fewer pattern
-/// solves (272 → 113, 196 → 113, 131 → 114, 248 → 220; 331–332 → 136–146 ms for the
-/// first), two more (169 → 175, 186 → 192), and no other of its 240 scenes changed;
-/// 4329 → 4054 solves in all (with 16: 4125). The lowered ties that the restart was made
-/// for (obstacle k/3's swivel two or five notches down at k = 1000–4000) settle in 5–8
-/// solves either way.
+/// clusters at ties of stop 52's sweep (docs/many-obstacles/close-obstacles-and-near-ties.md): four
+/// scenes took fewer pattern solves (272 → 113, 196 → 113, 131 → 114, 248 → 220; 331–332 → 136–146
+/// ms for the first), two more (169 → 175, 186 → 192), and no other of its 240 scenes changed; 4329
+/// → 4054 solves in all (with 16: 4125). The lowered ties that the restart was made for (obstacle
+/// k/3's swivel two or five notches down at k = 1000–4000) settle in 5–8 solves either way.
 const PROJECTED_ABOVE: usize = 32;
 /// Uncertain decisions left when a Newton phase (which takes the certain decisions first)
 /// would end, from which it goes on instead (unless their number is falling: below half the

@@ -5,7 +5,8 @@
 //! went astray: each freeing was carried on along its fronts (`fronts`) past the answer,
 //! hundreds of DOFs changed at once, and the search then took hundreds of solves where the
 //! monotone search from the guess, whose J never rises, settles in about one or two solves
-//! per DOF to change (docs/numerics.md, "The monotone search from a close guess (stop 52)").
+//! per DOF to change (docs/many-obstacles/close-obstacles-and-near-ties.md, "The monotone search
+//! from a close guess (stop 52)").
 
 use super::{PatternSearch, Settled, unclear_held::UNCLEAR_HELD_FROM};
 use crate::solve::condensed::CondensedFailure;
@@ -13,11 +14,11 @@ use crate::solve::condensed::system::{Pattern, PatternSolution};
 
 /// The monotone attempt is made only where the guess's solve leaves at most this many DOFs
 /// inconsistent (those a Newton step would change). Measured on the 240 scenes of stop 52's
-/// sweep (docs/numerics.md): at 32, pairs k = 1000 seed 4 took 152 pattern solves (its
-/// guess one DOF off, whose solve left 59 inconsistent), at 64 every pairs scene took at
-/// most 18, and at 256 the 96 clusters at ties took 5189 instead of 4329 (the attempt
-/// wandering where Newton from the guess settles; before `PROJECTED_ABOVE`); no other
-/// scene changed.
+/// sweep (docs/many-obstacles/close-obstacles-and-near-ties.md): at 32, pairs k = 1000 seed 4 took
+/// 152 pattern solves (its guess one DOF off, whose solve left 59 inconsistent), at 64 every pairs
+/// scene took at most 18, and at 256 the 96 clusters at ties took 5189 instead of 4329 (the attempt
+/// wandering where Newton from the guess settles; before `PROJECTED_ABOVE`); no other scene
+/// changed.
 const FROM_GUESS_MOST_INCONSISTENT: usize = 64;
 
 /// Most solves of the monotone attempt; where it does not settle, the search goes on from the

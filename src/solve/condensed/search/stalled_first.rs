@@ -9,8 +9,8 @@
 //! and 693, and the search took 582 and 875 pattern solves from the second where it takes 9
 //! and 8 from the first. Which guess's search is shorter is not always the one with fewer
 //! DOFs inconsistent, so the search from the first is cut short ([`FIRST_GUESS_SOLVES`]) and
-//! the search from the second then goes on as without it (docs/numerics.md, "Two guesses
-//! where the first stalled").
+//! the search from the second then goes on as without it (docs/many-obstacles/step-costs.md, "Two
+//! guesses where the first stalled").
 
 use super::{PatternSearch, Settled};
 use crate::solve::condensed::CondensedFailure;
@@ -20,9 +20,9 @@ use crate::solve::condensed::system::{Accuracy, Pattern, PatternSolution};
 /// Most pattern solves of the search from the stalled iteration's guess, where that guess
 /// leaves fewer DOFs inconsistent than the second's; where it does not settle within them,
 /// the search starts from the second guess as it would have without the first. Measured on
-/// tight clusters at ties (docs/numerics.md): where the search from the first guess settles,
-/// the whole solve takes 8–14 pattern solves (one 82, with 128 allowed); where it does not,
-/// each allowed solve is one more.
+/// tight clusters at ties (docs/many-obstacles/step-costs.md): where the search from the first
+/// guess settles, the whole solve takes 8–14 pattern solves (one 82, with 128 allowed); where it
+/// does not, each allowed solve is one more.
 const FIRST_GUESS_SOLVES: usize = 32;
 
 impl PatternSearch<'_> {

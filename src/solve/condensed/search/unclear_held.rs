@@ -2,7 +2,8 @@
 //! tried where the guess's own pattern, solved first, is inconsistent (issue 26): on obstacles
 //! 1e-7·l apart and on clusters at ties the guess cannot put every DOF on a side, and the
 //! variant settles in a few solves where the search from the guess took hundreds
-//! (docs/numerics.md, "The guess with its unclear DOFs held, tried first (stop 49)").
+//! (docs/many-obstacles/close-obstacles-and-near-ties.md, "The guess with its unclear DOFs held,
+//! tried first (stop 49)").
 
 use super::{PatternSearch, Settled};
 use crate::solve::condensed::CondensedFailure;
