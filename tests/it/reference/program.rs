@@ -1,5 +1,5 @@
 //! The program's methods run and judged against the reference: the one part of the harness
-//! that calls `beamfric::solve` (the tests of `tests/it/reference_check.rs` and the tools of
+//! that calls `beamfric::solve` (the tests of `tests/it/reference_check/` and the tools of
 //! `benches/reference.rs` share it).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

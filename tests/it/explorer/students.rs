@@ -1,0 +1,324 @@
+//! The explorer of a student in a lecture (issue 23): the follow keys, forks and rejoins, the save
+//! prompt's offered name, the lecturer's quit and the end of the class, and the closing save.
+
+use super::*;
+
+/// A served student's explorer, following a presenter from the start.
+fn student() -> App {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let options = Options {
+        follow: Some(Follow::student(&Followers::new(|| {}), "student")),
+        ..Options::new(PLAIN)
+    };
+    app_with("benchmark-1", options)
+}
+
+fn screen(app: &App) -> String {
+    buffer_to_text(&draw_to_buffer(app, 120, 40), false)
+}
+
+#[test]
+fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
+    let mut app = student();
+    assert!(screen(&app).contains("f:fork F:rejoin"), "{}", screen(&app));
+    keys(&mut app, "?");
+    assert_eq!(app.mode, Mode::Help { offset: 0 });
+    let help = screen(&app);
+    assert!(help.contains("fork: explore on your own"), "{help}");
+    assert!(help.contains("follow the presenter again"), "{help}");
+    keys(&mut app, "Esc");
+    // Following: a change is refused; forked: it is made; rejoined: following again.
+    keys(&mut app, "]");
+    assert!(!app.modified());
+    keys(&mut app, "f");
+    assert!(screen(&app).contains("own exploration"));
+    keys(&mut app, "]");
+    assert!(app.modified());
+    keys(&mut app, "F");
+    assert!(screen(&app).contains("following the presenter"));
+}
+
+#[test]
+fn a_follower_may_change_what_only_its_own_screen_shows() {
+    let mut app = student();
+    let palette = app.palette;
+    keys(&mut app, "T");
+    assert_ne!(app.palette, palette, "the theme is the student's own");
+    keys(&mut app, "c");
+    assert!(app.show_difference);
+    keys(&mut app, "z");
+    assert!(app.zoom);
+    keys(&mut app, "w");
+    assert_eq!(app.mode, Mode::Warnings { offset: 0 });
+    keys(&mut app, "Esc");
+    // The scene is still the presenter's.
+    assert!(!app.modified());
+}
+
+/// Issue 23 item 4: `s` then `x` gave `benchmark-1.tomlx`; the first key typed replaces the
+/// offered name, as the README says, and a key that moves the cursor keeps it for editing.
+#[test]
+fn the_save_prompts_first_key_replaces_the_offered_name() {
+    let mut app = app("benchmark-1");
+    press(&mut app, "s x");
+    let Mode::Save { prompt } = &app.mode else {
+        panic!("left the prompt")
+    };
+    assert_eq!(prompt.text, "x");
+    press(&mut app, "Esc s Left x");
+    let Mode::Save { prompt } = &app.mode else {
+        panic!("left the prompt")
+    };
+    assert_eq!(prompt.text, "benchmark-1.tomxl");
+}
+
+/// Issue 23 item 4: under a save directory (a served session's `--save-dir`) the offered name
+/// is relative to it, never the server's own path, and carries the owner's user name (made
+/// safe for a file name), so students sharing the directory do not overwrite each other; the
+/// save lands there; a preset loaded later is offered under the same rule.
+#[test]
+fn under_a_save_directory_the_offered_name_is_relative_and_the_owners() {
+    let dir = std::env::temp_dir().join(format!("beamfric-owner-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let options = Options {
+        save_policy: beamfric::tui::state::SavePolicy::Within(dir.clone()),
+        save_directory: Some(dir.clone()),
+        owner: Some("../al ice".into()),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    assert_eq!(app.save_path, "_al_ice-benchmark-1.toml");
+    press(&mut app, "Right s");
+    let Mode::Save { prompt } = &app.mode else {
+        panic!("no prompt")
+    };
+    assert_eq!(prompt.text, "_al_ice-benchmark-1.toml");
+    assert!(!prompt.text.contains(dir.to_str().unwrap()));
+    press(&mut app, "Enter");
+    let message = app.message.clone().unwrap();
+    assert!(message.starts_with("saved to"), "{message}");
+    assert!(dir.join("_al_ice-benchmark-1.toml").is_file(), "{message}");
+    let index = PRESETS
+        .iter()
+        .position(|p| p.name == "benchmark-3")
+        .unwrap();
+    press(&mut app, "p");
+    for _ in 0..index {
+        press(&mut app, "Down");
+    }
+    press(&mut app, "Enter");
+    assert_eq!(app.exploration.source, SceneSource::Preset("benchmark-3"));
+    assert_eq!(app.save_path, "_al_ice-benchmark-3.toml");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 23 item 1: the class counts each student's unsaved work as `update` sees it, and the
+/// lecturer's quit asks with the counts while students are connected; n keeps teaching, a
+/// second Ctrl-C forces the end, as for unsaved changes.
+#[test]
+fn the_lecturers_quit_asks_with_the_students_unsaved_work() {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let followers = Followers::new(|| {});
+    let lecturer = |followers: &std::sync::Arc<Followers>| {
+        let options = Options {
+            follow: Some(Follow::presenter(followers, true)),
+            ..Options::new(PLAIN)
+        };
+        app_with("benchmark-1", options)
+    };
+    let mut presenter = lecturer(&followers);
+    // Alone, the lecturer quits at once.
+    keys(&mut presenter, "q");
+    assert_eq!(presenter.ending, Some(beamfric::tui::state::Ending::Quit));
+    let mut presenter = lecturer(&followers);
+    let student_options = || Options {
+        follow: Some(Follow::student(&followers, "student")),
+        ..Options::new(PLAIN)
+    };
+    let mut alice = app_with("benchmark-1", student_options());
+    let bob = app_with("benchmark-1", student_options());
+    assert_eq!((followers.students(), followers.unsaved()), (2, 0));
+    keys(&mut alice, "f ]");
+    assert_eq!(followers.unsaved(), 1);
+    keys(&mut alice, "u");
+    assert_eq!(followers.unsaved(), 0, "undone to the scene as loaded");
+    keys(&mut alice, "]");
+    keys(&mut presenter, "q");
+    assert_eq!(presenter.mode, Mode::ConfirmEndClass);
+    let asked = screen(&presenter);
+    assert!(
+        asked.contains("2 students (1 with unsaved work): end the class? y / n"),
+        "{asked}"
+    );
+    keys(&mut presenter, "n");
+    assert_eq!(
+        (presenter.mode.clone(), presenter.ending),
+        (Mode::Normal, None)
+    );
+    assert!(screen(&presenter).contains("the class goes on"));
+    keys(&mut presenter, "C-c");
+    assert_eq!(presenter.mode, Mode::ConfirmEndClass);
+    keys(&mut presenter, "C-c");
+    assert_eq!(presenter.ending, Some(beamfric::tui::state::Ending::Quit));
+    // A student who leaves is no longer counted.
+    drop(alice);
+    assert_eq!((followers.students(), followers.unsaved()), (1, 0));
+    drop(bob);
+    assert_eq!(followers.students(), 0);
+}
+
+/// Issue 23 items 1 and 6 as the student's explorer sees them: the presenter leaving gives a
+/// follower its keys back with the view kept; the class ending shows the closing screen with
+/// the scene as TOML (nothing saved without a save directory), and any key leaves.
+#[test]
+fn a_student_hears_the_presenter_leave_and_the_class_end() {
+    use beamfric::tui::state::follow::ClassNews;
+    let mut app = student();
+    let shown = app.scene().clone();
+    update(&mut app, Msg::Class(ClassNews::PresenterLeft));
+    assert!(
+        screen(&app).contains("the presenter left"),
+        "{}",
+        screen(&app)
+    );
+    assert_eq!(*app.scene(), shown);
+    keys(&mut app, "]");
+    assert!(app.modified(), "the keys are the student's again");
+    update(
+        &mut app,
+        Msg::Class(ClassNews::Ended {
+            by: "the lecturer".into(),
+        }),
+    );
+    assert_eq!(
+        app.mode,
+        Mode::ClassEnded {
+            by: "the lecturer".into(),
+            saved: None
+        }
+    );
+    let closing = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
+    assert!(
+        closing.contains("The class was ended by the lecturer."),
+        "{closing}"
+    );
+    assert!(
+        closing.contains("Nothing is saved on the server"),
+        "{closing}"
+    );
+    assert!(closing.contains("[load]"), "{closing}");
+    assert!(app.ending.is_none());
+    keys(&mut app, "x");
+    assert_eq!(app.ending, Some(beamfric::tui::state::Ending::Quit));
+}
+
+/// Issue 23 item 5: a student who forks the presenter's fine mesh (10⁶ elements) on a server
+/// that allows 10⁵ gets a usable explorer at 10⁵ with a note, and the picker marks the presets
+/// beyond the limit with the reason.
+#[test]
+fn a_fork_beyond_the_servers_mesh_limit_starts_at_the_limit_with_a_note() {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let followers = Followers::new(|| {});
+    let options = Options {
+        follow: Some(Follow::student(&followers, "student")),
+        max_elements: Some(100_000),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    let presenter = App::new(loaded_preset("fine-mesh"), Options::new(PLAIN)).unwrap();
+    assert_eq!(presenter.scene().mesh.elements, 1_000_000);
+    update(
+        &mut app,
+        Msg::Follow(std::sync::Arc::new(presenter.exploration.clone())),
+    );
+    assert_eq!(
+        app.scene().mesh.elements,
+        1_000_000,
+        "following shows the presenter's"
+    );
+    keys(&mut app, "f");
+    assert_eq!(app.scene().mesh.elements, 100_000);
+    let note = app.message.clone().unwrap();
+    assert!(
+        note.contains("at n = 100000") && note.contains("1000000"),
+        "{note}"
+    );
+    // Usable: a change is taken, not "rejected: mesh.elements".
+    keys(&mut app, "]");
+    assert!(
+        !app.message
+            .clone()
+            .unwrap_or_default()
+            .starts_with("rejected"),
+        "{:?}",
+        app.message
+    );
+    keys(&mut app, "p");
+    let picker = screen(&app);
+    let line = picker.lines().find(|l| l.contains("> fine-mesh")).unwrap();
+    assert!(
+        line.contains("[n = 1000000 is over this server's 100000: not here]"),
+        "{picker}"
+    );
+    assert!(
+        !picker
+            .lines()
+            .any(|l| l.contains("benchmark-1 ") && l.contains("not here"))
+    );
+    // Neither undo nor a reset goes past the limit (a hostile pass found both did).
+    keys(&mut app, "Esc u");
+    assert!(app.scene().mesh.elements <= 100_000);
+    keys(&mut app, "u");
+    assert_eq!(app.scene().mesh.elements, 100_000);
+    let note = app.message.clone().unwrap_or_default();
+    assert!(
+        note == "nothing to undo" || note.contains("at most 100000"),
+        "{note}"
+    );
+    keys(&mut app, "] r y");
+    assert_eq!(app.scene().mesh.elements, 100_000, "{:?}", app.message);
+}
+
+/// Issue 23 item 1, with files in the way: the closing save of a student's unsaved work never
+/// overwrites a file nor follows a link (even one to nothing); it takes the next free name.
+#[test]
+fn the_closing_save_takes_the_next_free_name() {
+    use beamfric::tui::state::follow::{ClassNews, Follow, Followers};
+    let dir = tempfile::tempdir().unwrap();
+    let taken = dir.path().join("bob-benchmark-1.toml");
+    std::fs::write(&taken, "someone else's").unwrap();
+    std::os::unix::fs::symlink(
+        dir.path().join("nowhere"),
+        dir.path().join("bob-benchmark-1-2.toml"),
+    )
+    .unwrap();
+    let options = Options {
+        save_policy: beamfric::tui::state::SavePolicy::Within(dir.path().to_path_buf()),
+        save_directory: Some(dir.path().to_path_buf()),
+        owner: Some("bob".into()),
+        follow: Some(Follow::student(&Followers::new(|| {}), "student")),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    keys(&mut app, "f ]");
+    update(
+        &mut app,
+        Msg::Class(ClassNews::Ended {
+            by: "the lecturer".into(),
+        }),
+    );
+    assert_eq!(
+        app.mode,
+        Mode::ClassEnded {
+            by: "the lecturer".into(),
+            saved: Some("bob-benchmark-1-3.toml".into())
+        }
+    );
+    assert_eq!(std::fs::read_to_string(&taken).unwrap(), "someone else's");
+    assert!(!dir.path().join("nowhere").exists());
+    let saved = std::fs::read_to_string(dir.path().join("bob-benchmark-1-3.toml")).unwrap();
+    assert_eq!(
+        beamfric::scene::Scene::from_toml(&saved, "bob").unwrap(),
+        *app.scene()
+    );
+}
