@@ -4,36 +4,24 @@
 //! ASCII: the selected obstacle's position in the deflection, the scene's ε in the ε charts,
 //! the current run in the error chart). The projector look and the ASCII look likewise.
 
-use beamfric::plot::{Look, MarkerSet, Palette, buffer_to_text};
+use beamfric::plot::{MarkerSet, Palette, buffer_to_text};
 use beamfric::tui::input::keys::Key;
 use beamfric::tui::state::App;
-use beamfric::tui::{RenderOptions, draw_to_buffer, prepare};
+use beamfric::tui::{draw_to_buffer, prepare};
 
-use crate::harness::scenes::loaded_preset;
+use crate::harness::scenes::{loaded_preset, plain_render};
 
 /// Benchmark 1 solved with every chart's data, the first obstacle's position selected (the
 /// deflection's current point).
 fn benchmark_1(ascii: bool) -> App {
     // f0, f1, E, width, height, then obstacle 1's x.
     let keys = [Key::Down; 5];
-    prepare(loaded_preset("benchmark-1"), &keys, options(120, 40, ascii)).expect("the preset opens")
-}
-
-/// A plain render's options (no colours, the default palette and markers).
-fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        look: Look {
-            ascii,
-            color: false,
-        },
-        palette: Palette::default(),
-        markers: MarkerSet::default(),
-        timings: false,
-        allow_save: None,
-        lesson: None,
-    }
+    prepare(
+        loaded_preset("benchmark-1"),
+        &keys,
+        plain_render(120, 40, ascii),
+    )
+    .expect("the preset opens")
 }
 
 /// The charts' rows of a frame (the panels right of the parameters and results).
@@ -160,7 +148,12 @@ fn the_projector_look() {
 /// cells are blank): Benchmark 3's four at 80×24.
 #[test]
 fn the_deflection_numbers_its_obstacles() {
-    let app = prepare(loaded_preset("benchmark-3"), &[], options(80, 24, false)).unwrap();
+    let app = prepare(
+        loaded_preset("benchmark-3"),
+        &[],
+        plain_render(80, 24, false),
+    )
+    .unwrap();
     let text = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
     let mut numbers = Vec::new();
     for line in text.lines() {

@@ -4,37 +4,26 @@
 //! values; ε steps landing on exact decades; the dual picture's words against the Results
 //! state.
 
-use beamfric::plot::{Look, buffer_to_text};
+use beamfric::plot::buffer_to_text;
 use beamfric::scene::Panel;
 use beamfric::tui::input::keys::parse_keys;
 use beamfric::tui::jobs::sweeps::compute_now;
 use beamfric::tui::layout::visible_panels;
 use beamfric::tui::state::{App, Options, PanelSet};
 use beamfric::tui::update::{Msg, update};
-use beamfric::tui::{RenderOptions, draw_to_buffer, render, settled};
+use beamfric::tui::{draw_to_buffer, render, settled};
 
-use crate::harness::scenes::{PLAIN, loaded_preset};
-
-fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        look: Look {
-            ascii,
-            color: false,
-        },
-        palette: Default::default(),
-        markers: Default::default(),
-        timings: false,
-        allow_save: None,
-        lesson: None,
-    }
-}
+use crate::harness::scenes::{PLAIN, loaded_preset, plain_render};
 
 /// The frame of a preset after `keys`.
 fn frame(name: &str, keys: &str, (width, height): (u16, u16), ascii: bool) -> String {
     let keys = parse_keys(keys).unwrap();
-    let buffer = render(loaded_preset(name), &keys, options(width, height, ascii)).unwrap();
+    let buffer = render(
+        loaded_preset(name),
+        &keys,
+        plain_render(width, height, ascii),
+    )
+    .unwrap();
     buffer_to_text(&buffer, false)
 }
 

@@ -156,7 +156,7 @@ impl ShootingSystem {
     /// The part of the mixed system shared by every interior-point step, in the memory of
     /// the template kept on this thread, if any.
     pub(super) fn mixed_template(&self) -> MixedTemplate {
-        let size = 4 * self.pieces.len() - 2;
+        let size = self.unknowns();
         let dofs = 2 * self.point_of_obstacle.len();
         // Obstacles are at distinct points: one column per friction DOF.
         let mut dof_of_column = vec![None; size];
@@ -304,7 +304,7 @@ impl ShootingSystem {
         x: &mut Vec<f64>,
     ) -> Option<()> {
         x.clear();
-        x.resize(4 * self.pieces.len() - 2, 0.0);
+        x.resize(self.unknowns(), 0.0);
         self.assemble_mixed(template, mixed, holds_force, None, x);
         banded.apply_inverse(x).then_some(())
     }

@@ -269,7 +269,7 @@ impl ShootingSystem {
     /// The matrix of `solve_pattern` with the exact piece relations' coefficients, in
     /// double-double.
     fn exact_matrix(&self, pattern: &[Pattern]) -> DoubleDoubleBanded {
-        let mut matrix = DoubleDoubleBanded::new(4 * self.pieces.len() - 2, BAND_LOWER, BAND_UPPER);
+        let mut matrix = DoubleDoubleBanded::new(self.unknowns(), BAND_LOWER, BAND_UPPER);
         self.assemble_matrix(
             pattern,
             |p| self.exact_pieces[p].transfer_matrix(),

@@ -30,7 +30,7 @@ pub(crate) fn shooting_matrix(
             }
         })
         .collect();
-    let size = 4 * system.pieces.len() - 2;
+    let size = system.unknowns();
     let mut entries: Vec<(usize, usize, f64)> = Vec::new();
     system.assemble_matrix(
         &pattern,

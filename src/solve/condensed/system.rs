@@ -256,7 +256,7 @@ impl ShootingSystem {
             c.factorizations += 1;
         });
         let pieces = self.pieces.len();
-        banded.reset(4 * pieces - 2);
+        banded.reset(self.unknowns());
         self.assemble_matrix(
             pattern,
             |p| self.pieces[p].transfer_matrix(),
@@ -294,6 +294,12 @@ impl ShootingSystem {
         let mut counts = self.counts.get();
         add(&mut counts);
         self.counts.set(counts);
+    }
+
+    /// Unknowns (and rows) of the multiple-shooting system: the four state components at
+    /// every point between two pieces, and m, m' at the left end ([`ShootingSystem::column`]).
+    pub(super) fn unknowns(&self) -> usize {
+        4 * self.pieces.len() - 2
     }
 
     /// Column of component c (0..4) of the state at point p; point 0 has only m, m'.

@@ -6,7 +6,7 @@
 
 use beamfric::plot::buffer_to_text;
 use beamfric::scene::{PRESETS, Panel, SceneSource};
-use beamfric::solve::{Method, SolveErrorKind};
+use beamfric::solve::{Method, Solution, SolveErrorKind};
 use beamfric::tui::input::keys::{Key, parse_keys};
 use beamfric::tui::jobs::sweeps::compute_now;
 use beamfric::tui::layout::visible_panels;
@@ -149,16 +149,15 @@ fn frames_are_deterministic() {
     );
 }
 
+/// The solution the explorer shows, which must be there and be one.
+fn shown(app: &App) -> &Solution {
+    app.exploration.solution().unwrap().as_ref().unwrap()
+}
+
 #[test]
 fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
     let mut app = app("benchmark-1");
-    let before = app
-        .exploration
-        .solution()
-        .unwrap()
-        .as_ref()
-        .unwrap()
-        .obstacles[0];
+    let before = shown(&app).obstacles[0];
     assert!(before.sliding && (before.force - 100.0).abs() < 1e-9);
     // Row 6 is the sliding threshold; three coarse steps: 100 N → 1e5 N, above the shear.
     press(
@@ -166,13 +165,7 @@ fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
         "Down Down Down Down Down Down S-Right S-Right S-Right",
     );
     assert_eq!(app.scene().obstacles[0].sliding, 1e5);
-    let after = app
-        .exploration
-        .solution()
-        .unwrap()
-        .as_ref()
-        .unwrap()
-        .obstacles[0];
+    let after = shown(&app).obstacles[0];
     assert!(!after.sliding && !after.swivel);
     assert!(after.force.abs() < 1e5 && after.force > 100.0);
     assert_eq!(after.u, 0.0);
@@ -181,25 +174,11 @@ fn raising_the_sliding_threshold_makes_the_obstacle_stick() {
 #[test]
 fn keys_change_the_state_and_the_solution() {
     let mut app = app("benchmark-1");
-    let u0 = app
-        .exploration
-        .solution()
-        .unwrap()
-        .as_ref()
-        .unwrap()
-        .max_deflection();
+    let u0 = shown(&app).max_deflection();
     // Load: one fine step multiplies f (and, with the point still sliding, changes u).
     press(&mut app, "Right");
     assert!((app.scene().load.f0 / 5e4 - 10f64.powf(0.1)).abs() < 1e-12);
-    assert!(
-        app.exploration
-            .solution()
-            .unwrap()
-            .as_ref()
-            .unwrap()
-            .max_deflection()
-            > u0
-    );
+    assert!(shown(&app).max_deflection() > u0);
     // A typed exact value; a bad one changes nothing and says why.
     press(&mut app, "Enter 3 e 4 Enter");
     assert_eq!(app.scene().load.f0, 3e4);
@@ -215,10 +194,7 @@ fn keys_change_the_state_and_the_solution() {
     assert_eq!(*app.scene(), loaded_preset("benchmark-1").scene);
     // Method and ε (row 8, counted from the top).
     press(&mut app, "m");
-    assert_eq!(
-        app.exploration.solution().unwrap().as_ref().unwrap().method,
-        Method::Condensed
-    );
+    assert_eq!(shown(&app).method, Method::Condensed);
     press(&mut app, "Up Up Up Up Up Up Up Up Up Up Up Up");
     press(&mut app, "Down Down Down Down Down Down Down Down S-Left");
     assert_eq!(

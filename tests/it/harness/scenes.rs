@@ -156,3 +156,21 @@ pub const PLAIN: Look = Look {
     ascii: false,
     color: false,
 };
+
+/// A plain render's options at `width` × `height`: no colours (ASCII where `ascii`), the
+/// default palette and markers, no timings, no saves, no lesson.
+pub fn plain_render(width: u16, height: u16, ascii: bool) -> beamfric::tui::RenderOptions {
+    beamfric::tui::RenderOptions {
+        width,
+        height,
+        look: Look {
+            ascii,
+            color: false,
+        },
+        palette: Default::default(),
+        markers: Default::default(),
+        timings: false,
+        allow_save: None,
+        lesson: None,
+    }
+}

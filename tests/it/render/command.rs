@@ -29,7 +29,7 @@ fn the_command_prints_the_library_frame_byte_for_byte_and_the_same_every_time() 
     assert_eq!(first.stdout, second.stdout, "two renders differ");
     let loaded = loaded_preset("benchmark-3");
     let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
-    let buffer = beamfric::tui::render(loaded, &keys, options(100, 30, false)).unwrap();
+    let buffer = beamfric::tui::render(loaded, &keys, plain_render(100, 30, false)).unwrap();
     assert_eq!(
         String::from_utf8(first.stdout).unwrap(),
         buffer_to_text(&buffer, false)
@@ -175,7 +175,7 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
         for palette in Palette::ALL {
             for (w, h) in LESSON_SIZES {
                 let loaded = loaded_preset(scene);
-                let mut options = options(w, h, false);
+                let mut options = plain_render(w, h, false);
                 options.look.color = true;
                 options.palette = palette;
                 let app = prepare(loaded, &keys, options).unwrap();

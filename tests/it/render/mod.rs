@@ -6,38 +6,22 @@
 
 use std::process::Command;
 
-use beamfric::plot::{Look, buffer_to_text};
+use beamfric::plot::buffer_to_text;
 use beamfric::scene::PRESETS;
-use beamfric::tui::{RenderOptions, draw_to_buffer, prepare};
+use beamfric::tui::{draw_to_buffer, prepare};
 
 use crate::harness::process::beamfric;
-use crate::harness::scenes::loaded_preset;
+use crate::harness::scenes::{loaded_preset, plain_render};
 use crate::harness::screen::typed;
 
 mod command;
 
 const SIZES: [(u16, u16); 2] = [(120, 40), (80, 24)];
 
-fn options(width: u16, height: u16, ascii: bool) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        look: Look {
-            ascii,
-            color: false,
-        },
-        palette: Default::default(),
-        markers: Default::default(),
-        timings: false,
-        allow_save: None,
-        lesson: None,
-    }
-}
-
 /// The four frames of a preset (two sizes, two looks), from one prepared state.
 fn frames(name: &str) -> Vec<(String, String)> {
     let loaded = loaded_preset(name);
-    let mut app = prepare(loaded, &[], options(120, 40, false)).unwrap();
+    let mut app = prepare(loaded, &[], plain_render(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
         app.look.ascii = ascii;
@@ -109,7 +93,7 @@ fn lesson_frames(
     for (w, h) in LESSON_SIZES {
         let loaded = loaded_preset(scene);
         let keys = beamfric::tui::input::keys::parse_keys(&keys_at(w)).unwrap();
-        let mut app = prepare(loaded, &keys, options(w, h, false)).unwrap();
+        let mut app = prepare(loaded, &keys, plain_render(w, h, false)).unwrap();
         adjust(&mut app);
         for ascii in [false, true] {
             app.look.ascii = ascii;
@@ -130,7 +114,7 @@ fn lesson_frames(
 fn frames_after(name: &str, keys: &str, sizes: &[(u16, u16)]) -> Vec<(String, String, bool)> {
     let loaded = loaded_preset(name);
     let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
-    let mut app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
+    let mut app = prepare(loaded, &keys, plain_render(120, 40, false)).unwrap();
     let mut out = Vec::new();
     for ascii in [false, true] {
         app.look.ascii = ascii;
@@ -403,7 +387,7 @@ fn regularized_deflection_with_its_reference() {
 fn warning_messages(name: &str, keys: &str) -> Vec<String> {
     let loaded = loaded_preset(name);
     let keys = beamfric::tui::input::keys::parse_keys(keys).unwrap();
-    let app = prepare(loaded, &keys, options(120, 40, false)).unwrap();
+    let app = prepare(loaded, &keys, plain_render(120, 40, false)).unwrap();
     match app.exploration.solution() {
         Some(Ok(solution)) => solution
             .warnings
