@@ -9,12 +9,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use crossterm::cursor::{Hide, Show};
+use crossterm::event::{DisableBracketedPaste, EnableBracketedPaste};
 use crossterm::queue;
 use crossterm::terminal::{EnterAlternateScreen, LeaveAlternateScreen};
 use ratatui::backend::CrosstermBackend;
 use ratatui::layout::Rect;
 use ratatui::{Terminal, TerminalOptions, Viewport};
 
+use crate::format::printable;
 use crate::tui::state::{App, Ending};
 
 pub use super::event_loop::AfterFrame;
@@ -104,7 +106,9 @@ pub fn run_remote(
         frames_lost,
     } = remote;
     let (width, height) = clamp_size(size.0, size.1);
-    queue!(output, EnterAlternateScreen, Hide)?;
+    // Bracketed paste as locally (`terminal`): without it the client's terminal sends a paste
+    // as keys, and every `s`, `d` or `q` in the text would run.
+    queue!(output, EnterAlternateScreen, EnableBracketedPaste, Hide)?;
     let options = TerminalOptions {
         viewport: Viewport::Fixed(Rect::new(0, 0, width, height)),
     };
@@ -129,15 +133,41 @@ pub fn run_remote(
     // the server's stderr on failure).
     let _ = screen.terminal.show_cursor();
     let output = screen.terminal.backend_mut();
-    let _ = queue!(output, LeaveAlternateScreen, Show);
+    let _ = queue!(output, DisableBracketedPaste, LeaveAlternateScreen, Show);
     if let (Ok(Ending::Idle), Some(limit)) = (&ending, idle_timeout) {
         let _ = write!(
             output,
             "beamfric: closed after {} s without input\r\n",
             limit.as_secs()
         );
+        let _ = write_unsaved_work(output, &app);
     }
     // Not flushed here: the output sends what is left when it is dropped, with the patience
     // a last frame deserves (a served session's output drops frames a client does not read).
     ending
+}
+
+/// After an idle session's end, on the client's own screen (it stays in the scrollback):
+/// where its unsaved changes went, or, without a save directory, the scene as TOML to copy.
+/// Nothing when there were none.
+fn write_unsaved_work(output: &mut impl Write, app: &App) -> io::Result<()> {
+    if let Some(name) = &app.saved_at_closing {
+        return write!(
+            output,
+            "beamfric: your changes are saved as {} in the server's save directory\r\n",
+            printable(name)
+        );
+    }
+    if !app.modified() {
+        return Ok(());
+    }
+    write!(
+        output,
+        "beamfric: your changes are not saved on the server; the scene as TOML, to copy into \
+         a file:\r\n\r\n"
+    )?;
+    for line in app.scene().to_toml().lines() {
+        write!(output, "{}\r\n", printable(line))?;
+    }
+    Ok(())
 }

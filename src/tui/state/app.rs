@@ -208,6 +208,9 @@ pub struct App {
     pub size: (u16, u16),
     /// How the explorer ended, once it has: the event loop stops then.
     pub ending: Option<Ending>,
+    /// Where the scene's unsaved changes went when the session was closed for it (idle or
+    /// hung up) under a save directory: the file's name.
+    pub saved_at_closing: Option<String>,
     /// Ctrl-Z: the event loop gives the terminal back and stops the process.
     pub suspend_requested: bool,
     /// Most elements a change may ask for (served sessions); `None`: the scene rules only.
@@ -272,6 +275,7 @@ impl App {
             show_difference: false,
             size: (120, 40),
             ending: None,
+            saved_at_closing: None,
             suspend_requested: false,
             max_elements: options.max_elements,
             follow: options.follow,

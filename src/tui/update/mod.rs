@@ -161,6 +161,11 @@ pub fn update(app: &mut App, msg: Msg) {
         }
         Msg::Tick => {}
         Msg::End(ending) => {
+            if app.ending.is_none() && matches!(ending, Ending::Idle | Ending::Hangup) {
+                // Closed for the user, not by them: changes go to the save directory where
+                // there is one (else the idle session prints them, `runtime::remote`).
+                app.saved_at_closing = save::save_at_closing(app);
+            }
             app.ending.get_or_insert(ending);
         }
     }

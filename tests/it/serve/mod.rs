@@ -101,6 +101,42 @@ fn q_quits_and_closes_the_channel_with_status_zero() {
     eventually("the session ends", || test.server.sessions() == 0);
 }
 
+#[test]
+fn a_served_session_asks_for_bracketed_paste_and_never_runs_a_paste() {
+    // A hostile pass (stop 58): served sessions did not ask the client's terminal for
+    // bracketed paste, so a student's paste arrived as keys and its `s` opened the save prompt.
+    let test = open_server();
+    runtime().block_on(async {
+        let handle = logged_in(test.server.address()).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        let raw = String::from_utf8_lossy(&explorer.raw).into_owned();
+        let asked = raw.find("\x1b[?2004h").expect("bracketed paste asked for");
+        let first_frame = raw.find("Parameters").unwrap();
+        assert!(asked < first_frame, "{raw:?}");
+        // What the client's terminal then sends for a paste of commands: noted, not run.
+        explorer
+            .send(b"\x1b[200~see section 5.2 and eq (40)\rdq\x1b[201~")
+            .await;
+        explorer
+            .wait_for("a paste is typed only into a prompt")
+            .await;
+        let text = explorer.text();
+        assert!(!text.contains("save the scene to"), "{text}");
+        assert!(!text.contains("[modified]"), "{text}");
+        explorer.send(b"q").await;
+        explorer.wait_for_close().await;
+        assert_eq!(explorer.exit_status, Some(0));
+        // And it is asked to stop again on the way out.
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(
+            raw.rfind("\x1b[?2004l") > raw.rfind("\x1b[?2004h"),
+            "{raw:?}"
+        );
+    });
+    eventually("the session ends", || test.server.sessions() == 0);
+}
+
 /// A 100×30 session drawn in ASCII (no box drawing) and without colours.
 fn assert_plain(explorer: &Explorer) {
     let text = explorer.text();
@@ -185,6 +221,75 @@ fn an_idle_session_is_closed_with_a_word() {
         assert!(raw.contains("closed after 1 s without input"), "{raw:?}");
     });
     eventually("the session ends", || server.sessions() == 0);
+}
+
+/// A served session of `server` that changes the scene (→ on the first parameter) and
+/// waits until the change shows.
+async fn changed_session(
+    server: &Server,
+) -> (
+    russh::client::Handle<crate::harness::ssh::TrustingClient>,
+    Explorer,
+) {
+    let handle = logged_in(server.address()).await;
+    let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+    explorer.wait_for("Parameters").await;
+    explorer.send(b"\x1b[C").await;
+    explorer.wait_for("[modified]").await;
+    (handle, explorer)
+}
+
+#[test]
+fn a_session_closed_for_its_user_hands_over_their_unsaved_changes() {
+    // Stop 58's hostile pass: the idle timeout closed a session with changes, said only
+    // "closed after 3 s without input", and the changes were gone.
+    let preset = beamfric::scene::load("benchmark-1").unwrap().scene;
+    let idle = Some(Duration::from_secs(2));
+    // Without a save directory: the scene as TOML on the client's own screen, after the
+    // explorer has left it.
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        idle_timeout: idle,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let (_handle, mut explorer) = changed_session(&server).await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw).into_owned();
+        let marker = "the scene as TOML, to copy into a file:\r\n\r\n";
+        let at = raw.find(marker).unwrap_or_else(|| panic!("{raw:?}")) + marker.len();
+        let text = raw[at..].replace("\r\n", "\n");
+        let scene = beamfric::scene::Scene::from_toml(&text, "printed").unwrap();
+        assert_ne!(scene, preset, "the change is in what was printed");
+        assert_eq!(scene.obstacles, preset.obstacles);
+    });
+    // With one: saved there, on an idle end and on a hang-up alike.
+    let dir = tempfile::tempdir().unwrap();
+    let saves = dir.path().join("saves");
+    std::fs::create_dir_all(&saves).unwrap();
+    let server = Server::start(&ServeOptions {
+        idle_timeout: idle,
+        save_dir: Some(saves.clone()),
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let (_handle, mut explorer) = changed_session(&server).await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(raw.contains("your changes are saved as "), "{raw:?}");
+        let (handle, _explorer) = changed_session(&server).await;
+        disconnect(&handle).await;
+    });
+    eventually("both sessions' changes are saved", || {
+        std::fs::read_dir(&saves).unwrap().count() == 2
+    });
+    for entry in std::fs::read_dir(&saves).unwrap() {
+        let path = entry.unwrap().path();
+        let saved = beamfric::scene::load(path.to_str().unwrap()).unwrap().scene;
+        assert_ne!(saved, preset, "{}", path.display());
+    }
 }
 
 #[test]
