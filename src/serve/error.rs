@@ -25,14 +25,18 @@ pub enum ServeError {
     Start(String),
     /// The lecturer's own explorer (`present`) failed.
     Terminal(TerminalError),
+    /// The recording (`present --record`) could not be finished (the text says why and what
+    /// the file holds).
+    Recording(String),
 }
 
 impl std::fmt::Display for ServeError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ServeError::Option(text) | ServeError::Secret(text) | ServeError::Start(text) => {
-                f.write_str(text)
-            }
+            ServeError::Option(text)
+            | ServeError::Secret(text)
+            | ServeError::Start(text)
+            | ServeError::Recording(text) => f.write_str(text),
             ServeError::Scene(e) => e.fmt(f),
             ServeError::Lesson(e) => e.fmt(f),
             ServeError::Listen { address, source } => {

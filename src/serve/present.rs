@@ -72,6 +72,9 @@ pub fn present(
     let ending = run_local(
         app,
         |feed| {
+            if let Some(recording) = &recording {
+                recording.tell_failures_to(feed.clone());
+            }
             presenter_id = Some(hub.join_presenter(feed));
             Some(Box::new(move |app: &App| {
                 if let Some(hub) = &publishing.hub {
@@ -85,9 +88,7 @@ pub fn present(
         tap,
     )
     .map_err(ServeError::Terminal);
-    if let Some(recording) = recording {
-        finish_recording(recording, record);
-    }
+    let recording_failed = recording.and_then(|recording| finish_recording(recording, record));
     // The class ends: every student sees their closing screen (their scene saved under
     // --save-dir or shown to copy) and leaves with a key, or the server closes after a grace.
     let told = hub.end_class("the lecturer");
@@ -115,11 +116,15 @@ pub fn present(
         }
     }
     log("stopped");
+    // Said last, and the status is not zero: the recording is not what was asked for.
+    if let Some(failure) = recording_failed {
+        return Err(ServeError::Recording(failure));
+    }
     ending
 }
 
-/// Ends the recording and says where it went (or why it could not be finished).
-fn finish_recording(recording: Recording, path: Option<&std::path::Path>) {
+/// Ends the recording and says where it went; or returns why it could not be finished.
+fn finish_recording(recording: Recording, path: Option<&std::path::Path>) -> Option<String> {
     match recording.finish() {
         Ok(summary) => log(&format!(
             "recording saved: {}{} ({:.0} s, {} bytes{}); asciinema play {} replays it",
@@ -141,16 +146,19 @@ fn finish_recording(recording: Recording, path: Option<&std::path::Path>) {
             crate::format::printable(&summary.path.display().to_string())
         )),
         // A full disk, say: the file keeps its last whole write, a complete cast.
-        Err(e) => log(&format!(
-            "the recording could not be finished ({}); {} keeps it as last written, a complete \
+        Err(e) => {
+            return Some(format!(
+                "the recording could not be finished ({}); {} keeps it as last written, a complete \
              cast up to then",
-            e.kind(),
-            path.map_or_else(String::new, |p| crate::format::printable(
-                &p.display().to_string()
-            )
-            .into_owned())
-        )),
+                e.kind(),
+                path.map_or_else(String::new, |p| crate::format::printable(
+                    &p.display().to_string()
+                )
+                .into_owned()),
+            ));
+        }
     }
+    None
 }
 
 /// Starts `--record FILE`: the terminal's size now, written at once (a file there is refused).

@@ -1,7 +1,8 @@
 //! `present --record FILE.cast` (issue 23): the lecturer's screen as an asciinema v2 cast,
 //! parsed back — the header, every event line, times that never go back, a marker per lesson
 //! step, and the last frame equal to the lecturer's screen — and a presenter killed with
-//! SIGKILL leaves a cast that still parses.
+//! SIGKILL leaves a cast that still parses; a recording that cannot be written is told to the
+//! lecturer at once and makes the status 2.
 
 #![cfg(unix)]
 
@@ -144,4 +145,41 @@ fn a_presenter_killed_with_sigkill_leaves_a_cast_that_parses() {
     assert_eq!(cast.header["version"], 2);
     assert!(cast.events.iter().any(|e| e.1 == "o"));
     assert!(last_screen(&cast).contains("step 2/7:"));
+}
+
+#[test]
+fn a_recording_that_cannot_be_written_is_told_at_once_and_the_status_says_so() {
+    // Stop 58's hostile pass: on a full disk the periodic writes failed in silence for the
+    // whole class, and `present` still ended with status 0. A folder taken away makes every
+    // write fail, as root too.
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("recordings");
+    std::fs::create_dir(&folder).unwrap();
+    let path = folder.join("class.cast");
+    let mut lecturer = presenting(dir.path(), &path);
+    past_the_join_screen(&mut lecturer);
+    lecturer.wait_for_screen("step 1/7:");
+    std::fs::remove_dir_all(&folder).unwrap();
+    lecturer.type_bytes(b" ");
+    lecturer.wait_for_screen("the recording cannot be written");
+    // Back, and the next change is written again, and said to be.
+    std::fs::create_dir(&folder).unwrap();
+    lecturer.type_bytes(b" ");
+    lecturer.wait_for_screen("the recording is written again");
+    eventually("the cast is back, with step 3's marker", || {
+        parse(&path).is_ok_and(|cast| {
+            cast.events
+                .iter()
+                .any(|e| e.1 == "m" && e.2.starts_with("step 3/7"))
+        })
+    });
+    // Gone again at the end: the last write fails, and so does the command.
+    std::fs::remove_dir_all(&folder).unwrap();
+    lecturer.type_bytes(b"q");
+    assert_eq!(lecturer.exit().code(), Some(2));
+    let text = lecturer.text();
+    assert!(
+        text.contains("the recording could not be finished"),
+        "{text}"
+    );
 }

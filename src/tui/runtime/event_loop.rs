@@ -432,6 +432,7 @@ fn apply_event<S: Screen>(
         },
         Event::Swept(result) => update(app, Msg::Swept(result)),
         Event::Redraw => update(app, Msg::Tick),
+        Event::Notice(text) => update(app, Msg::Notice(text)),
         Event::Follow(exploration) => {
             // A student watching the presenter is not idle.
             state.last_input = Instant::now();

@@ -34,6 +34,8 @@ pub enum Event {
     Class(ClassNews),
     /// Nothing but a new frame (e.g. the number of followers changed).
     Redraw,
+    /// A note for the user from outside the explorer (the recording cannot be written).
+    Notice(String),
 }
 
 /// Largest terminal accepted, in cells: 500 columns × 200 rows, more than a 4K screen shows at
@@ -160,6 +162,11 @@ impl Feed {
     /// News of the class (follow mode).
     pub fn class_news(&self, news: ClassNews) {
         let _ = self.sender.send(Event::Class(news));
+    }
+
+    /// A note for the user, shown as the explorer's message.
+    pub fn notice(&self, text: String) {
+        let _ = self.sender.send(Event::Notice(text));
     }
 
     /// Draw again (something the frame shows changed outside the explorer); one wake-up until

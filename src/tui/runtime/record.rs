@@ -17,6 +17,7 @@ use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
+use super::feed::Feed;
 use super::screen::{MOUSE_OFF, MOUSE_ON};
 
 /// At most this much of the recording is lost if the process dies.
@@ -29,6 +30,8 @@ enum Record {
     Output(f64, Vec<u8>),
     Marker(f64, String),
     Resize(f64, u16, u16),
+    /// Where to tell the user when the file cannot be written, and when it can again.
+    TellFailuresTo(Feed),
     Finish,
 }
 
@@ -90,6 +93,8 @@ impl Recording {
             last_time: 0.0,
             written: None,
             moved_from: None,
+            told: None,
+            failing: false,
         };
         cast.persist(false)?;
         let (sender, receiver) = channel();
@@ -101,6 +106,12 @@ impl Recording {
             tap: RecordTap { sender, start },
             thread: Some(thread),
         })
+    }
+
+    /// From now on, a write of the recording that fails (a full disk, say) is told to the
+    /// explorer of `feed` at once, as its message, and so is the next one that succeeds.
+    pub fn tell_failures_to(&self, feed: Feed) {
+        let _ = self.tap.sender.send(Record::TellFailuresTo(feed));
     }
 
     /// The tap for the UI thread.
@@ -197,6 +208,10 @@ struct Cast {
     written: Option<Identity>,
     /// Where the recording was meant to go, when something else took that name meanwhile.
     moved_from: Option<PathBuf>,
+    /// Who is told when a write fails ([`Recording::tell_failures_to`]).
+    told: Option<Feed>,
+    /// The last write failed.
+    failing: bool,
 }
 
 impl Cast {
@@ -213,6 +228,7 @@ impl Cast {
             };
             match received {
                 Ok(Record::Finish) | Err(RecvTimeoutError::Disconnected) => break,
+                Ok(Record::TellFailuresTo(feed)) => self.told = Some(feed),
                 Ok(record) => {
                     self.add(record);
                     changed_at.get_or_insert_with(Instant::now);
@@ -220,9 +236,11 @@ impl Cast {
                 Err(RecvTimeoutError::Timeout) => {}
             }
             if changed_at.is_some_and(|at| at.elapsed() >= period) {
-                // A failed periodic write is tried again at the next change and at the end.
+                // A failed periodic write is tried again at the next change and at the end;
+                // the user hears of the first failure, and of the write that works again.
                 let started = Instant::now();
-                let _ = self.persist(false);
+                let written = self.persist(false);
+                self.tell(written);
                 period = FLUSH_EVERY.max(started.elapsed() * 4);
                 changed_at = None;
             }
@@ -237,11 +255,33 @@ impl Cast {
         })
     }
 
+    /// Tells the user ([`Cast::told`]) of a periodic write that failed after one that worked,
+    /// or that worked after one that failed.
+    fn tell(&mut self, written: io::Result<()>) {
+        let text = match (&written, self.failing) {
+            (Err(e), false) => format!(
+                "the recording cannot be written ({}): {} keeps its last whole write; every \
+                 change is tried again",
+                e.kind(),
+                crate::format::printable(&self.path.display().to_string())
+            ),
+            (Ok(()), true) => format!(
+                "the recording is written again to {}",
+                crate::format::printable(&self.path.display().to_string())
+            ),
+            _ => return,
+        };
+        self.failing = written.is_err();
+        if let Some(feed) = &self.told {
+            feed.notice(text);
+        }
+    }
+
     /// Appends one event line.
     fn add(&mut self, record: Record) {
         let time = match &record {
             Record::Output(time, _) | Record::Marker(time, _) | Record::Resize(time, ..) => *time,
-            Record::Finish => return,
+            Record::Finish | Record::TellFailuresTo(_) => return,
         };
         // Times never go back.
         let time = self.last_time.max(time);
@@ -271,7 +311,7 @@ impl Cast {
             Record::Resize(_, width, height) => {
                 serde_json::json!([round(time), "r", format!("{width}x{height}")])
             }
-            Record::Finish => return,
+            Record::Finish | Record::TellFailuresTo(_) => return,
         };
         let line = line.to_string();
         if self.events.len() + line.len() + 1 > MAX_CAST_BYTES {

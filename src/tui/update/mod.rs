@@ -76,6 +76,9 @@ pub enum Msg {
     Suspension(Suspension),
     /// Time passed (a redraw while work is in flight); nothing changes.
     Tick,
+    /// A note from outside the explorer (the recording cannot be written), shown as its
+    /// message.
+    Notice(String),
     /// The explorer ends: the terminal hung up, a signal, the idle timeout.
     End(Ending),
 }
@@ -160,6 +163,7 @@ pub fn update(app: &mut App, msg: Msg) {
             }
         }
         Msg::Tick => {}
+        Msg::Notice(text) => app.message = Some(text),
         Msg::End(ending) => {
             if app.ending.is_none() && matches!(ending, Ending::Idle | Ending::Hangup) {
                 // Closed for the user, not by them: changes go to the save directory where
