@@ -11,6 +11,9 @@ pub struct Prompt {
     pub cursor: usize,
     /// The text is the pre-filled value, all of it selected: typing replaces it.
     pub selected: bool,
+    /// Characters typed or pasted past the limit, not inserted: the text is not what was
+    /// typed, so Enter refuses it until the prompt is emptied (Ctrl-U, Backspace).
+    pub refused: usize,
 }
 
 /// What typing a character did.
@@ -29,6 +32,7 @@ impl Prompt {
             cursor: text.chars().count(),
             text,
             selected,
+            refused: 0,
         }
     }
 
@@ -48,6 +52,7 @@ impl Prompt {
             self.selected = false;
         }
         if self.text.chars().count() >= limit {
+            self.refused += 1;
             return Typed::Full;
         }
         let at = self.byte_index(self.cursor);
@@ -67,6 +72,14 @@ impl Prompt {
             self.text.remove(at);
             self.cursor -= 1;
         }
+        self.forget_refused_when_empty();
+    }
+
+    /// An emptied prompt starts afresh: nothing typed into it was refused.
+    fn forget_refused_when_empty(&mut self) {
+        if self.text.is_empty() {
+            self.refused = 0;
+        }
     }
 
     /// Ctrl-U: everything before the cursor.
@@ -75,6 +88,7 @@ impl Prompt {
         self.text.replace_range(..at, "");
         self.cursor = 0;
         self.selected = false;
+        self.forget_refused_when_empty();
     }
 
     /// Moves the cursor by `step` characters (negative: left), within the text.

@@ -6,12 +6,12 @@ use crate::tui::input::keymap::Action;
 use crate::tui::layout::picker::picker_rows_shown;
 use crate::tui::state::params::{Row, set_from_text};
 use crate::tui::state::picker::PresetPicker;
-use crate::tui::state::prompt::Prompt;
+use crate::tui::state::prompt::{Prompt, Typed};
 use crate::tui::state::{App, Discard, Mode};
 
 use super::discard::unless_unsaved;
 use super::edit::try_apply;
-use super::typing::edit_prompt;
+use super::typing::{edit_prompt, too_long};
 
 /// Longest value a prompt accepts.
 const PROMPT_LIMIT: usize = 200;
@@ -35,13 +35,24 @@ pub(super) fn scrolled(offset: u16, action: Action, page: u16) -> Option<u16> {
 
 /// A key in the prompt for `row`'s value: Enter sets it (if the scene's rules accept it).
 pub(super) fn editing(app: &mut App, action: Action, row: Row, mut prompt: Prompt) {
-    if edit_prompt(&mut prompt, action, PROMPT_LIMIT).is_some() {
+    if let Some(typed) = edit_prompt(&mut prompt, action, PROMPT_LIMIT) {
+        if typed == Typed::Full {
+            app.message = Some(too_long("a value", PROMPT_LIMIT, prompt.refused));
+        }
         app.mode = Mode::Editing { row, prompt };
         return;
     }
     match action {
         Action::Confirm => {
             app.mode = Mode::Normal;
+            if prompt.refused > 0 {
+                // What the prompt holds is not what was typed: a cut number is another.
+                app.message = Some(format!(
+                    "rejected: {}; nothing changed",
+                    too_long("a value", PROMPT_LIMIT, prompt.refused)
+                ));
+                return;
+            }
             if prompt.text.trim().is_empty() {
                 return;
             }

@@ -9,7 +9,7 @@ use crate::tui::input::keymap::Action;
 use crate::tui::state::prompt::{Prompt, Typed};
 use crate::tui::state::{App, Discard, Mode, SavePolicy};
 
-use super::typing::edit_prompt;
+use super::typing::{edit_prompt, too_long};
 
 /// Longest file name the save prompt accepts (PATH_MAX on Linux).
 const PATH_LIMIT: usize = 4096;
@@ -39,7 +39,7 @@ pub(super) fn start_save(app: &mut App) {
 pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> Option<Discard> {
     match edit_prompt(&mut prompt, action, PATH_LIMIT) {
         Some(Typed::Full) => {
-            app.message = Some(format!("a file name has at most {PATH_LIMIT} characters"));
+            app.message = Some(too_long("a file name", PATH_LIMIT, prompt.refused));
             app.mode = Mode::Save { prompt };
             return None;
         }
@@ -52,7 +52,14 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
     match action {
         Action::Confirm => {
             let path = prompt.text.trim().to_string();
-            if path.is_empty() {
+            if prompt.refused > 0 {
+                // Saved under a name cut short, the file would be hard to find.
+                app.mode = Mode::Normal;
+                app.message = Some(format!(
+                    "not saved: {}",
+                    too_long("a file name", PATH_LIMIT, prompt.refused)
+                ));
+            } else if path.is_empty() {
                 app.mode = Mode::Normal;
                 app.message = Some("not saved: no file name".into());
             } else if save_target(&app.save_policy, &path).is_some_and(|t| t.exists()) {

@@ -6,10 +6,10 @@
 use crate::format::printable;
 use crate::tui::input::keymap::Action;
 use crate::tui::state::follow::ClassNews;
-use crate::tui::state::prompt::Prompt;
+use crate::tui::state::prompt::{Prompt, Typed};
 use crate::tui::state::{App, Mode};
 
-use super::typing::edit_prompt;
+use super::typing::{edit_prompt, too_long};
 
 /// Longest message to the students: with `from the presenter: ` it fills one status line at
 /// 80 columns, never cut on a student's screen.
@@ -71,11 +71,22 @@ pub(super) fn in_list(app: &mut App, action: Action, offset: u16) {
 
 /// A key in the message prompt: Enter sends the line to every student.
 pub(super) fn broadcast_prompt(app: &mut App, action: Action, mut prompt: Prompt) {
-    if edit_prompt(&mut prompt, action, BROADCAST_LIMIT).is_some() {
+    if let Some(typed) = edit_prompt(&mut prompt, action, BROADCAST_LIMIT) {
+        if typed == Typed::Full {
+            app.message = Some(too_long("a message", BROADCAST_LIMIT, prompt.refused));
+        }
         app.mode = Mode::Broadcast { prompt };
         return;
     }
     match action {
+        Action::Confirm if prompt.refused > 0 => {
+            // Kept to shorten: sent cut, the message would say something else.
+            app.message = Some(format!(
+                "nothing sent: {}",
+                too_long("a message", BROADCAST_LIMIT, prompt.refused)
+            ));
+            app.mode = Mode::Broadcast { prompt };
+        }
         Action::Confirm => {
             app.mode = Mode::Normal;
             let text = printable(prompt.text.trim()).into_owned();

@@ -19,3 +19,8 @@ pub(super) fn edit_prompt(prompt: &mut Prompt, action: Action, limit: usize) -> 
     }
     Some(Typed::Inserted)
 }
+
+/// What a prompt says of characters refused for its length: `refused` past `limit`.
+pub(super) fn too_long(what: &str, limit: usize, refused: usize) -> String {
+    format!("{what} has at most {limit} characters ({refused} more typed, not taken)")
+}

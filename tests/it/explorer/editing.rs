@@ -156,6 +156,46 @@ fn the_value_prompt_is_pre_filled_and_editable() {
     assert_eq!(app.mode, Mode::Normal);
 }
 
+#[test]
+fn a_value_longer_than_the_prompt_takes_is_refused_never_cut() {
+    // Stop 58's hostile pass: the prompt dropped what came past 200 characters in silence,
+    // so "0." with 250 zeros and a 5 set f0 to 0, and 200 digits with e-190 set 1.2e199.
+    let mut app = app("benchmark-1");
+    let before = app.scene().clone();
+    let digits = format!("1{}", "2".repeat(199));
+    press(&mut app, &format!("Enter {} e - 1 9 0", typed(&digits)));
+    let message = app.message.clone().unwrap_or_default();
+    assert_eq!(
+        message,
+        "a value has at most 200 characters (5 more typed, not taken)"
+    );
+    press(&mut app, "Enter");
+    assert_eq!(
+        app.message.as_deref(),
+        Some(
+            "rejected: a value has at most 200 characters (5 more typed, not taken); nothing \
+             changed"
+        )
+    );
+    assert_eq!(*app.scene(), before);
+    // A paste past the limit alike.
+    press(&mut app, "Enter");
+    update(&mut app, Msg::Paste(format!("0.{}5", "0".repeat(250))));
+    press(&mut app, "Enter");
+    assert!(
+        app.message
+            .as_deref()
+            .unwrap_or_default()
+            .starts_with("rejected: a value has at most"),
+        "{:?}",
+        app.message
+    );
+    assert_eq!(*app.scene(), before);
+    // Emptied, the prompt takes a value again.
+    press(&mut app, &format!("Enter {} C-u 7 Enter", typed(&digits)));
+    assert_eq!(app.scene().load.f0, 7.0);
+}
+
 /// Issue 13: `b` where no deflection panel is on screen brings it forward; the diagram does
 /// not leak into the next preset.
 #[test]

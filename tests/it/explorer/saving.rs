@@ -274,4 +274,11 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
             .unwrap()
             .contains("at most 4096 characters")
     );
+    // Enter then saves nothing: a name cut short is not the one typed (stop 58).
+    beamfric::tui::press(&mut app, Key::Enter);
+    assert_eq!(app.mode, Mode::Normal);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("not saved: a file name has at most 4096 characters (914 more typed, not taken)")
+    );
 }
