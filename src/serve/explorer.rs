@@ -246,6 +246,9 @@ pub(crate) fn start(
                 hub.leave(id);
             }
             lock(&leaving.explorers).retain(|(id, _)| *id != explorer_id);
+            // The session's memory is free now (its state, its workers' results): back to the
+            // system, not kept in the allocator's arenas.
+            crate::memory::give_back_freed_memory();
             // Dropping the writer here ends the output task, which closes the channel.
         })
         .map_err(|e| ServeError::Start(format!("cannot start a session thread: {e}")))?;
