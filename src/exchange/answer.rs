@@ -78,6 +78,14 @@ impl AnswerShape {
         self.nodes.len() - 1
     }
 
+    /// The largest answer file read for this scene: 1 MiB, and 64 bytes for every number
+    /// the largest answer holds (x, u and u' of every node, force and moment of every
+    /// obstacle) — an answer printed with 17 digits and indented, several times over.
+    pub fn most_bytes(&self) -> u64 {
+        let numbers = 3 * self.nodes.len() + 2 * self.obstacles.len();
+        (1 << 20) + 64 * numbers as u64
+    }
+
     /// Positions given in an answer must match to this [m] (1e-9 of the beam's length).
     fn position_tolerance(&self) -> f64 {
         1e-9 * self.nodes.last().copied().unwrap_or(1.0).abs()
@@ -164,6 +172,30 @@ fn number(value: &Value, field: &str) -> Result<f64, AnswerError> {
     }
 }
 
+/// A number in a message: plain from 1e-3 to 1e6, else in scientific notation (never the
+/// 301 digits of 1e300 in plain decimals).
+fn shown(value: f64) -> String {
+    if value == 0.0 || (1e-3..1e6).contains(&value.abs()) {
+        format!("{value}")
+    } else {
+        format!("{value:e}")
+    }
+}
+
+/// Longest text of the answer a message quotes whole.
+const QUOTED_CHARS: usize = 40;
+
+/// Text from the answer in a message: at most [`QUOTED_CHARS`] characters, then how long it
+/// was (a 20 MB line is not echoed back).
+fn quoted(text: &str) -> String {
+    let length = text.chars().count();
+    if length <= QUOTED_CHARS {
+        return text.to_string();
+    }
+    let start: String = text.chars().take(QUOTED_CHARS).collect();
+    format!("{start}… ({length} characters)")
+}
+
 fn kind(value: &Value) -> &'static str {
     match value {
         Value::Null => "null",
@@ -212,8 +244,10 @@ fn check_position(
         Err(broken(
             field,
             format!(
-                "is {given} m, but this scene has {expected} m there: the answer is for another \
-                 scene or mesh"
+                "is {} m, but this scene has {} m there: the answer is for another scene or \
+                 mesh",
+                shown(given),
+                shown(expected)
             ),
         ))
     }
@@ -360,7 +394,7 @@ fn check_clamped(
                     name(label, i),
                     format!(
                         "is {}: must be 0, the end is clamped (u = u' = 0 at x = 0 and x = l)",
-                        values[i]
+                        shown(values[i])
                     ),
                 ));
             }
@@ -406,7 +440,7 @@ fn parse_csv(text: &str, shape: &AnswerShape) -> Result<GivenAnswer, AnswerError
                 format!(
                     "is `{}`: the columns must be `force,moment` (friction forces) or \
                      `u,slope` (nodal values), optionally with `x`",
-                    header.join(",")
+                    quoted(&header.join(","))
                 ),
             ));
         }
@@ -432,8 +466,14 @@ fn parse_csv(text: &str, shape: &AnswerShape) -> Result<GivenAnswer, AnswerError
                 .ok_or_else(|| broken(field.clone(), "is missing"))?;
             match text.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),
-                Ok(_) => Err(broken(field, format!("is {text}: must be a finite number"))),
-                Err(_) => Err(broken(field, format!("is `{text}`: must be a number"))),
+                Ok(_) => Err(broken(
+                    field,
+                    format!("is {}: must be a finite number", quoted(text)),
+                )),
+                Err(_) => Err(broken(
+                    field,
+                    format!("is `{}`: must be a number", quoted(text)),
+                )),
             }
         };
         values.push([cell(first, names[0])?, cell(second, names[1])?]);

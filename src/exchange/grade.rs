@@ -14,6 +14,7 @@ use crate::model::Problem;
 use crate::output::{
     SolveContext, certificate_lines, condition_line, obstacle_lines, solution_json, warning_lines,
 };
+use crate::scene::{Refusal, read_regular_file};
 use crate::solve::{KktGrade, Solution, SolveOptions, WarningCode, grade};
 
 /// The grade in one word.
@@ -88,15 +89,35 @@ pub type GradeContext<'a> = SolveContext<'a>;
 
 /// Reads and grades the answer in `file` for `problem` on `mesh`.
 pub fn grade_file(problem: &Problem, mesh: &Mesh, file: &Path) -> Result<Grade, ExchangeError> {
-    let bytes = std::fs::read(file).map_err(|e| ExchangeError::Io {
-        path: file.to_path_buf(),
-        action: "read",
-        reason: e.to_string(),
-    })?;
+    let shape = AnswerShape::new(problem, mesh);
     let answer_error = |error| ExchangeError::Answer {
         file: file.to_path_buf(),
         error,
     };
+    // Read only as far as the largest answer for this scene can go: a file of 200 MB held
+    // a gigabyte before its row count was refused.
+    let limit = shape.most_bytes();
+    let bytes = read_regular_file(file, limit).map_err(|refusal| match refusal {
+        Refusal::Unreadable(e) => ExchangeError::Io {
+            path: file.to_path_buf(),
+            action: "read",
+            reason: e.to_string(),
+        },
+        Refusal::NotRegular(reason) => ExchangeError::Io {
+            path: file.to_path_buf(),
+            action: "read",
+            reason,
+        },
+        Refusal::TooLarge => answer_error(super::AnswerError {
+            field: "(document)".into(),
+            rule: format!(
+                "is larger than {limit} bytes, more than any answer for this scene needs \
+                 ({} nodes, {} obstacles); not read",
+                shape.nodes.len(),
+                shape.obstacles.len()
+            ),
+        }),
+    })?;
     let text = String::from_utf8(bytes).map_err(|e| {
         answer_error(super::AnswerError {
             field: "(document)".into(),
@@ -104,8 +125,7 @@ pub fn grade_file(problem: &Problem, mesh: &Mesh, file: &Path) -> Result<Grade, 
         })
     })?;
     let format = AnswerFormat::guess(file, &text);
-    let answer =
-        parse_answer(&text, format, &AnswerShape::new(problem, mesh)).map_err(answer_error)?;
+    let answer = parse_answer(&text, format, &shape).map_err(answer_error)?;
     let given = match (&answer.forces, &answer.field) {
         (Some(_), Some(_)) => "forces and nodal values",
         (Some(_), None) => "forces",

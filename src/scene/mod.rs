@@ -22,6 +22,7 @@ use validate::Validator;
 pub use loaded::{LoadedScene, SceneSource, load};
 pub use presets::{PRESETS, Preset, preset};
 pub use read::{MAX_SCENE_BYTES, read_scene_text};
+pub(crate) use read::{Refusal, read_regular_file};
 pub use save::{SaveError, SaveOutcome, save_atomic, save_scene, write_atomic};
 pub use serialize::{SAVED_HEADER, float_text};
 

@@ -23,22 +23,13 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
         field: String::new(),
         rule,
     };
-    let unreadable = |e: std::io::Error| error(format!("cannot read the file: {e}"));
-    // Looked at before it is opened: opening a FIFO for reading waits for a writer.
-    let meta = std::fs::metadata(path).map_err(unreadable)?;
-    check_regular(&meta).map_err(error)?;
-    let file = open_without_waiting(path).map_err(unreadable)?;
-    // The file opened may not be the one looked at (it may have been replaced meanwhile).
-    check_regular(&file.metadata().map_err(unreadable)?).map_err(error)?;
-    let mut bytes = Vec::new();
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(unreadable)?;
-    if bytes.len() as u64 > limit {
-        return Err(error(format!(
+    let bytes = read_regular_file(path, limit).map_err(|refusal| match refusal {
+        Refusal::Unreadable(e) => error(format!("cannot read the file: {e}")),
+        Refusal::NotRegular(rule) => error(rule),
+        Refusal::TooLarge => error(format!(
             "larger than 1 MB ({limit} bytes), the limit for a scene file; not read"
-        )));
-    }
+        )),
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         error(format!(
             "not UTF-8 text (invalid byte at offset {}); a scene file is TOML text",
@@ -47,13 +38,45 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
     })
 }
 
-/// The rule a scene file's type must follow: a regular file (or a symbolic link to one).
+/// Why [`read_regular_file`] read nothing.
+pub(crate) enum Refusal {
+    /// The system refused.
+    Unreadable(std::io::Error),
+    /// Not a regular file: the rule, in words.
+    NotRegular(String),
+    /// Larger than the limit (only the limit and one byte more were read).
+    TooLarge,
+}
+
+/// The bytes of the regular file at `path` if it holds at most `limit` of them: a FIFO,
+/// device, directory or socket is refused before it is opened (and looked at again once
+/// opened), and no more than `limit` + 1 bytes are read. Scenes, lessons and answers to
+/// grade are read through it.
+pub(crate) fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, Refusal> {
+    let unreadable = Refusal::Unreadable;
+    // Looked at before it is opened: opening a FIFO for reading waits for a writer.
+    let meta = std::fs::metadata(path).map_err(unreadable)?;
+    check_regular(&meta).map_err(Refusal::NotRegular)?;
+    let file = open_without_waiting(path).map_err(unreadable)?;
+    // The file opened may not be the one looked at (it may have been replaced meanwhile).
+    check_regular(&file.metadata().map_err(unreadable)?).map_err(Refusal::NotRegular)?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(unreadable)?;
+    if bytes.len() as u64 > limit {
+        return Err(Refusal::TooLarge);
+    }
+    Ok(bytes)
+}
+
+/// The rule a file's type must follow: a regular file (or a symbolic link to one).
 fn check_regular(meta: &Metadata) -> Result<(), String> {
     if meta.is_file() {
         return Ok(());
     }
     Err(format!(
-        "{}, not a regular file; a scene is read only from a regular file",
+        "{}, not a regular file; only a regular file is read",
         kind_of(meta.file_type())
     ))
 }

@@ -301,6 +301,55 @@ fn malformed_answers_are_refused_naming_the_file_the_field_and_the_rule() {
 }
 
 #[test]
+fn an_answer_larger_than_the_scene_can_need_is_not_read_and_nothing_is_echoed_whole() {
+    // Stop 58's hostile pass: a 200 MB CSV took 983 MB and 14.6 s before its row count was
+    // refused, a 20 MB header came back in a 20 MB message, and 1e300 as 301 digits.
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.csv");
+    let mut text = String::from("force,moment\n");
+    text.push_str(&"1,2\n".repeat(1 << 19));
+    std::fs::write(&big, &text).unwrap();
+    let message = refused("benchmark-1", &big);
+    assert!(
+        message.contains(
+            "(document): is larger than 1052736 bytes, more than any answer for \
+             this scene needs (21 nodes, 1 obstacles); not read"
+        ),
+        "{message}"
+    );
+    let long = dir.path().join("long.csv");
+    std::fs::write(&long, "1".repeat(200_000) + "\n1,2\n").unwrap();
+    let message = refused("benchmark-1", &long);
+    assert!(
+        message.contains(&format!(
+            "header: is `{}… (200000 characters)`",
+            "1".repeat(40)
+        )),
+        "{message}"
+    );
+    assert!(message.len() < 400, "{message}");
+    let clamped = dir.path().join("clamped.csv");
+    std::fs::write(
+        &clamped,
+        "u,slope\n1e300,0\n".to_string() + &"0,0\n".repeat(20),
+    )
+    .unwrap();
+    let message = refused("benchmark-1", &clamped);
+    assert!(
+        message.contains("row 1, column u: is 1e300: must be 0"),
+        "{message}"
+    );
+    // Only a regular file is read (a FIFO would wait for a writer).
+    #[cfg(unix)]
+    {
+        let fifo = dir.path().join("fifo.csv");
+        nix::unistd::mkfifo(&fifo, nix::sys::stat::Mode::S_IRWXU).unwrap();
+        let message = refused("benchmark-1", &fifo);
+        assert!(message.contains("not a regular file"), "{message}");
+    }
+}
+
+#[test]
 fn export_refuses_to_replace_files_unless_forced_and_names_the_path_it_cannot_write() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir: PathBuf = dir.path().join("problem");
