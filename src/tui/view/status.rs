@@ -98,8 +98,18 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
             items.push(Item::new(0, e.method.to_string()));
             items.push(Item::new(1, format!("n = {}", shown.mesh.elements())));
             let rows = if app.message.is_none() { 2 } else { 1 };
-            let text = theme.text(&format!("{e} (w: in full)")).into_owned();
-            detail = fitted_lines(&text, width, rows, theme.error());
+            // What works instead, and the key that shows it all, stay in view however much
+            // of the reason is cut (at 80 columns a refusal's reason takes two rows alone).
+            let text = theme
+                .text(&format!("{} {}: {};", e.method, e.kind.label(), e.reason))
+                .into_owned();
+            let tail = theme
+                .text(&format!(
+                    "the {} method works here (w: in full)",
+                    e.suggestion
+                ))
+                .into_owned();
+            detail = fitted_lines(&text, &tail, width, rows, theme.error());
         }
     }
     // In ASCII the words are spelled out before fitting (ε as eps), so nothing is cut later.
@@ -142,19 +152,37 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
     }
 }
 
-/// `text` in at most `rows` lines of `width`; when it needs more, the last line ends with `…`
-/// at a word boundary.
+/// `text` and then `tail` in at most `rows` lines of `width`; when they need more, the last
+/// line ends with `…` at a word boundary, and then `tail` (the key that shows the text whole).
 fn fitted_lines(
     text: &str,
+    tail: &str,
     width: usize,
     rows: usize,
     style: ratatui::style::Style,
 ) -> Vec<Line<'static>> {
-    let mut lines = wrap_words(text, width);
+    let whole = if tail.is_empty() {
+        text.to_string()
+    } else {
+        format!("{text} {tail}")
+    };
+    let mut lines = wrap_words(&whole, width);
     if lines.len() > rows {
+        lines = wrap_words(text, width);
         lines.truncate(rows);
+        // The last row ends in "… " and the tail where there is room for it, else in "…".
+        let tail = if tail.chars().count() + 2 < width {
+            tail
+        } else {
+            ""
+        };
+        let tail_width = match tail.chars().count() {
+            0 => 0,
+            n => n + 1,
+        };
         if let Some(last) = lines.last_mut() {
-            while last.chars().count() + 1 > width {
+            let room = |last: &String| last.chars().count() + 1 + tail_width;
+            while room(last) > width {
                 match last.rfind(' ') {
                     Some(cut) => last.truncate(cut),
                     None => {
@@ -164,6 +192,10 @@ fn fitted_lines(
                 }
             }
             last.push('…');
+            if !tail.is_empty() {
+                last.push(' ');
+                last.push_str(tail);
+            }
         }
     }
     lines.into_iter().map(|l| Line::styled(l, style)).collect()
@@ -204,7 +236,7 @@ fn warning_lines(
             headline(first.code, solution.kkt_residual)
         ))
         .into_owned();
-    fitted_lines(&short, width, rows, theme.warning())
+    fitted_lines(&short, "", width, rows, theme.warning())
 }
 
 pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {

@@ -237,6 +237,28 @@ fn obstacles_stay_ordered_inside_and_apart() {
 }
 
 #[test]
+fn a_refusal_cut_at_80x24_still_names_what_works_and_the_key_for_all_of_it() {
+    // Stop 58's hostile pass: dual-inverse at n = 10⁵ ended at 80 columns with "…the limit is
+    // N = 4000 unknowns; the…": neither the method that works nor `w` was on screen.
+    let keys = "G Up Enter 1 0 0 0 0 0 Enter G Enter C-u d u a l - i n v e r s e Enter";
+    let text = frame("benchmark-1", 80, 24, keys);
+    assert!(
+        text.contains("dual-inverse refused: the dense inverse"),
+        "{text}"
+    );
+    assert!(
+        text.contains("… the condensed method works here (w: in full)"),
+        "{text}"
+    );
+    // Where it fits, it is whole.
+    let text = frame("benchmark-1", 120, 30, keys);
+    assert!(
+        text.contains("unknowns; the condensed method works here (w: in full)"),
+        "{text}"
+    );
+}
+
+#[test]
 fn a_method_that_does_not_apply_says_why() {
     let mut app = app("benchmark-3");
     while app.scene().solver.method != Method::ClosedForm {
