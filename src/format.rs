@@ -66,18 +66,20 @@ pub fn duration(d: Duration) -> String {
 
 /// Text from a scene file (a title, a description, a file name) as every output shows it —
 /// the terminal, Markdown, SVG, the solve table: each control character (C0, DEL and C1,
-/// `char::is_control`; a newline and a tab too) written as its `\u{..}` escape, e.g. ESC as
+/// `char::is_control`; a newline and a tab too) and each bidirectional control (U+061C,
+/// U+200E/F, U+202A–U+202E, U+2066–U+2069) written as its `\u{..}` escape, e.g. ESC as
 /// `\u{1b}`. An escape sequence in a title would otherwise recolour, retitle or clear the
-/// terminal that shows it, a newline break a Markdown heading, and a control byte make an SVG
-/// file invalid XML. Text without control characters is returned as it is.
+/// terminal that shows it, a newline break a Markdown heading, a control byte make an SVG
+/// file invalid XML, and a right-to-left override show the rest of a line reversed (what the
+/// reader sees is not what is there). Text without them is returned as it is.
 pub fn printable(text: &str) -> Cow<'_, str> {
-    if !text.contains(char::is_control) {
+    if !text.contains(hidden) {
         return Cow::Borrowed(text);
     }
     Cow::Owned(
         text.chars()
             .map(|c| {
-                if c.is_control() {
+                if hidden(c) {
                     c.escape_unicode().to_string()
                 } else {
                     c.to_string()
@@ -85,6 +87,16 @@ pub fn printable(text: &str) -> Cow<'_, str> {
             })
             .collect(),
     )
+}
+
+/// Does `c` act on the text around it instead of showing: a control character, or one that
+/// sets the direction of what follows ([`printable`])?
+fn hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061C}' | '\u{200E}' | '\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2066}'..='\u{2069}'
+        )
 }
 
 #[cfg(test)]
@@ -107,6 +119,15 @@ mod tests {
         assert_eq!(eng(-4798.46), "-4798");
         assert_eq!(eng(0.0057016), "5.7e-3");
         assert_eq!(eng(1.5e5), "1.5e5");
+    }
+
+    #[test]
+    fn controls_and_direction_overrides_are_escaped() {
+        assert_eq!(printable("plain ünïcode"), "plain ünïcode");
+        assert_eq!(printable("a\u{1b}[2Jb"), "a\\u{1b}[2Jb");
+        // Stop 58's hostile pass: a right-to-left override in a title was printed raw.
+        assert_eq!(printable("beam \u{202E}txt.exe"), "beam \\u{202e}txt.exe");
+        assert_eq!(printable("\u{2066}x\u{2069}"), "\\u{2066}x\\u{2069}");
     }
 
     #[test]

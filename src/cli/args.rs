@@ -213,8 +213,15 @@ pub struct GradeArgs {
     #[arg(long, value_name = "FILE")]
     pub answer: PathBuf,
     /// Output format.
-    #[arg(long, value_enum, default_value_t = Format::Table)]
-    pub format: Format,
+    #[arg(long, value_enum, default_value_t = GradeFormat::Table)]
+    pub format: GradeFormat,
+}
+
+/// Output format of `grade` (`solve`'s csv, a convergence history, has no grade to show).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GradeFormat {
+    Table,
+    Json,
 }
 
 /// `beamfric serve`.

@@ -3,8 +3,8 @@
 
 use std::process::ExitCode;
 
-use super::args::{ExportArgs, GradeArgs};
-use super::{CliError, EXIT_CHECK_FAILED, Format, load_with_overrides};
+use super::args::{ExportArgs, GradeArgs, GradeFormat};
+use super::{CliError, EXIT_CHECK_FAILED, load_with_overrides};
 use crate::exchange::{ExportedScene, GradeContext, Verdict, export, grade_file};
 use crate::fem::Mesh;
 use crate::output::json_text;
@@ -34,13 +34,6 @@ pub(super) fn export_command(args: &ExportArgs) -> Result<ExitCode, CliError> {
 
 /// Runs `beamfric grade`: exit 0 for an exact answer, 1 for one graded otherwise.
 pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
-    if args.format == Format::Csv {
-        return Err(CliError::Argument(
-            "grade prints its grade as --format table or --format json (csv is solve's \
-             convergence history)"
-                .into(),
-        ));
-    }
     let elements = args.elements;
     let loaded = load_with_overrides(&args.scene, None, elements, None)?;
     let mesh = Mesh::new(&loaded.problem, loaded.settings.elements);
@@ -52,8 +45,8 @@ pub(super) fn grade_command(args: &GradeArgs) -> Result<ExitCode, CliError> {
         mesh: &mesh,
     };
     let text = match args.format {
-        Format::Json => json_text(&graded.json(&context)),
-        Format::Table | Format::Csv => graded.text(&context),
+        GradeFormat::Json => json_text(&graded.json(&context)),
+        GradeFormat::Table => graded.text(&context),
     };
     super::error::write_stdout(&text)?;
     Ok(if graded.verdict == Verdict::Exact {

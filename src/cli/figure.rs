@@ -237,6 +237,8 @@ fn error_time(loaded: &LoadedScene, args: &FigureArgs, title: &str) -> Result<Dr
     }
     check_order(from, to)?;
     check_count("--points", points, 1..=super::MAX_MESH_POINTS)?;
+    // As `report` and `sweep mesh` refuse it: no run has no median.
+    check_count("--repeat", args.repeat, 1..=super::MAX_REPEAT)?;
     let settings = &loaded.settings;
     let progress = ProgressLine::new("figure");
     let report = |done, total, what: &str| progress.report(done, total, what);

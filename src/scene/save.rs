@@ -51,7 +51,8 @@ impl fmt::Display for SaveError {
                 link.display(),
                 points_to.display()
             ),
-            SaveError::Io(path, e) => write!(f, "cannot save {}: {e}", path.display()),
+            // The reason first: a long path would push it off a status line.
+            SaveError::Io(path, e) => write!(f, "cannot save ({e}): {}", path.display()),
         }
     }
 }

@@ -437,6 +437,24 @@ fn figure_refuses_an_existing_file_an_unknown_panel_and_another_format() {
     assert_eq!(run.status.code(), Some(2));
     assert!(stderr(&run).contains(".svg"), "{}", stderr(&run));
     assert!(!jpeg.exists());
+
+    // No run has no median: refused as `report` and `sweep mesh` refuse it (stop 58).
+    let never = dir.path().join("never.svg");
+    let run = beamfric(&[
+        "figure",
+        "error-time",
+        "--repeat",
+        "0",
+        "--out",
+        never.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(
+        stderr(&run).contains("--repeat 0: must be from 1 to 100"),
+        "{}",
+        stderr(&run)
+    );
+    assert!(!never.exists());
 }
 
 /// `--out FILE.png`: the same figure rendered by resvg at 1920 × 1080 (where the system has

@@ -298,6 +298,17 @@ fn malformed_answers_are_refused_naming_the_file_the_field_and_the_rule() {
     }
     let absent = dir.path().join("absent.json");
     assert!(refused("benchmark-1", &absent).contains(&format!("cannot read {}", absent.display())));
+    // Its help lists only the formats it takes (it listed solve's csv, then refused it).
+    let help = beamfric(&["grade", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    assert!(!help.contains("csv:"), "{help}");
+    let out = beamfric(&["grade", "--format", "csv", "--answer", "x.json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("[possible values: table, json]"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]
