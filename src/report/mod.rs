@@ -184,11 +184,20 @@ const REPORT_LOOK: Look = Look {
     color: false,
 };
 
+/// Text from the scene in Markdown: `&`, `<` and `>` as HTML entities, so that a title such
+/// as `<img src=x onerror=…>` is read as text, not as HTML a viewer would run.
+fn markdown_text(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
 /// Title, description, and how the figures were produced.
 fn write_introduction(md: &mut String, loaded: &LoadedScene, title: &str, options: &ReportOptions) {
-    let _ = writeln!(md, "# Error against run time: {title}\n");
+    let _ = writeln!(md, "# Error against run time: {}\n", markdown_text(title));
     if !loaded.scene.description.is_empty() {
-        let _ = writeln!(md, "{}\n", printable(&loaded.scene.description));
+        let description = printable(&loaded.scene.description);
+        let _ = writeln!(md, "{}\n", markdown_text(&description));
     }
     let _ = writeln!(
         md,

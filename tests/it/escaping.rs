@@ -3,7 +3,8 @@
 //! terminal raw — report.md, the CSV files, the SVG figure, the JSON and the table of `solve`,
 //! and the explorer's frame. Each shows them as `\u{..}` escapes
 //! (`beamfric::format::printable`), JSON as its own `\u001b` escapes (serde_json's below
-//! U+0020, `beamfric::output::json_text`'s for DEL and C1).
+//! U+0020, `beamfric::output::json_text`'s for DEL and C1); report.md writes `&`, `<` and `>`
+//! in them as HTML entities.
 
 use std::path::Path;
 
@@ -116,4 +117,41 @@ fn the_explorer_shows_control_characters_as_escapes() {
     }
     let out = beamfric(&["render", "--scene", &scene, "--size", "200x50"]);
     escaped("the frame", &String::from_utf8(out.stdout).unwrap());
+}
+
+#[test]
+fn a_report_writes_html_in_scene_text_as_text() {
+    // Stop 58's hostile pass: report.md copied `<img src=x>` from a title verbatim, HTML that
+    // a Markdown viewer would render (and some would run).
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = Scene::from_toml(preset("benchmark-1").unwrap().text, "b1").unwrap();
+    scene.title = "<img src=x onerror=alert(1)> & co".into();
+    scene.description = "a <script>b</script> c".into();
+    let path = dir.path().join("html.toml");
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let out_dir = dir.path().join("report");
+    let out = beamfric(&[
+        "report",
+        "--scene",
+        path.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--to",
+        "100",
+        "--points",
+        "2",
+        "--repeat",
+        "1",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let markdown = std::fs::read_to_string(out_dir.join("report.md")).unwrap();
+    assert!(
+        markdown.contains("# Error against run time: &lt;img src=x onerror=alert(1)&gt; &amp; co"),
+        "{markdown}"
+    );
+    assert!(
+        markdown.contains("a &lt;script&gt;b&lt;/script&gt; c"),
+        "{markdown}"
+    );
+    assert!(!markdown.contains("<img") && !markdown.contains("<script"));
 }
