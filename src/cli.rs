@@ -53,8 +53,14 @@ pub fn report_usage_error(error: clap::Error) -> ExitCode {
     use clap::error::ErrorKind;
     match error.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
-            let _ = error.print();
-            ExitCode::SUCCESS
+            // Written as every output is: a full disk is an error, a closed pipe is not.
+            match error::write_stdout(&error.render().to_string()) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    say!("beamfric: {e}");
+                    ExitCode::from(EXIT_BAD_INPUT)
+                }
+            }
         }
         _ => {
             let text = error.to_string();

@@ -371,6 +371,10 @@ fn output_that_cannot_be_written_is_an_error_and_a_closed_pipe_is_not() {
         &["solve", "--scene", "benchmark-1", "--format", "json"][..],
         &["sweep", "epsilon", "--scene", "benchmark-1"][..],
         &["check", "--scene", "benchmark-1"][..],
+        // Help and version too (stop 58's hostile pass: `--help > /dev/full` ended with 0).
+        &["--help"][..],
+        &["solve", "--help"][..],
+        &["--version"][..],
     ] {
         let full = std::fs::OpenOptions::new()
             .write(true)

@@ -388,18 +388,25 @@ fn mouse_clicks_the_wheel_and_an_obstacle_drag_change_the_state() {
     wait_until(&explorer, "the modulus stepped back", |cells| {
         value_after(cells, "modulus E").is_some_and(|v| (v / young - 1.0).abs() < 0.01)
     });
-    // Drag the sliding obstacle's marker (↕, on the deflection chart) ten columns left.
+    // Drag the sliding obstacle's marker (↕, on the deflection chart) ten columns left, once
+    // the chart of the last step is drawn (under load it can still be on its way: the marker
+    // was not there yet once in a CI run beside other work).
+    let marker = |screen: &[Vec<(String, bool)>]| {
+        screen
+            .iter()
+            .enumerate()
+            .take(SIZE.1 as usize - 8)
+            .find_map(|(y, row)| {
+                let column = row.iter().position(|(c, _)| c == "↕")?;
+                Some((column as u16, y as u16))
+            })
+    };
+    wait_until(&explorer, "the marker is drawn", |cells| {
+        marker(cells).is_some()
+    });
     let screen = cells(&explorer);
     let x0 = value_after(&screen, "obstacle 1 x").unwrap();
-    let (mx, my) = screen
-        .iter()
-        .enumerate()
-        .take(SIZE.1 as usize - 8)
-        .find_map(|(y, row)| {
-            let column = row.iter().position(|(c, _)| c == "↕")?;
-            Some((column as u16, y as u16))
-        })
-        .expect("the marker is drawn");
+    let (mx, my) = marker(&screen).expect("the marker is drawn");
     let mut drag = sgr(0, (mx, my), true);
     for dx in 1..=10 {
         drag.extend(sgr(32, (mx - dx, my), true));
