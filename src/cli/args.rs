@@ -15,6 +15,9 @@ use crate::plot::{MarkerSet, Palette};
 use crate::scene::MAX_ELEMENTS;
 use crate::solve::{ConditionLevel, Method};
 
+mod formats;
+pub use formats::{CheckFormat, Format, GradeFormat, TableFormat};
+
 /// The methods in declaration order (the order clap has always listed them in).
 static METHODS: LazyLock<Vec<Method>> = LazyLock::new(|| {
     let mut methods = Method::ALL.to_vec();
@@ -217,13 +220,6 @@ pub struct GradeArgs {
     pub format: GradeFormat,
 }
 
-/// Output format of `grade` (`solve`'s csv, a convergence history, has no grade to show).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum GradeFormat {
-    Table,
-    Json,
-}
-
 /// `beamfric serve`.
 #[derive(Debug, Args)]
 pub struct ServeArgs {
@@ -294,13 +290,6 @@ pub enum SweepCommand {
     Epsilon(EpsilonSweepArgs),
     /// Every method over mesh sizes: error, median run time, KKT residual, warnings.
     Elements(ElementsSweepArgs),
-}
-
-/// Output format of the sweeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum TableFormat {
-    Csv,
-    Json,
 }
 
 /// `beamfric sweep epsilon`.
@@ -543,13 +532,6 @@ fn parse_size(text: &str) -> Result<(u16, u16), String> {
     Ok((parse(w, "width")?, parse(h, "height")?))
 }
 
-/// Output format of `check`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum CheckFormat {
-    Markdown,
-    Json,
-}
-
 /// `beamfric check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {
@@ -559,15 +541,6 @@ pub struct CheckArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = CheckFormat::Markdown)]
     pub format: CheckFormat,
-}
-
-/// Output format of `solve`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    Json,
-    Table,
-    /// The convergence history, one row per iterate (with --history).
-    Csv,
 }
 
 /// `beamfric solve`.

@@ -103,10 +103,10 @@ pub fn grade_file(problem: &Problem, mesh: &Mesh, file: &Path) -> Result<Grade, 
             action: "read",
             reason: e.to_string(),
         },
-        Refusal::NotRegular(reason) => ExchangeError::Io {
+        Refusal::NotRegular(kind) => ExchangeError::Io {
             path: file.to_path_buf(),
             action: "read",
-            reason,
+            reason: format!("{kind}; an answer is read only from a regular file"),
         },
         Refusal::TooLarge => answer_error(super::AnswerError {
             field: "(document)".into(),

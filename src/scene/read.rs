@@ -25,7 +25,9 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
     };
     let bytes = read_regular_file(path, limit).map_err(|refusal| match refusal {
         Refusal::Unreadable(e) => error(format!("cannot read the file: {e}")),
-        Refusal::NotRegular(rule) => error(rule),
+        Refusal::NotRegular(kind) => {
+            error(format!("{kind}; a scene is read only from a regular file"))
+        }
         Refusal::TooLarge => error(format!(
             "larger than 1 MB ({limit} bytes), the limit for a scene file; not read"
         )),
@@ -42,7 +44,7 @@ pub fn read_scene_text(path: &Path, source: &str) -> Result<String, SceneError> 
 pub(crate) enum Refusal {
     /// The system refused.
     Unreadable(std::io::Error),
-    /// Not a regular file: the rule, in words.
+    /// Not a regular file: what it is, in words ("a FIFO (named pipe), not a regular file").
     NotRegular(String),
     /// Larger than the limit (only the limit and one byte more were read).
     TooLarge,
@@ -70,15 +72,13 @@ pub(crate) fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, Refu
     Ok(bytes)
 }
 
-/// The rule a file's type must follow: a regular file (or a symbolic link to one).
+/// The rule a file's type must follow: a regular file (or a symbolic link to one); else what
+/// it is instead.
 fn check_regular(meta: &Metadata) -> Result<(), String> {
     if meta.is_file() {
         return Ok(());
     }
-    Err(format!(
-        "{}, not a regular file; only a regular file is read",
-        kind_of(meta.file_type())
-    ))
+    Err(format!("{}, not a regular file", kind_of(meta.file_type())))
 }
 
 /// What a file that is not a regular file is, in words.

@@ -440,19 +440,13 @@ fn figure_refuses_an_existing_file_an_unknown_panel_and_another_format() {
 
     // No run has no median: refused as `report` and `sweep mesh` refuse it (stop 58).
     let never = dir.path().join("never.svg");
-    let run = beamfric(&[
-        "figure",
-        "error-time",
-        "--repeat",
-        "0",
-        "--out",
-        never.to_str().unwrap(),
-    ]);
+    let never_path = never.to_str().unwrap();
+    let run = beamfric(&["figure", "error-time", "--repeat", "0", "--out", never_path]);
     assert_eq!(run.status.code(), Some(2));
+    let message = stderr(&run);
     assert!(
-        stderr(&run).contains("--repeat 0: must be from 1 to 100"),
-        "{}",
-        stderr(&run)
+        message.contains("--repeat 0: must be from 1 to 100"),
+        "{message}"
     );
     assert!(!never.exists());
 }
