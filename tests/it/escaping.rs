@@ -47,15 +47,13 @@ fn escaped(what: &str, text: &str) {
     );
 }
 
-#[test]
-fn a_report_escapes_control_characters_in_every_file() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = hostile_scene(dir.path());
-    let out_dir = dir.path().join("report");
+/// `beamfric report` of `scene` into `out_dir` on two mesh sizes up to 100, one run each:
+/// its report.md.
+fn small_report(scene: &str, out_dir: &Path) -> String {
     let out = beamfric(&[
         "report",
         "--scene",
-        &scene,
+        scene,
         "--out",
         out_dir.to_str().unwrap(),
         "--to",
@@ -66,7 +64,15 @@ fn a_report_escapes_control_characters_in_every_file() {
         "1",
     ]);
     assert!(out.status.success(), "{out:?}");
-    let markdown = std::fs::read_to_string(out_dir.join("report.md")).unwrap();
+    std::fs::read_to_string(out_dir.join("report.md")).unwrap()
+}
+
+#[test]
+fn a_report_escapes_control_characters_in_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = hostile_scene(dir.path());
+    let out_dir = dir.path().join("report");
+    let markdown = small_report(&scene, &out_dir);
     escaped("report.md", &markdown);
     assert!(
         markdown.contains(r"retitled \u{1b}]0;pwned\u{7} and \u{9b}2J cleared"),
@@ -129,22 +135,7 @@ fn a_report_writes_html_in_scene_text_as_text() {
     scene.description = "a <script>b</script> c".into();
     let path = dir.path().join("html.toml");
     std::fs::write(&path, scene.to_toml()).unwrap();
-    let out_dir = dir.path().join("report");
-    let out = beamfric(&[
-        "report",
-        "--scene",
-        path.to_str().unwrap(),
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--to",
-        "100",
-        "--points",
-        "2",
-        "--repeat",
-        "1",
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    let markdown = std::fs::read_to_string(out_dir.join("report.md")).unwrap();
+    let markdown = small_report(path.to_str().unwrap(), &dir.path().join("report"));
     assert!(
         markdown.contains("# Error against run time: &lt;img src=x onerror=alert(1)&gt; &amp; co"),
         "{markdown}"
