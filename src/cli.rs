@@ -424,7 +424,7 @@ fn epsilon_sweep_command(args: &EpsilonSweepArgs) -> Result<ExitCode, CliError> 
     let points = match result.expect("never cancelled") {
         Ok(points) => points,
         Err(e) => {
-            say!("beamfric: {e}");
+            say!("beamfric: {}", crate::study::sweep_refusal(&e));
             return Ok(ExitCode::from(EXIT_NO_SOLUTION));
         }
     };

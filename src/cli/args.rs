@@ -124,7 +124,7 @@ pub struct LessonArgs {
     #[arg(long, value_name = "FILE")]
     pub lesson: Option<std::path::PathBuf>,
     /// The step to start on, counted from 1.
-    #[arg(long, value_name = "K", requires = "lesson", value_parser = count_up_to(crate::lesson::MAX_STEPS))]
+    #[arg(long, value_name = "K", requires = "lesson", value_parser = count_up_to(crate::lesson::MAX_STEPS), allow_negative_numbers = true)]
     pub step: Option<usize>,
 }
 
@@ -418,7 +418,8 @@ pub struct FigureArgs {
     /// The x axis of `error-time`.
     #[arg(long, value_enum, default_value_t = Against::Time)]
     pub against: Against,
-    /// The figure's title (default: the scene's title and what the figure shows).
+    /// The figure's title (default: the scene's title and what the figure shows); a tab, a
+    /// newline or another control character in it is drawn as a blank.
     #[arg(long)]
     pub title: Option<String>,
     /// The file to write: SVG (`.svg`, 1280 × 720) or PNG (`.png`, 1920 × 1080).

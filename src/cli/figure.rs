@@ -206,7 +206,7 @@ fn epsilon_panel(loaded: &LoadedScene, args: &FigureArgs, title: &str) -> Result
     let points = match result {
         Ok(points) => points,
         Err(e) => {
-            let why = format!("the ε sweep needs the regularised method: {e}");
+            let why = crate::study::sweep_refusal(&e);
             return Ok(Drawn {
                 svg: figure::notice_figure(args.panel, title, &why),
                 refusal: Some(why),

@@ -48,6 +48,25 @@ pub fn log_space(from: f64, to: f64, points: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Why there is no ε sweep where the regularised method fails with `error`: the sweep runs
+/// only that method, so a suggestion of another kind (`condensed`) solves the scene but gives
+/// no sweep, and is named as such.
+pub fn sweep_refusal(error: &SolveError) -> String {
+    let failed = format!("{} {}: {}", error.method, error.kind.label(), error.reason);
+    if error.suggestion.is_regularized() {
+        format!(
+            "the ε sweep needs the regularised method: {failed}; the {} method works here",
+            error.suggestion
+        )
+    } else {
+        format!(
+            "the ε sweep needs the regularised method: {failed}; so this scene has no ε sweep \
+             (the {} method solves it, without ε)",
+            error.suggestion
+        )
+    }
+}
+
 /// Solves the regularised problem with `method` (the enumeration, or Newton) at every ε.
 /// Fails when the method refuses (too many cases); stops early when `cancel` says so.
 pub fn epsilon_sweep(

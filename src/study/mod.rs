@@ -17,7 +17,7 @@ pub use cases::{
     CaseRow, CaseStudy, CaseTable, ConditionedSubset, LISTED_OBSTACLES, Region, case_study,
 };
 pub use dual_pair::{BoxPosition, DualPair, dual_pair, dual_pair_until};
-pub use epsilon::{CONDITION_LIMIT, EpsPoint, epsilon_sweep, log_space};
+pub use epsilon::{CONDITION_LIMIT, EpsPoint, epsilon_sweep, log_space, sweep_refusal};
 pub use mesh::{DENSE_MAX, MeshPoint, error_study, mesh_sizes, mesh_sweep};
 pub use structure::{
     DUAL_OBSTACLES_LIMIT, GRID_SIDE_LIMIT, MatrixKind, MatrixStructure, SpyGrid, matrix_structures,

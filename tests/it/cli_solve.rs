@@ -216,6 +216,16 @@ fn negative_and_out_of_range_numbers_are_refused_quoting_what_was_typed() {
             &["invalid value '2.5' for '--points", "from 1 to 200"],
         ),
         (
+            &[
+                "render",
+                "--lesson",
+                "lessons/regularisation.toml",
+                "--step",
+                "-1",
+            ],
+            &["invalid value '-1' for '--step", "from 1 to"],
+        ),
+        (
             &["render", "--size", "-1x5"],
             &["'-1x5': the width must be a whole number from 1 to 1000"],
         ),
@@ -250,6 +260,29 @@ fn a_refused_method_says_which_one_works() {
     let doc: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(doc["refused"]["kind"], "not-applicable");
     assert_eq!(doc["refused"]["suggestion"], "condensed");
+}
+
+#[test]
+fn an_epsilon_sweep_that_cannot_run_does_not_send_you_to_a_method_without_epsilon() {
+    // Stop 58's hostile pass: `sweep epsilon` on a scene where the regularised method breaks
+    // down said "the condensed method works here", a method the sweep cannot take.
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = beamfric::scene::load("benchmark-1").unwrap().scene;
+    scene.beam.young = 1e308;
+    let path = dir.path().join("stiff.toml");
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let out = beamfric(&["sweep", "epsilon", "--scene", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(3));
+    let line = stderr_line(&out);
+    assert!(
+        line.contains("the ε sweep needs the regularised method: regularized broke down"),
+        "{line}"
+    );
+    assert!(
+        line.ends_with("so this scene has no ε sweep (the condensed method solves it, without ε)"),
+        "{line}"
+    );
+    assert!(out.stdout.is_empty());
 }
 
 #[test]

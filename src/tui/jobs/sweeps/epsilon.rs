@@ -61,6 +61,6 @@ impl PanelSweep for EpsilonSweep {
         };
         Ok(result
             .map(|points| Arc::new(points) as SweepData)
-            .map_err(|e| format!("the ε sweep needs the regularised method: {e}")))
+            .map_err(|e| crate::study::sweep_refusal(&e)))
     }
 }
