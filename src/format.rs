@@ -73,13 +73,13 @@ pub fn duration(d: Duration) -> String {
 /// file invalid XML, and a right-to-left override show the rest of a line reversed (what the
 /// reader sees is not what is there). Text without them is returned as it is.
 pub fn printable(text: &str) -> Cow<'_, str> {
-    if !text.contains(hidden) {
+    if !text.contains(acts_on_text) {
         return Cow::Borrowed(text);
     }
     Cow::Owned(
         text.chars()
             .map(|c| {
-                if hidden(c) {
+                if acts_on_text(c) {
                     c.escape_unicode().to_string()
                 } else {
                     c.to_string()
@@ -90,8 +90,8 @@ pub fn printable(text: &str) -> Cow<'_, str> {
 }
 
 /// Does `c` act on the text around it instead of showing: a control character, or one that
-/// sets the direction of what follows ([`printable`])?
-fn hidden(c: char) -> bool {
+/// sets the direction of what follows ([`printable`] escapes both)?
+pub fn acts_on_text(c: char) -> bool {
     c.is_control()
         || matches!(
             c,

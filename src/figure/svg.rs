@@ -74,8 +74,10 @@ pub fn escape(text: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&apos;"),
-            // Not allowed in XML 1.0 at all: written as its escape, in words.
-            c if c.is_control() => out.push_str(&c.escape_unicode().to_string()),
+            // A control character is not allowed in XML 1.0 at all, and a bidirectional
+            // control would show the rest of the line reversed: each written as its escape,
+            // as every output writes them (`format::printable`).
+            c if crate::format::acts_on_text(c) => out.push_str(&c.escape_unicode().to_string()),
             c => out.push(c),
         }
     }
@@ -315,6 +317,7 @@ mod tests {
             "a&lt;b &amp; &quot;c&quot;&gt;&apos;"
         );
         assert_eq!(escape("a\u{1b}b"), "a\\u{1b}b");
+        assert_eq!(escape("a\u{202e}b\u{2066}"), "a\\u{202e}b\\u{2066}");
         assert_eq!(fit_text("abcdef", 10.0, 30.0), "abcd…");
         assert_eq!(fit_text("abc", 10.0, 30.0), "abc");
     }

@@ -146,3 +146,34 @@ fn a_report_writes_html_in_scene_text_as_text() {
     );
     assert!(!markdown.contains("<img") && !markdown.contains("<script"));
 }
+
+#[test]
+fn a_figure_writes_bidirectional_controls_as_escapes() {
+    // Stop 58's hostile pass: `figure` wrote a right-to-left override (U+202E) of a title raw
+    // into the SVG, where a viewer shows the rest of the title reversed; report's figure and
+    // every other output escaped it.
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = Scene::from_toml(preset("benchmark-1").unwrap().text, "b1").unwrap();
+    scene.title = "left \u{202e}thgir\u{2066} end".into();
+    let path = dir.path().join("bidi.toml");
+    std::fs::write(&path, scene.to_toml()).unwrap();
+    let svg_of = |extra: &[&str]| {
+        let out_path = dir.path().join("figure.svg");
+        let out_file = out_path.to_str().unwrap();
+        let mut args = vec!["figure", "deflection", "--scene"];
+        args.extend([path.to_str().unwrap(), "--out", out_file, "--force"]);
+        args.extend(extra);
+        let out = beamfric(&args);
+        assert!(out.status.success(), "{out:?}");
+        std::fs::read_to_string(&out_path).unwrap()
+    };
+    let svg = svg_of(&[]);
+    assert!(svg.contains(r"left \u{202e}thgir\u{2066} end"), "{svg}");
+    // A title of one's own: a control character is a blank, a bidirectional one escaped.
+    let svg = svg_of(&["--title", "a\u{1b}b\u{202e}c"]);
+    assert!(svg.contains(r"<title>a b\u{202e}c</title>"), "{svg}");
+    for text in [svg_of(&[]), svg] {
+        let raw = |c: char| c != '\n' && beamfric::format::acts_on_text(c);
+        assert!(!text.contains(raw), "{text}");
+    }
+}
