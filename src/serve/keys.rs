@@ -26,8 +26,15 @@ pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), ServeE
         refuse_if_others_can_read(path, "host key")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| secret(format!("cannot read the host key {shown}: {e}")))?;
-        let key = PrivateKey::from_openssh(text)
-            .map_err(|e| secret(format!("{shown} is not an OpenSSH private key: {e}")))?;
+        let key = PrivateKey::from_openssh(&text).map_err(|e| not_a_key(path, &text, &e))?;
+        if key.is_encrypted() {
+            // It would load, and then no client could log in: every handshake fails.
+            return Err(secret(format!(
+                "the host key {shown} is encrypted with a passphrase, which the server cannot \
+                 ask for; {}",
+                how_to_make_one(path)
+            )));
+        }
         return Ok((key, false));
     }
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
@@ -55,6 +62,36 @@ pub fn load_or_create_host_key(path: &Path) -> Result<(PrivateKey, bool), ServeE
         .and_then(|()| file.sync_all())
         .map_err(|e| secret(format!("cannot write the host key {shown}: {e}")))?;
     Ok((key, true))
+}
+
+/// Why `text` (read from `path`) is not a host key, in words a lecturer can act on.
+fn not_a_key(path: &Path, text: &str, error: &dyn std::fmt::Display) -> ServeError {
+    let shown = path.display();
+    let why = if text.trim().is_empty() {
+        "it is empty".to_string()
+    } else if !text
+        .trim_start()
+        .starts_with("-----BEGIN OPENSSH PRIVATE KEY-----")
+    {
+        "it does not begin with -----BEGIN OPENSSH PRIVATE KEY----- (a key in another format, \
+         such as PEM's BEGIN RSA PRIVATE KEY, is converted with ssh-keygen -p -f FILE)"
+            .to_string()
+    } else {
+        format!("it cannot be decoded ({error})")
+    };
+    secret(format!(
+        "the host key {shown} is not an OpenSSH private key: {why}; {}",
+        how_to_make_one(path)
+    ))
+}
+
+/// The advice closing every refused host key: where a usable one comes from.
+fn how_to_make_one(path: &Path) -> String {
+    format!(
+        "move it away and the server makes a new one there, or make one with \
+         ssh-keygen -t ed25519 -N '' -f {}",
+        path.display()
+    )
 }
 
 /// Where the host key lives unless `--host-key` says: under `$XDG_CONFIG_HOME/beamfric` (or
@@ -172,5 +209,43 @@ mod tests {
         let refused = load_or_create_host_key(&path).unwrap_err();
         assert!(matches!(refused, ServeError::Secret(_)), "{refused:?}");
         assert!(refused.to_string().contains("chmod 600"), "{refused}");
+    }
+
+    /// `ssh-keygen -t ed25519 -N pw`: a key that needs its passphrase.
+    const ENCRYPTED: &str = "-----BEGIN OPENSSH PRIVATE KEY-----
+b3BlbnNzaC1rZXktdjEAAAAACmFlczI1Ni1jdHIAAAAGYmNyeXB0AAAAGAAAABAUufQ9el
+xvsDJ9fFaOB8edAAAAEAAAAAEAAAAzAAAAC3NzaC1lZDI1NTE5AAAAIBmCR/4YgkfoNJah
+s4JZf8ow7/YabzCC21vdUJ8ksJUGAAAAkJw/m6OL7TCYqJuZOh34Ypq6C25fxzxsGbcA7I
+muN3R+ajB+OIDhSfgbPgMZSKLOQN3IZCcs/xD7iNft7xC0W4YS6NlA4N+TqitoMQJrwZ5Y
+ohS52b5/eseeNjHFALk5JPn9UJAYxb0az7NIeSs0OYe1LWnb9ynAAP/qW7Sb5c3Fy70Rhl
+P3SY43VDrcnJfqWQ==
+-----END OPENSSH PRIVATE KEY-----
+";
+
+    /// Writes `text` as a private host key file and returns what loading it says.
+    fn refusal_of(text: &str) -> String {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("host");
+        std::fs::write(&path, text).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600)).unwrap();
+        let refused = load_or_create_host_key(&path).unwrap_err();
+        assert!(matches!(refused, ServeError::Secret(_)), "{refused:?}");
+        let message = refused.to_string();
+        assert!(message.contains(&path.display().to_string()), "{message}");
+        assert!(message.contains("ssh-keygen -t ed25519 -N ''"), "{message}");
+        message
+    }
+
+    #[test]
+    fn a_host_key_that_cannot_serve_is_refused_saying_why() {
+        // Stop 58's hostile pass: an empty file was "PEM preamble contains invalid data (NUL
+        // byte)"; a key with a passphrase loaded, and then every client's handshake failed.
+        assert!(refusal_of("").contains("it is empty"));
+        assert!(refusal_of("junk\0").contains("does not begin with -----BEGIN OPENSSH"));
+        let pem = "-----BEGIN RSA PRIVATE KEY-----\nMIIB\n-----END RSA PRIVATE KEY-----\n";
+        assert!(refusal_of(pem).contains("ssh-keygen -p -f FILE"));
+        let cut = "-----BEGIN OPENSSH PRIVATE KEY-----\nabc\n-----END OPENSSH PRIVATE KEY-----\n";
+        assert!(refusal_of(cut).contains("cannot be decoded"));
+        assert!(refusal_of(ENCRYPTED).contains("encrypted with a passphrase"));
     }
 }
