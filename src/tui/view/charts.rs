@@ -229,30 +229,80 @@ fn deflection(
     }
 }
 
-/// Each obstacle's number in the row above its marker (below it on the top row), where those
-/// cells are blank: a number never hides the curve, a marker or another number.
+/// Each obstacle's number in the row above its marker (below it on the top row, or for a
+/// second obstacle in the same column), where those cells are blank and no digit touches
+/// them: a number never hides the curve, a marker or another number, and two numbers never
+/// read as one. None where more than two obstacles share a column: a number there could be
+/// any of theirs.
 fn number_obstacles(
     buffer: &mut ratatui::buffer::Buffer,
     plot: &crate::plot::PlotArea,
     obstacles: &[(f64, f64)],
     theme: &Theme,
 ) {
-    let graph = plot.graph;
-    for (i, &(x, y)) in obstacles.iter().enumerate() {
-        let (Some(column), Some(row)) = (plot.column(x), plot.row(y)) else {
-            continue;
-        };
-        let number = (i + 1).to_string();
-        let width = number.len() as u16;
-        let start = column.saturating_sub((width - 1) / 2).max(graph.left());
-        if start + width > graph.right() {
+    let columns: Vec<Option<u16>> = obstacles.iter().map(|&(x, _)| plot.column(x)).collect();
+    for (first, column) in columns.iter().enumerate() {
+        let Some(column) = *column else { continue };
+        if columns[..first].contains(&Some(column)) {
             continue;
         }
-        let above = row.checked_sub(1).filter(|r| *r >= graph.top());
-        let below = Some(row + 1).filter(|r| *r < graph.bottom());
-        let blank = |r: u16| (start..start + width).all(|c| buffer[(c, r)].symbol() == " ");
-        if let Some(r) = above.into_iter().chain(below).find(|r| blank(*r)) {
-            buffer.set_stringn(start, r, &number, width as usize, theme.plain());
+        let sharing: Vec<usize> = (first..obstacles.len())
+            .filter(|&i| columns[i] == Some(column))
+            .collect();
+        if sharing.len() > 2 {
+            continue;
+        }
+        let mut planned: Vec<(u16, u16, String)> = Vec::new();
+        for &i in &sharing {
+            if let Some(place) = number_place(buffer, plot, column, obstacles[i].1, i + 1, &planned)
+            {
+                planned.push(place);
+            }
+        }
+        for (start, row, number) in planned {
+            buffer.set_stringn(start, row, &number, number.len(), theme.plain());
         }
     }
+}
+
+/// Where obstacle `number`'s label goes (start column, row, text): the row above its marker
+/// at height `y`, else the row below, whichever is blank with no digit beside it, counting
+/// the labels already `planned`.
+fn number_place(
+    buffer: &ratatui::buffer::Buffer,
+    plot: &crate::plot::PlotArea,
+    column: u16,
+    y: f64,
+    number: usize,
+    planned: &[(u16, u16, String)],
+) -> Option<(u16, u16, String)> {
+    let graph = plot.graph;
+    let row = plot.row(y)?;
+    let number = number.to_string();
+    let width = number.len() as u16;
+    let start = column.saturating_sub((width - 1) / 2).max(graph.left());
+    if start + width > graph.right() {
+        return None;
+    }
+    let taken = |c: u16, r: u16| {
+        planned
+            .iter()
+            .any(|(s, pr, text)| *pr == r && (*s..*s + text.len() as u16).contains(&c))
+    };
+    let digit_at = |c: u16, r: u16| {
+        (graph.left()..graph.right()).contains(&c)
+            && (taken(c, r)
+                || buffer[(c, r)]
+                    .symbol()
+                    .starts_with(|d: char| d.is_ascii_digit()))
+    };
+    let free = |r: u16| {
+        (start..start + width).all(|c| buffer[(c, r)].symbol() == " " && !taken(c, r))
+            && !(start > 0 && digit_at(start - 1, r))
+            && !digit_at(start + width, r)
+    };
+    let above = row.checked_sub(1).filter(|r| *r >= graph.top());
+    let below = Some(row + 1).filter(|r| *r < graph.bottom());
+    let free_row = above.into_iter().chain(below).find(|r| free(*r))?;
+    Some((start, free_row, number))
 }

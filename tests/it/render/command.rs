@@ -201,3 +201,60 @@ fn palettes_carry_no_information_in_dark_grey_or_light_yellow() {
         }
     }
 }
+
+/// The numbers written inside the deflection chart of `frame` (the focused panel): every run
+/// of digits between the chart's title row and its x axis, right of the y axis.
+fn obstacle_numbers(frame: &str) -> Vec<u32> {
+    // The focused chart's frame is heavy (┃); the y axis is ┤ or │, the x axis starts at └.
+    let rows = frame
+        .lines()
+        .skip_while(|line| !line.contains("Deflection u(x)"))
+        .skip(1)
+        .filter_map(|line| line.split('┃').nth(1))
+        .take_while(|chart| !chart.contains('└'));
+    let mut numbers = Vec::new();
+    for chart in rows {
+        let Some((_, plot)) = chart.split_once(['┤', '│']) else {
+            continue;
+        };
+        numbers.extend(
+            plot.split(|c: char| !c.is_ascii_digit())
+                .filter(|run| !run.is_empty())
+                .map(|run| run.parse::<u32>().unwrap_or(u32::MAX)),
+        );
+    }
+    numbers
+}
+
+#[test]
+fn obstacle_numbers_stand_apart_and_only_where_they_name_their_column() {
+    // Stop 58's hostile pass: with thousands of obstacles the chart's numbers ran together
+    // ("32" beside the curve, among the first 60 obstacles' column).
+    let dir = tempfile::tempdir().unwrap();
+    let frame_of = |obstacles: usize| {
+        let text = crate::harness::scenes::crowded_scene_text_of(obstacles, 1000)
+            .replace("method = \"dual\"", "method = \"condensed\"");
+        let path = dir.path().join(format!("k{obstacles}.toml"));
+        std::fs::write(&path, text).unwrap();
+        let path = path.to_str().unwrap();
+        let out = beamfric(&["render", "--scene", path, "--size", "120x40"]);
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    // Twelve obstacles, columns apart: numbered, each once, none merged with another.
+    let frame = frame_of(12);
+    let mut numbers = obstacle_numbers(&frame);
+    numbers.sort_unstable();
+    assert!(numbers.len() >= 8, "{numbers:?}\n{frame}");
+    assert!(
+        numbers.windows(2).all(|w| w[0] < w[1]),
+        "{numbers:?}\n{frame}"
+    );
+    assert!(
+        numbers.iter().all(|n| (1..=12).contains(n)),
+        "{numbers:?}\n{frame}"
+    );
+    // 300 obstacles in a chart about 68 columns wide: four or five to a column, none numbered.
+    let frame = frame_of(300);
+    assert_eq!(obstacle_numbers(&frame), Vec::<u32>::new(), "{frame}");
+}
