@@ -45,6 +45,8 @@ pub const INJECT_PANIC: &str = "BEAMFRIC_INJECT_PANIC";
 const TICK: Duration = Duration::from_millis(250);
 /// How often the presenter's list of students is redrawn while open (its idle times).
 const STUDENTS_TICK: Duration = Duration::from_secs(1);
+/// How long before the idle timeout the user is warned (at most half the timeout).
+const IDLE_WARNING: Duration = Duration::from_secs(60);
 /// Longest a served session waits for its cancelled workers to end before it lets them go.
 const WORKER_GRACE: Duration = Duration::from_millis(500);
 /// Most events taken from the queue before a frame is drawn.
@@ -161,6 +163,7 @@ pub fn event_loop<S: Screen>(
         clicks: ClickTracker::default(),
         inputs: VecDeque::new(),
         last_input: Instant::now(),
+        idle_warned: false,
         last_bytes: Instant::now(),
         mouse_on: false,
         budget: options
@@ -197,11 +200,21 @@ struct LoopState {
     budget: Option<TimeBudget>,
     /// When the user last did something (or the presenter did, for a follower).
     last_input: Instant,
+    /// The idle warning was shown since [`LoopState::last_input`].
+    idle_warned: bool,
     /// When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
     /// however many other events (results, a presenter's states) arrive meanwhile.
     last_bytes: Instant,
     /// Mouse reports are on in the terminal.
     mouse_on: bool,
+}
+
+impl LoopState {
+    /// The user did something (or the presenter did, for a follower): idle from now.
+    fn note_input(&mut self) {
+        self.last_input = Instant::now();
+        self.idle_warned = false;
+    }
 }
 
 /// The loop itself: hand out work, draw, wait, apply what arrived; until the state ends. A
@@ -274,7 +287,7 @@ fn run_loop<S: Screen>(
         }
         // However many window changes came, one resize, to the newest size.
         if let Some((width, height)) = events.signals.take_size() {
-            state.last_input = Instant::now();
+            state.note_input();
             // A terminal that cannot be resized any more has gone away.
             if screen.resize(width, height).is_err() {
                 update(app, Msg::End(Ending::Hangup));
@@ -351,10 +364,21 @@ fn draw<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result
     Ok(())
 }
 
+/// How long before an idle session ends its user is told: a minute, or half the timeout
+/// where that is shorter.
+fn idle_warning_before(limit: Duration) -> Duration {
+    IDLE_WARNING.min(limit / 2)
+}
+
 /// Blocks until something happens: an event, or a wake-up for a pending lone ESC or a timer
 /// tick while work is in flight (`None`, after a tick message); ends the state when the
 /// session was idle for too long or the channel is gone.
-fn wait(app: &mut App, events: &Events, options: &LoopOptions, state: &LoopState) -> Option<Event> {
+fn wait(
+    app: &mut App,
+    events: &Events,
+    options: &LoopOptions,
+    state: &mut LoopState,
+) -> Option<Event> {
     let idle_left = options
         .idle_timeout
         .map(|limit| limit.saturating_sub(state.last_input.elapsed()));
@@ -362,6 +386,22 @@ fn wait(app: &mut App, events: &Events, options: &LoopOptions, state: &LoopState
         update(app, Msg::End(Ending::Idle));
         return None;
     }
+    // How long until the idle warning is due (it is shown once per idle stretch).
+    let warning_in = match (options.idle_timeout, idle_left) {
+        (Some(limit), Some(left)) if !state.idle_warned => {
+            Some(left.saturating_sub(idle_warning_before(limit)))
+        }
+        _ => None,
+    };
+    if let (Some(Duration::ZERO), Some(left)) = (warning_in, idle_left) {
+        state.idle_warned = true;
+        update(app, Msg::IdleWarning(left));
+        return None;
+    }
+    let idle_left = match (idle_left, warning_in) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, _) => a,
+    };
     let timeout = if state.decoder.has_pending() {
         Some(ESC_TIMEOUT.saturating_sub(state.last_bytes.elapsed()))
     } else if !app.exploration.is_current() && app.show_timings {
@@ -405,12 +445,12 @@ fn apply_event<S: Screen>(
 ) -> io::Result<()> {
     match event {
         Event::Bytes(bytes) => {
-            state.last_input = Instant::now();
+            state.note_input();
             state.last_bytes = state.last_input;
             state.inputs.extend(state.decoder.feed(&bytes));
         }
         // Applied once after the queue is read, at the newest size.
-        Event::Resize => state.last_input = Instant::now(),
+        Event::Resize => state.note_input(),
         Event::Hangup => update(app, Msg::End(Ending::Hangup)),
         Event::Signal(signal) => match signal {
             signal_hook::consts::SIGWINCH => {
@@ -435,7 +475,7 @@ fn apply_event<S: Screen>(
         Event::Notice(text) => update(app, Msg::Notice(text)),
         Event::Follow(exploration) => {
             // A student watching the presenter is not idle.
-            state.last_input = Instant::now();
+            state.note_input();
             update(app, Msg::Follow(exploration));
         }
         Event::Class(news) => update(app, Msg::Class(news)),

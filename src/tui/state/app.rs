@@ -208,6 +208,8 @@ pub struct App {
     pub size: (u16, u16),
     /// How the explorer ended, once it has: the event loop stops then.
     pub ending: Option<Ending>,
+    /// The idle warning shown as the message (cleared, with it, by the next input).
+    pub idle_warning: Option<String>,
     /// Where the scene's unsaved changes went when the session was closed for it (idle or
     /// hung up) under a save directory: the file's name.
     pub saved_at_closing: Option<String>,
@@ -275,6 +277,7 @@ impl App {
             show_difference: false,
             size: (120, 40),
             ending: None,
+            idle_warning: None,
             saved_at_closing: None,
             suspend_requested: false,
             max_elements: options.max_elements,

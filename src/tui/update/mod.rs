@@ -27,7 +27,7 @@ mod students;
 mod typing;
 
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::scene::Panel;
 use crate::tui::input::decode::{DroppedPaste, PASTE_LIMIT};
@@ -79,8 +79,23 @@ pub enum Msg {
     /// A note from outside the explorer (the recording cannot be written), shown as its
     /// message.
     Notice(String),
+    /// The session ends in the given time unless input comes (the idle timeout is near).
+    IdleWarning(Duration),
     /// The explorer ends: the terminal hung up, a signal, the idle timeout.
     End(Ending),
+}
+
+/// The status line's warning that the session ends in `left` for want of a key.
+fn idle_warning(left: Duration, unsaved: bool) -> String {
+    let kept = if unsaved {
+        "; your unsaved changes are kept"
+    } else {
+        ""
+    };
+    format!(
+        "idle: this session ends in {} s without a key{kept}",
+        left.as_secs_f64().round()
+    )
 }
 
 /// What came of a suspension the state asked for (Ctrl-Z) or a signal did (SIGTSTP).
@@ -99,6 +114,15 @@ pub fn update(app: &mut App, msg: Msg) {
     {
         // A student's idle time, for the presenter's list.
         follow.note_input(Instant::now());
+    }
+    if matches!(
+        msg,
+        Msg::Key(_) | Msg::Paste(_) | Msg::Pointer(_) | Msg::Resize(..) | Msg::Follow(_)
+    ) && let Some(warning) = app.idle_warning.take()
+        && app.message.as_ref() == Some(&warning)
+    {
+        // Not idle any more (as the event loop counts it): the warning goes.
+        app.message = None;
     }
     match msg {
         // Below the smallest size nothing is drawn but a notice: a key there would change what
@@ -164,6 +188,11 @@ pub fn update(app: &mut App, msg: Msg) {
         }
         Msg::Tick => {}
         Msg::Notice(text) => app.message = Some(text),
+        Msg::IdleWarning(left) => {
+            let warning = idle_warning(left, app.has_unsaved_work());
+            app.message = Some(warning.clone());
+            app.idle_warning = Some(warning);
+        }
         Msg::End(ending) => {
             if app.ending.is_none() && matches!(ending, Ending::Idle | Ending::Hangup) {
                 // Closed for the user, not by them: changes go to the save directory where

@@ -223,6 +223,37 @@ fn an_idle_session_is_closed_with_a_word() {
     eventually("the session ends", || server.sessions() == 0);
 }
 
+#[test]
+fn an_idle_session_is_warned_and_a_key_keeps_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        idle_timeout: Some(Duration::from_secs(6)),
+        ..options(&dir)
+    })
+    .unwrap();
+    let warning = "idle: this session ends in 3 s without a key";
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("Parameters").await;
+        explorer.wait_for(warning).await;
+        assert!(!explorer.text().contains("unsaved"), "{}", explorer.text());
+        // A key (the selection moves down): the warning goes, and the session stays.
+        explorer.send(b"\x1b[B").await;
+        let deadline = std::time::Instant::now() + Duration::from_secs(60);
+        while explorer.text().contains(warning) {
+            assert!(explorer.read_once(deadline).await, "closed after a key");
+            assert!(std::time::Instant::now() < deadline, "{}", explorer.text());
+        }
+        // Idle again from that key: warned again, then closed.
+        explorer.wait_for(warning).await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(raw.contains("closed after 6 s without input"), "{raw:?}");
+    });
+    eventually("the session ends", || server.sessions() == 0);
+}
+
 /// A served session of `server` that changes the scene (→ on the first parameter) and
 /// waits until the change shows.
 async fn changed_session(
@@ -255,6 +286,10 @@ fn a_session_closed_for_its_user_hands_over_their_unsaved_changes() {
     .unwrap();
     runtime().block_on(async {
         let (_handle, mut explorer) = changed_session(&server).await;
+        // Warned half the timeout before (a minute before, for longer ones).
+        explorer
+            .wait_for("idle: this session ends in 1 s without a key; your unsaved")
+            .await;
         explorer.wait_for_close().await;
         let raw = String::from_utf8_lossy(&explorer.raw).into_owned();
         let marker = "the scene as TOML, to copy into a file:\r\n\r\n";
