@@ -91,6 +91,22 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
         changer
             .wait_for("The class was ended by the lecturer")
             .await;
+        // Stop 59's lecture pass: without --save-dir Bob's scene was shown only on the
+        // closing screen, cut to its height and wrapped into invalid TOML, and gone with the
+        // first key. Now it is printed on his own screen after the explorer has left it, whole
+        // however he leaves (here with keys still coming).
+        changer
+            .wait_for("Your changes are not saved on the server: when this closes")
+            .await;
+        changer.send(b"x\x1b[C\x1b[C").await;
+        changer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&changer.raw).into_owned();
+        let marker = "the scene as TOML, to copy into a file:\r\n\r\n";
+        let at = raw.rfind(marker).unwrap_or_else(|| panic!("{raw:?}")) + marker.len();
+        assert!(raw[..at].contains("beamfric: the class was ended by the lecturer\r\n"));
+        let printed = raw[at..].replace("\r\n", "\n");
+        let scene = beamfric::scene::Scene::from_toml(&printed, "printed").unwrap();
+        assert_eq!(scene.load.f0, 5e5, "{printed}");
     });
     assert_eq!(lecturer.exit().code(), Some(0));
 }

@@ -17,7 +17,7 @@ use ratatui::layout::Rect;
 use ratatui::{Terminal, TerminalOptions, Viewport};
 
 use crate::format::printable;
-use crate::tui::state::{App, Ending};
+use crate::tui::state::{App, Ending, Mode};
 
 pub use super::event_loop::AfterFrame;
 use super::event_loop::{LoopOptions, event_loop};
@@ -140,18 +140,27 @@ pub fn run_remote(
             "beamfric: closed after {} s without input\r\n",
             limit.as_secs()
         );
-        let _ = write_unsaved_work(output, &app);
+        let _ = write_unsaved_work(output, &app, app.saved_at_closing.as_deref());
+    } else if let Mode::ClassEnded { by, saved } = &app.mode {
+        // However the closing screen was left (a key, the server's grace, a key already on its
+        // way), the work stays on the client's own screen, whole and unwrapped.
+        let _ = write!(
+            output,
+            "beamfric: the class was ended by {}\r\n",
+            printable(by)
+        );
+        let _ = write_unsaved_work(output, &app, saved.as_deref());
     }
     // Not flushed here: the output sends what is left when it is dropped, with the patience
     // a last frame deserves (a served session's output drops frames a client does not read).
     ending
 }
 
-/// After an idle session's end, on the client's own screen (it stays in the scrollback):
-/// where its unsaved changes went, or, without a save directory, the scene as TOML to copy.
-/// Nothing when there were none.
-fn write_unsaved_work(output: &mut impl Write, app: &App) -> io::Result<()> {
-    if let Some(name) = &app.saved_at_closing {
+/// After an idle session's end or the class's, on the client's own screen (it stays in the
+/// scrollback): where its unsaved changes went (`saved`, the name in the save directory), or,
+/// where they were not saved, the scene as TOML to copy. Nothing when there were none.
+fn write_unsaved_work(output: &mut impl Write, app: &App, saved: Option<&str>) -> io::Result<()> {
+    if let Some(name) = saved {
         return write!(
             output,
             "beamfric: your changes are saved as {} in the server's save directory\r\n",

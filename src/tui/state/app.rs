@@ -59,6 +59,8 @@ pub enum Discard {
     Preset(usize),
     /// Back to the scene as loaded.
     Reset,
+    /// Follow the presenter again (a student's `F`).
+    Rejoin,
 }
 
 /// What a save does with the file system: write (the explorer), or only say what it would do

@@ -62,6 +62,7 @@ pub(super) fn discard_and(app: &mut App, then: Discard) {
             }
         }
         Discard::Preset(index) => load_preset(app, index),
+        Discard::Rejoin => super::follow::follow_again(app),
     }
 }
 

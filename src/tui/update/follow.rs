@@ -11,7 +11,7 @@ use std::sync::Arc;
 use crate::format::printable;
 use crate::tui::input::keymap::{Action, Key, action_for, follow_action, presenting_action};
 use crate::tui::state::follow::{ClassNews, Following, Role};
-use crate::tui::state::{App, Exploration, Mode};
+use crate::tui::state::{App, Discard, Exploration, Mode};
 
 use super::edit::cap_at_limit;
 use super::save::save_at_closing;
@@ -20,8 +20,15 @@ use super::{act, refresh_sweeps};
 /// Makes `app` show the presenter's state (its own view size and mode stay).
 fn show(app: &mut App, exploration: &Exploration) {
     app.exploration = exploration.clone();
-    // Nothing of the presenter's is the student's to lose.
+    // Nothing of the presenter's is the student's to lose; a save is offered under the name
+    // of the scene shown (a lesson step's, a preset's), as on loading it.
     app.saved = app.exploration.scene.clone();
+    app.save_path = crate::tui::state::app::default_save_path(
+        &app.save_policy,
+        Some(&app.save_directory),
+        app.owner.as_deref(),
+        &app.exploration.source,
+    );
     app.busy_since = None;
     let rows = app.exploration.rows().len();
     app.exploration.selected = app.exploration.selected.min(rows - 1);
@@ -99,18 +106,30 @@ pub(super) fn class_news(app: &mut App, news: ClassNews) {
     }
 }
 
-/// [`Action::Rejoin`]: the student follows the presenter again, at its newest state.
+/// [`Action::Rejoin`]: the student follows the presenter again, at its newest state; asked
+/// first where that would lose unsaved changes of their own.
 pub(super) fn rejoin(app: &mut App) {
+    let Some(follow) = &app.follow else {
+        return;
+    };
+    if !follow.is_student() {
+        return;
+    }
+    if follow.is_following() {
+        app.message = Some("following already: f forks".into());
+        return;
+    }
+    super::discard::unless_unsaved(app, Discard::Rejoin);
+}
+
+/// Follows the presenter again, whatever this student changed (asked by [`rejoin`]).
+pub(super) fn follow_again(app: &mut App) {
     let Some(follow) = &mut app.follow else {
         return;
     };
     let Role::Student(following) = &mut follow.role else {
         return;
     };
-    if following.is_some() {
-        app.message = Some("following already: f forks".into());
-        return;
-    }
     *following = Some(Following::new(&follow.followers));
     if let Some(latest) = follow.latest.clone() {
         show(app, &latest);
@@ -180,6 +199,6 @@ fn asked_to_rejoin(app: &mut App) {
         );
         return;
     }
-    rejoin(app);
+    follow_again(app);
     app.message = Some("the presenter brought everyone back: following again".into());
 }

@@ -97,8 +97,10 @@ fn join(frame: &mut Frame, app: &App, theme: &Theme, area: Rect) {
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
-/// A student's closing screen: who ended the class, where their work went, and the scene as
-/// TOML to copy (without side borders, as [`scene_text`]).
+/// A student's closing screen: who ended the class and where their work goes. Changes not
+/// saved on the server are printed as TOML on the client's own screen once the explorer has
+/// left it (`runtime::remote`): whole, unwrapped and in its scrollback, where a screen of this
+/// size would cut them.
 fn class_ended(
     frame: &mut Frame,
     app: &App,
@@ -112,9 +114,13 @@ fn class_ended(
             "Your scene is saved as {} (in the class's save directory).",
             printable(name)
         ),
-        None => "Nothing is saved on the server: copy the scene below into a file.".into(),
+        None if app.modified() => "Your changes are not saved on the server: when this \
+                                   closes, your scene is printed on your terminal as TOML, \
+                                   to copy into a file."
+            .into(),
+        None => "You have no unsaved changes.".into(),
     };
-    let mut lines = vec![
+    let lines = vec![
         Line::styled(
             format!("The class was ended by {}.", printable(by)),
             theme.warning(),
@@ -124,9 +130,7 @@ fn class_ended(
             "Any key leaves; the connection closes soon anyway.",
             theme.dim(),
         ),
-        Line::from(""),
     ];
-    lines.extend(scene_toml_lines(app));
     frame.render_widget(Clear, area);
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }

@@ -291,6 +291,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                 Discard::Quit => quit_too.as_str(),
                 Discard::Reset => "reset to the scene as loaded",
                 Discard::Preset(_) => "load the preset",
+                Discard::Rejoin => "follow the presenter",
             };
             fit(discard_hints(what, ascii))
         }

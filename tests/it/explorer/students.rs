@@ -34,7 +34,23 @@ fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
     assert!(screen(&app).contains("own exploration"));
     keys(&mut app, "]");
     assert!(app.modified());
+    // Stop 59's lecture pass: F threw the fork's changes away without a word. It asks, n
+    // keeps them, y follows.
     keys(&mut app, "F");
+    assert_eq!(
+        app.mode,
+        Mode::ConfirmDiscard {
+            then: beamfric::tui::state::Discard::Rejoin
+        }
+    );
+    assert!(
+        screen(&app).contains("follow the presenter"),
+        "{}",
+        screen(&app)
+    );
+    keys(&mut app, "n");
+    assert!(app.modified() && screen(&app).contains("own exploration"));
+    keys(&mut app, "F y");
     assert!(screen(&app).contains("following the presenter"));
 }
 
@@ -110,6 +126,34 @@ fn under_a_save_directory_the_offered_name_is_relative_and_the_owners() {
     assert_eq!(app.exploration.source, SceneSource::Preset("benchmark-3"));
     assert_eq!(app.save_path, "_al_ice-benchmark-3.toml");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Stop 59's lecture pass: a student who followed the presenter to another scene (a lesson's
+/// later step) and forked it was offered `alice-benchmark-1.toml`, the scene the session
+/// started on, and the closing save took that name too.
+#[test]
+fn a_followers_save_is_offered_under_the_scene_it_shows() {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let dir = tempfile::tempdir().unwrap();
+    let options = Options {
+        follow: Some(Follow::student(&Followers::new(|| {}), "alice")),
+        save_policy: beamfric::tui::state::SavePolicy::Within(dir.path().into()),
+        save_directory: Some(dir.path().into()),
+        owner: Some("alice".into()),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    assert_eq!(app.save_path, "alice-benchmark-1.toml");
+    let presenter = App::new(loaded_preset("benchmark-3"), Options::new(PLAIN)).unwrap();
+    update(
+        &mut app,
+        Msg::Follow(std::sync::Arc::new(presenter.exploration.clone())),
+    );
+    press(&mut app, "f Right s");
+    let Mode::Save { prompt } = &app.mode else {
+        panic!("no prompt")
+    };
+    assert_eq!(prompt.text, "alice-benchmark-3.toml");
 }
 
 /// Issue 23 item 1: the class counts each student's unsaved work as `update` sees it, and the
@@ -197,16 +241,18 @@ fn a_student_hears_the_presenter_leave_and_the_class_end() {
             saved: None
         }
     );
+    // The changes are printed on the client's own screen once the explorer has left it
+    // (`serve::lecture`); the closing screen says so, and shows no cut copy of its own.
     let closing = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
     assert!(
         closing.contains("The class was ended by the lecturer."),
         "{closing}"
     );
     assert!(
-        closing.contains("Nothing is saved on the server"),
+        closing.contains("Your changes are not saved on the server: when this closes, your"),
         "{closing}"
     );
-    assert!(closing.contains("[load]"), "{closing}");
+    assert!(!closing.contains("[load]"), "{closing}");
     assert!(app.ending.is_none());
     keys(&mut app, "x");
     assert_eq!(app.ending, Some(beamfric::tui::state::Ending::Quit));

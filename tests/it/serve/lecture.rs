@@ -64,8 +64,10 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         assert!(!String::from_utf8_lossy(&presenter.raw).contains("5.0e6"));
         assert!(follower.text().contains("load f0 (x=0)  5.0e6"));
 
-        // F rejoins at the presenter's current state.
+        // F rejoins at the presenter's current state, once the fork's changes may go.
         follower.send(b"F").await;
+        follower.wait_for("lose them?").await;
+        follower.send(b"y").await;
         follower.wait_for("load f0 (x=0)  5.0e4").await;
         follower.wait_for("following the presenter").await;
         assert_eq!(server.followers(), 1);
@@ -187,8 +189,7 @@ fn present_the_lecturers_own_explorer_leads_and_ending_the_class_keeps_every_stu
         follower
             .wait_for("The class was ended by the lecturer")
             .await;
-        follower.wait_for("Nothing is saved on the server").await;
-        follower.wait_for("[load]").await;
+        follower.wait_for("You have no unsaved changes.").await;
         forker.wait_for("The class was ended by the lecturer").await;
         forker.wait_for("bob-benchmark-1.toml").await;
         let saved = std::fs::read_to_string(saves.join("bob-benchmark-1.toml")).unwrap();
