@@ -75,6 +75,11 @@ pub(super) fn broadcast_prompt(app: &mut App, action: Action, mut prompt: Prompt
         if typed == Typed::Full {
             app.message = Some(too_long("a message", BROADCAST_LIMIT, prompt.refused));
         }
+        if matches!(action, Action::DeleteChar | Action::EraseToStart) {
+            // Shortened after the refusal: what is shown is what the lecturer now means to
+            // send (a message is words, not a number that a cut would change).
+            prompt.refused = 0;
+        }
         app.mode = Mode::Broadcast { prompt };
         return;
     }
@@ -82,8 +87,8 @@ pub(super) fn broadcast_prompt(app: &mut App, action: Action, mut prompt: Prompt
         Action::Confirm if prompt.refused > 0 => {
             // Kept to shorten: sent cut, the message would say something else.
             app.message = Some(format!(
-                "nothing sent: {}",
-                too_long("a message", BROADCAST_LIMIT, prompt.refused)
+                "nothing sent ({} typed past {BROADCAST_LIMIT} characters): Backspace, then Enter",
+                prompt.refused
             ));
             app.mode = Mode::Broadcast { prompt };
         }

@@ -368,3 +368,34 @@ fn the_closing_save_takes_the_next_free_name() {
         *app.scene()
     );
 }
+
+/// Stop 59's lecture pass: past the limit, the lecturer's message was refused on Enter even
+/// after Backspace had shortened it, and only Esc got out of the prompt.
+#[test]
+fn a_message_refused_for_its_length_is_sent_once_shortened() {
+    use beamfric::tui::state::follow::{Follow, Followers};
+    let followers = Followers::new(|| {});
+    let options = Options {
+        follow: Some(Follow::presenter(&followers, true)),
+        ..Options::new(PLAIN)
+    };
+    let mut app = app_with("benchmark-1", options);
+    let x59 = vec!["x"; 59].join(" ");
+    press(&mut app, &format!("S m {x59}"));
+    assert_eq!(
+        app.message.as_deref(),
+        Some("a message has at most 58 characters (1 more typed, not taken)")
+    );
+    press(&mut app, "Enter");
+    assert!(matches!(app.mode, Mode::Broadcast { .. }), "{:?}", app.mode);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("nothing sent (1 typed past 58 characters): Backspace, then Enter")
+    );
+    press(&mut app, "Backspace Enter");
+    assert_eq!(app.mode, Mode::Normal);
+    let sent = app.message.clone().unwrap_or_default();
+    // (No server here to hand it to students: sent to none.)
+    assert!(sent.starts_with("sent to 0 students: "), "{sent}");
+    assert!(sent.contains(&"x".repeat(57)) && !sent.contains(&"x".repeat(58)), "{sent}");
+}
