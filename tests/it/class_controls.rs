@@ -13,6 +13,10 @@ fn the_lecturer_lists_the_students_brings_them_back_and_writes_to_all() {
     let dir = tempfile::tempdir().unwrap();
     let mut lecturer = present(dir.path(), &[], (100, 30));
     let (_, address) = past_the_join_screen(&mut lecturer);
+    // Stop 59's lecture pass: the lecturer's Ctrl-Z stopped the process, and the whole class
+    // with it. It is refused, and the class goes on below.
+    lecturer.type_bytes(b"\x1a");
+    lecturer.wait_for_screen("Ctrl-Z would stop the server and every student with it: not done");
     runtime().block_on(async {
         let (alice, bob, carol) = (
             logged_in_as(address, "alice").await,

@@ -53,6 +53,8 @@ pub fn run_local(
     start_signal_thread(sender.clone()).map_err(TerminalError::Signals)?;
     let after_frame = attach(feed);
     let mut session = Session::start(record).map_err(TerminalError::Open)?;
+    // A presenter's process serves the class too: stopped, it would stop every student.
+    session.may_suspend = app.follow.is_none();
     start_input_thread(sender.clone()).map_err(TerminalError::Read)?;
     let options = LoopOptions {
         idle_timeout: None,

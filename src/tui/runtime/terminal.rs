@@ -57,6 +57,9 @@ pub struct Session {
     /// terminal is gone, prints with `eprintln!` — which panics on a closed terminal.
     /// [`restore`] shows the cursor instead, ignoring failures.
     pub terminal: std::mem::ManuallyDrop<Terminal<CrosstermBackend<Output>>>,
+    /// Ctrl-Z and SIGTSTP stop the process: not where it serves a class (`present`), whose
+    /// students would all stop with it.
+    pub may_suspend: bool,
 }
 
 impl Session {
@@ -68,6 +71,7 @@ impl Session {
         match Terminal::new(CrosstermBackend::new(Output::new(record))) {
             Ok(terminal) => Ok(Session {
                 terminal: std::mem::ManuallyDrop::new(terminal),
+                may_suspend: true,
             }),
             Err(e) => {
                 restore();
@@ -115,6 +119,9 @@ impl Screen for Session {
     }
 
     fn suspend(&mut self) -> io::Result<bool> {
+        if !self.may_suspend {
+            return Ok(false);
+        }
         Session::suspend(self)?;
         Ok(true)
     }

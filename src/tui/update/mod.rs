@@ -180,6 +180,11 @@ pub fn update(app: &mut App, msg: Msg) {
         Msg::Suspension(suspension) => {
             app.suspend_requested = false;
             match suspension {
+                Suspension::Refused if app.follow.as_ref().is_some_and(|f| !f.is_student()) => {
+                    app.message = Some(
+                        "Ctrl-Z would stop the server and every student with it: not done".into(),
+                    );
+                }
                 Suspension::Refused => {
                     app.message = Some("Ctrl-Z does nothing here: q quits".into());
                 }

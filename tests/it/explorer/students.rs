@@ -397,5 +397,8 @@ fn a_message_refused_for_its_length_is_sent_once_shortened() {
     let sent = app.message.clone().unwrap_or_default();
     // (No server here to hand it to students: sent to none.)
     assert!(sent.starts_with("sent to 0 students: "), "{sent}");
-    assert!(sent.contains(&"x".repeat(57)) && !sent.contains(&"x".repeat(58)), "{sent}");
+    assert!(
+        sent.contains(&"x".repeat(57)) && !sent.contains(&"x".repeat(58)),
+        "{sent}"
+    );
 }
