@@ -156,6 +156,15 @@ fn own_server(
     dir: &tempfile::TempDir,
     extra: &[&str],
 ) -> (ServeProcess, std::net::SocketAddr, u32) {
+    own_server_with(dir, extra, &[])
+}
+
+/// As [`own_server`], with `env` in the server's environment.
+fn own_server_with(
+    dir: &tempfile::TempDir,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> (ServeProcess, std::net::SocketAddr, u32) {
     let host_key = dir.path().join("host_key");
     let mut args = vec![
         "serve",
@@ -166,7 +175,7 @@ fn own_server(
         host_key.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    let mut server = ServeProcess::start(&args);
+    let mut server = ServeProcess::start_with(&args, env);
     let port = port_in(&server.wait_for_line("listening on"));
     let pid = server.pid();
     (server, ([127, 0, 0, 1], port).into(), pid)
@@ -495,5 +504,27 @@ fn the_memory_of_sessions_that_ended_is_given_back() {
     // allocator's and the server's own, and does not grow from round to round).
     eventually("the server's memory is back near where it started", || {
         resident_kib(pid) < before + 48 * 1024
+    });
+}
+
+#[test]
+fn the_servers_own_no_color_is_not_every_students() {
+    // Stop 59's lecture pass: `NO_COLOR=1 beamfric serve` (or present) sent every student
+    // frames without a colour code: crossterm reads NO_COLOR of the server's process. A
+    // session's colours are its client's.
+    let dir = tempfile::tempdir().unwrap();
+    let (_server, address, _) = own_server_with(&dir, &[], &[("NO_COLOR", "1")]);
+    runtime().block_on(async {
+        let handle = logged_in(address).await;
+        let mut colored = Explorer::open(&handle, (100, 30), &[]).await;
+        colored.wait_for("Parameters").await;
+        let raw = String::from_utf8_lossy(&colored.raw).into_owned();
+        assert!(raw.contains("\x1b[38;5;"), "no colour sent: {raw:?}");
+        // A client that asks for none gets none.
+        let handle = logged_in(address).await;
+        let mut plain = Explorer::open(&handle, (100, 30), &[("NO_COLOR", "1")]).await;
+        plain.wait_for("Parameters").await;
+        let raw = String::from_utf8_lossy(&plain.raw).into_owned();
+        assert!(!raw.contains("\x1b[38;5;"), "colour sent: {raw:?}");
     });
 }

@@ -13,8 +13,14 @@ pub struct ServeProcess {
 
 impl ServeProcess {
     pub fn start(args: &[&str]) -> ServeProcess {
+        ServeProcess::start_with(args, &[])
+    }
+
+    /// As [`ServeProcess::start`], with `env` set in the process's environment.
+    pub fn start_with(args: &[&str], env: &[(&str, &str)]) -> ServeProcess {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamfric"))
             .args(args)
+            .envs(env.iter().copied())
             .stdin(std::process::Stdio::null())
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::piped())
