@@ -141,13 +141,13 @@ fn write_figure(app: &App, panel: Panel, svg: &str) -> Result<String, String> {
             SavePolicy::Write => Ok(PathBuf::from(name)),
             SavePolicy::Within(dir) if !dir.is_dir() => Err(format!(
                 "{} is not a directory, and it is the only place files may go",
-                dir.display()
+                super::save::directory_shown(app, dir)
             )),
             SavePolicy::Within(dir) => save_target(&app.save_policy, name).ok_or_else(|| {
                 format!(
                     "{name} is outside {}, the only directory files may go to (or a link \
                      leads out of it)",
-                    dir.display()
+                    super::save::directory_shown(app, dir)
                 )
             }),
             SavePolicy::Simulate => Err(format!(

@@ -116,8 +116,9 @@ fn save(app: &mut App, path: &str, overwrite: bool) -> Option<Discard> {
             Some(target) => target,
             None => {
                 app.message = Some(format!(
-                    "not saved: {path} is outside {}, the only directory saves may go to",
-                    dir.display()
+                    "not saved: {path} is outside {}, the only directory saves may go to (or a \
+                     link leads out of it)",
+                    directory_shown(app, dir)
                 ));
                 return None;
             }
@@ -207,4 +208,15 @@ pub fn save_target(policy: &SavePolicy, path: &str) -> Option<std::path::PathBuf
         _ => parent.join(target.file_name()?),
     };
     landing.starts_with(&real_dir).then_some(target)
+}
+
+/// The one directory saves may go to, as the user is shown it: a served session's (it has an
+/// owner) is the class's save directory, never the server's own path; a render's
+/// `--allow-save DIR` is the user's own DIR.
+pub(super) fn directory_shown(app: &App, dir: &std::path::Path) -> String {
+    if app.owner.is_some() {
+        "the class's save directory".into()
+    } else {
+        dir.display().to_string()
+    }
 }

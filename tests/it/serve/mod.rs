@@ -462,6 +462,10 @@ fn with_a_save_dir_sessions_save_there_and_file_names_cannot_leave_it() {
                 explorer.send(b"y").await;
                 explorer.wait_for("is outside").await;
             }
+            // Stop 59's lecture pass: the refusal named the server's own directory.
+            let text = explorer.text();
+            assert!(text.contains("the class's save directory"), "{text}");
+            assert!(!text.contains(saves.to_str().unwrap()), "{text}");
         }
         // A plain name is saved in the directory, as a scene that loads back.
         explorer.send(b"l").await;
