@@ -175,27 +175,19 @@ fn record_error(path: &std::path::Path, e: &std::io::Error) -> ServeError {
 }
 
 /// What the recording marks after each frame: a lesson's step when it changes (an asciinema
-/// marker, `step 2/7: title`), and the terminal's new size.
+/// marker, `step 2/7: title`). The terminal's new size is noted before the frame drawn at it,
+/// by the terminal's own output (`runtime::record::Output::note_resize`).
 struct Marks {
     tap: RecordTap,
     step: Option<usize>,
-    size: Option<(u16, u16)>,
 }
 
 impl Marks {
     fn new(tap: RecordTap) -> Marks {
-        Marks {
-            tap,
-            step: None,
-            size: None,
-        }
+        Marks { tap, step: None }
     }
 
     fn after_frame(&mut self, app: &crate::tui::state::App) {
-        if self.size.is_some_and(|size| size != app.size) {
-            self.tap.resize(app.size.0, app.size.1);
-        }
-        self.size = Some(app.size);
         if let Some(place) = &app.exploration.lesson
             && self.step != Some(place.step)
         {

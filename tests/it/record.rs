@@ -74,6 +74,10 @@ fn a_recording_plays_back_to_the_lecturers_screen_with_a_marker_per_step() {
     lecturer.type_bytes(b" ");
     lecturer.wait_for_screen("step 3/7:");
     lecturer.wait_for_screen("error 8.5e-5");
+    // Stop 59's lecture pass: a new size was recorded after the frame drawn at it, so a
+    // player drew that frame at the old size, then resized: the last screen was garbled.
+    lecturer.resize((100, 30));
+    lecturer.wait_for_screen("m:method w:warnings");
     lecturer.type_bytes(b"q");
     assert_eq!(lecturer.exit().code(), Some(0));
     assert!(
@@ -84,6 +88,17 @@ fn a_recording_plays_back_to_the_lecturers_screen_with_a_marker_per_step() {
 
     let cast = parse(&path).unwrap();
     assert_eq!(cast.header["version"], 2);
+    let resized = cast.events.iter().position(|e| e.1 == "r");
+    assert_eq!(resized.map(|i| cast.events[i].2.as_str()), Some("100x30"));
+    let resized = resized.unwrap();
+    assert!(
+        cast.events[..resized]
+            .iter()
+            .all(|e| !e.2.contains("m:method w:warnings")),
+        "a frame at the new size came before the new size"
+    );
+    // A replay ends with the cursor shown and plain attributes, as the lecturer's did.
+    assert!(cast.events.last().unwrap().2.ends_with("\x1b[0m\x1b[?25h"));
     assert_eq!(cast.header["width"], 80);
     assert_eq!(cast.header["height"], 24);
     let times: Vec<f64> = cast.events.iter().map(|e| e.0).collect();

@@ -455,6 +455,7 @@ fn apply_event<S: Screen>(
         Event::Signal(signal) => match signal {
             signal_hook::consts::SIGWINCH => {
                 if let Ok((w, h)) = crossterm::terminal::size() {
+                    screen.resize(w, h)?;
                     update(app, Msg::Resize(w, h));
                 }
             }

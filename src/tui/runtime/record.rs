@@ -24,6 +24,8 @@ use super::screen::{MOUSE_OFF, MOUSE_ON};
 pub const FLUSH_EVERY: Duration = Duration::from_secs(2);
 /// Largest recording kept (events beyond it are dropped, and the end says so).
 pub const MAX_CAST_BYTES: usize = 256 << 20;
+/// The last output of every cast: attributes reset, the cursor shown.
+const CAST_END: &str = "\x1b[0m\x1b[?25h";
 
 /// What the recorder thread is told.
 enum Record {
@@ -227,7 +229,12 @@ impl Cast {
                 None => receiver.recv().map_err(|_| RecvTimeoutError::Disconnected),
             };
             match received {
-                Ok(Record::Finish) | Err(RecvTimeoutError::Disconnected) => break,
+                Ok(Record::Finish) | Err(RecvTimeoutError::Disconnected) => {
+                    // A replay ends with the viewer's terminal as it was: plain text, the cursor
+                    // shown (the explorer hid it; its restoring goes to the terminal only).
+                    self.add(Record::Output(self.last_time, CAST_END.as_bytes().to_vec()));
+                    break;
+                }
                 Ok(Record::TellFailuresTo(feed)) => self.told = Some(feed),
                 Ok(record) => {
                     self.add(record);
@@ -503,12 +510,14 @@ mod tests {
         let summary = recording.finish().unwrap();
         assert!(!summary.truncated);
         let all = lines(&path);
-        assert_eq!(all.len(), 4, "{all:?}");
+        assert_eq!(all.len(), 5, "{all:?}");
         assert_eq!(all[1][1], "o");
         assert_eq!(all[1][2], "ε = 1e-2 ⠤");
         assert_eq!(all[2][1], "m");
         assert_eq!(all[2][2], "step 2/7: ε");
         assert_eq!(all[3][2], "100x30");
+        assert_eq!(all[4][1], "o");
+        assert_eq!(all[4][2], CAST_END);
         let times: Vec<f64> = all[1..].iter().map(|e| e[0].as_f64().unwrap()).collect();
         assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
         // A file put at its name meanwhile is never written over: it goes on next to it.
@@ -524,7 +533,8 @@ mod tests {
         );
         assert_eq!(summary.path, dir.path().join("replaced-2.cast"));
         assert_eq!(summary.moved_from.as_deref(), Some(replaced.as_path()));
-        assert_eq!(lines(&summary.path).len(), 2);
+        // The header, the marker and the closing output.
+        assert_eq!(lines(&summary.path).len(), 3);
         // No part file is left behind.
         let parts = std::fs::read_dir(dir.path())
             .unwrap()

@@ -57,6 +57,8 @@ pub struct Session {
     /// terminal is gone, prints with `eprintln!` — which panics on a closed terminal.
     /// [`restore`] shows the cursor instead, ignoring failures.
     pub terminal: std::mem::ManuallyDrop<Terminal<CrosstermBackend<Output>>>,
+    /// Where a recording's events go (a new size), when one is made.
+    record: Option<RecordTap>,
     /// Ctrl-Z and SIGTSTP stop the process: not where it serves a class (`present`), whose
     /// students would all stop with it.
     pub may_suspend: bool,
@@ -68,9 +70,10 @@ impl Session {
     pub fn start(record: Option<RecordTap>) -> io::Result<Session> {
         install_panic_hook();
         enter()?;
-        match Terminal::new(CrosstermBackend::new(Output::new(record))) {
+        match Terminal::new(CrosstermBackend::new(Output::new(record.clone()))) {
             Ok(terminal) => Ok(Session {
                 terminal: std::mem::ManuallyDrop::new(terminal),
+                record,
                 may_suspend: true,
             }),
             Err(e) => {
@@ -113,8 +116,13 @@ impl Screen for Session {
         Ok((size.width, size.height))
     }
 
-    /// The local terminal follows its size by itself (ratatui resizes on the next draw).
-    fn resize(&mut self, _width: u16, _height: u16) -> io::Result<()> {
+    /// The local terminal follows its size by itself (ratatui resizes on the next draw); a
+    /// recording notes the new size before that frame (each frame's output is sent whole at
+    /// its flush, so nothing of the last one comes after).
+    fn resize(&mut self, width: u16, height: u16) -> io::Result<()> {
+        if let Some(tap) = &self.record {
+            tap.resize(width, height);
+        }
         Ok(())
     }
 

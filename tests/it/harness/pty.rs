@@ -144,6 +144,22 @@ impl PtyProcess {
         }
     }
 
+    /// The terminal's window changes to `size` (columns, rows): the kernel tells the program
+    /// (SIGWINCH), and the screen is read at the new size from then on.
+    pub fn resize(&mut self, size: (u16, u16)) {
+        let winsize = Winsize {
+            ws_row: size.1,
+            ws_col: size.0,
+            ws_xpixel: 0,
+            ws_ypixel: 0,
+        };
+        let master = self.master.as_ref().expect("not hung up").as_raw_fd();
+        // SAFETY: TIOCSWINSZ reads one `winsize` from the pointer.
+        let set = unsafe { nix::libc::ioctl(master, nix::libc::TIOCSWINSZ, &winsize) };
+        assert_eq!(set, 0, "set the window size");
+        self.size = size;
+    }
+
     pub fn pid(&self) -> Pid {
         Pid::from_raw(self.child.id() as i32)
     }
