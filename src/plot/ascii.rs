@@ -13,6 +13,10 @@ pub fn ascii_char(c: char) -> char {
     if c.is_ascii() {
         return c;
     }
+    if let Some(d) = superscript(c).or_else(|| subscript(c)) {
+        // Where there is no room for the caret of ^T.
+        return d;
+    }
     match c {
         '─' | '━' | '═' | '╌' | '╍' | '┄' | '┅' => '-',
         '│' | '┃' | '║' | '╎' | '╏' | '┆' | '┇' | '┊' => '|',
@@ -45,6 +49,19 @@ pub fn ascii_char(c: char) -> char {
         // Block elements, quadrants and sextants: the marker sets' curves.
         '\u{2580}'..='\u{259f}' | '\u{1fb00}'..='\u{1fb3b}' => '#',
         '≠' => '#',
+        // The charts' markers, as their ASCII legends show them (so a caption naming one
+        // names the same in ASCII): the methods' (`study_charts`) and the obstacle states'
+        // and the iterate's (`tui::layout::deflection`).
+        '●' | '∘' => 'o',
+        '■' => '#',
+        '▲' => '^',
+        '◆' => '%',
+        '✚' => '+',
+        '✖' => 'x',
+        '★' => '@',
+        '↕' => 'S',
+        '↻' => 'W',
+        '✱' => 'X',
         _ => '?',
     }
 }
@@ -204,6 +221,22 @@ fn make_room(buffer: &mut Buffer, x: u16, y: u16, extra: u16) -> bool {
 mod tests {
     use super::*;
     use ratatui::layout::Rect;
+
+    #[test]
+    fn a_marker_named_in_text_reads_as_its_ascii_legend_shows_it() {
+        // Stop 59's lecture pass: an ASCII caption said "the dual (?)" where the legend
+        // showed "o dual".
+        for (unicode, ascii) in super::super::study_charts::METHOD_MARKERS {
+            assert_eq!(ascii_char(unicode), ascii, "{unicode}");
+        }
+        assert_eq!(
+            spell_ascii("the dual (●), flexibility (▲)"),
+            "the dual (o), flexibility (^)"
+        );
+        assert_eq!(ascii_char('ᵀ'), 'T');
+        assert_eq!(ascii_char('⁻'), '-');
+        assert_eq!(spell_ascii("B A⁻¹ Bᵀ"), "B A^-1 B^T");
+    }
 
     #[test]
     fn every_character_becomes_ascii() {

@@ -273,7 +273,7 @@ pub fn eps_condition_chart(
 }
 
 /// The marker of each method, by its place in [`Method::ALL`]: (Unicode, ASCII).
-const METHOD_MARKERS: [(char, char); 7] = [
+pub(crate) const METHOD_MARKERS: [(char, char); 7] = [
     ('●', 'o'),
     ('■', '#'),
     ('▲', '^'),

@@ -363,3 +363,16 @@ pub fn deflection_columns(app: &App, area: Rect) -> Option<DeflectionColumns> {
         length: data.length,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_marker_reads_in_ascii_text_as_its_ascii_legend_shows_it() {
+        use crate::plot::ascii_char;
+        for (unicode, ascii) in STATE_MARKERS.into_iter().chain([ITERATE_MARKER, WALL]) {
+            assert_eq!(ascii_char(unicode), ascii, "{unicode}");
+        }
+    }
+}
