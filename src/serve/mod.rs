@@ -221,10 +221,6 @@ impl Server {
     /// own explorer presents) and log lines are kept in memory (see [`present`]).
     fn start_as(options: &ServeOptions, presenting: bool) -> Result<Server, ServeError> {
         check_ranges(options)?;
-        // Each session's colours are its client's (`ClientEnv::look`: its NO_COLOR, its
-        // terminal); crossterm would otherwise drop every colour code when this process was
-        // started with NO_COLOR, the lecturer's own wish, for every student.
-        crossterm::style::force_color_output(true);
         let access = access(options)?;
         let mut notes = Vec::new();
         if access.open {

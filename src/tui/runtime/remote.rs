@@ -61,6 +61,7 @@ impl<W: Write> Screen for RemoteScreen<W> {
         self.terminal.resize(Rect::new(0, 0, width, height))
     }
 
+
     fn before_frame(&mut self) -> io::Result<bool> {
         // A frame the client never got: what it shows is not what ratatui remembers.
         if let Some(lost) = &self.frames_lost
@@ -106,6 +107,9 @@ pub fn run_remote(
         frames_lost,
     } = remote;
     let (width, height) = clamp_size(size.0, size.1);
+    // The session's colours are its look's (its client's NO_COLOR, its terminal): crossterm
+    // would otherwise drop every colour code when the server's own process has NO_COLOR.
+    crossterm::style::force_color_output(true);
     // Bracketed paste as locally (`terminal`): without it the client's terminal sends a paste
     // as keys, and every `s`, `d` or `q` in the text would run.
     queue!(output, EnterAlternateScreen, EnableBracketedPaste, Hide)?;

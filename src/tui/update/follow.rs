@@ -119,7 +119,14 @@ pub(super) fn rejoin(app: &mut App) {
         app.message = Some("following already: f forks".into());
         return;
     }
-    super::discard::unless_unsaved(app, Discard::Rejoin);
+    // As `discard::unless_unsaved` asks (which calls back here on a yes).
+    if app.modified() {
+        app.mode = Mode::ConfirmDiscard {
+            then: Discard::Rejoin,
+        };
+    } else {
+        follow_again(app);
+    }
 }
 
 /// Follows the presenter again, whatever this student changed (asked by [`rejoin`]).
