@@ -166,6 +166,7 @@ pub fn event_loop<S: Screen>(
         idle_warned: false,
         last_bytes: Instant::now(),
         mouse_on: false,
+        text_shown: false,
         budget: options
             .ui_share
             .map(|share| TimeBudget::new(share, Duration::from_secs(1))),
@@ -207,6 +208,8 @@ struct LoopState {
     last_bytes: Instant,
     /// Mouse reports are on in the terminal.
     mouse_on: bool,
+    /// The screen shows the scene as text, outside the explorer's ([`Screen::show_text`]).
+    text_shown: bool,
 }
 
 impl LoopState {
@@ -233,7 +236,7 @@ fn run_loop<S: Screen>(
         workers.hand_out(app);
         // Something happened (or this is the first frame): draw. A terminal that cannot be
         // written to any more has gone away.
-        if draw(screen, app, &mut state.mouse_on).is_err() {
+        if draw(screen, app, state).is_err() {
             update(app, Msg::End(Ending::Hangup));
             return Ok(Ending::Hangup);
         }
@@ -346,19 +349,37 @@ fn rest(budget: &mut TimeBudget, signals: &Signals) {
 
 /// Draws a frame, asking the terminal for mouse reports first (or telling it to stop) when
 /// the app's wish changed.
-fn draw<S: Screen>(screen: &mut S, app: &App, mouse_on: &mut bool) -> io::Result<()> {
+fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Result<()> {
     if screen.before_frame()? {
         // The client may have missed the mouse switch too: say it again.
-        *mouse_on = false;
+        state.mouse_on = false;
     }
     let wanted = app.wants_mouse();
-    if wanted != *mouse_on {
+    if wanted != state.mouse_on {
         let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
         screen
             .terminal()
             .backend_mut()
             .write_all(sequence.as_bytes())?;
-        *mouse_on = wanted;
+        state.mouse_on = wanted;
+    }
+    // The scene as TOML to copy: outside the explorer's screen where this screen can show it
+    // so (whole, unwrapped), and nothing drawn over it until a key brings the explorer back.
+    let text_wanted = app.mode == Mode::SceneText;
+    if text_wanted && !state.text_shown {
+        let lines: Vec<String> = app
+            .scene()
+            .to_toml()
+            .lines()
+            .map(|line| crate::format::printable(line).into_owned())
+            .collect();
+        state.text_shown = screen.show_text(&lines)?;
+    } else if !text_wanted && state.text_shown {
+        screen.end_text()?;
+        state.text_shown = false;
+    }
+    if state.text_shown {
+        return Ok(());
     }
     screen.terminal().draw(|frame| view::draw(frame, app))?;
     Ok(())

@@ -61,6 +61,27 @@ impl<W: Write> Screen for RemoteScreen<W> {
         self.terminal.resize(Rect::new(0, 0, width, height))
     }
 
+    /// The text on the client's main screen, where its terminal keeps it whole (long lines
+    /// unwrapped by us, all of it in the scrollback) for the mouse to select.
+    fn show_text(&mut self, lines: &[String]) -> io::Result<bool> {
+        let output = self.terminal.backend_mut();
+        queue!(output, LeaveAlternateScreen, Show)?;
+        write!(output, "\r\n")?;
+        for line in lines {
+            write!(output, "{line}\r\n")?;
+        }
+        write!(
+            output,
+            "\r\n(beamfric: the scene as TOML above, to copy; any key returns to the explorer)\r\n"
+        )?;
+        output.flush()?;
+        Ok(true)
+    }
+
+    fn end_text(&mut self) -> io::Result<()> {
+        queue!(self.terminal.backend_mut(), EnterAlternateScreen, Hide)?;
+        self.redraw_all()
+    }
 
     fn before_frame(&mut self) -> io::Result<bool> {
         // A frame the client never got: what it shows is not what ratatui remembers.

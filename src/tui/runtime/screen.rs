@@ -34,4 +34,14 @@ pub trait Screen {
     fn before_frame(&mut self) -> io::Result<bool> {
         Ok(false)
     }
+    /// Shows `lines` as plain text on the terminal's own screen, outside the explorer's, to
+    /// select and copy whole (a remote screen: `s` without a save directory). `false` where
+    /// the explorer shows it itself instead (the local terminal).
+    fn show_text(&mut self, _lines: &[String]) -> io::Result<bool> {
+        Ok(false)
+    }
+    /// Back from [`Screen::show_text`]: the explorer's screen again, drawn whole.
+    fn end_text(&mut self) -> io::Result<()> {
+        Ok(())
+    }
 }

@@ -17,7 +17,7 @@ use russh::keys::{PrivateKey, PrivateKeyWithHashAlg};
 
 use crate::harness::cpu;
 use crate::harness::lecture::{past_the_join_screen, present};
-use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess};
+use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess, SHOW_CURSOR};
 use crate::harness::screen::{find, rows, sgr};
 use crate::harness::serve_process::{ServeProcess, port_in};
 use crate::harness::ssh::{
@@ -184,20 +184,40 @@ fn ascii_and_no_color_follow_the_clients_environment() {
 
 #[test]
 fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
-    let test = open_server();
+    // Stop 59's lecture pass: the TOML was drawn in the explorer's screen, cut at its width
+    // and height (eight-obstacles at 80×24: 22 of its lines, the description cut without its
+    // closing quote). It is now written on the client's own screen, whole, to select there.
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        scene: "eight-obstacles".into(),
+        ..options(&dir)
+    })
+    .unwrap();
     let cwd_before = std::fs::read_dir(".").unwrap().count();
     runtime().block_on(async {
-        let handle = logged_in(test.server.address()).await;
-        let mut explorer = Explorer::open(&handle, (120, 40), &[]).await;
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (80, 24), &[]).await;
         explorer.wait_for("Parameters").await;
+        let before = explorer.raw.len();
         explorer.send(b"s").await;
-        explorer.wait_for("nothing is saved on the server").await;
-        // The scene's own TOML, as `Scene::to_toml` writes it.
-        let scene = beamfric::scene::load("benchmark-1").unwrap().scene;
-        let toml = scene.to_toml();
-        let first_table = toml.lines().find(|l| l.starts_with('[')).unwrap();
-        assert!(explorer.text().contains(first_table), "{}", explorer.text());
-        // Any key closes it.
+        explorer.wait_for("any key returns to the explorer").await;
+        let raw = String::from_utf8_lossy(&explorer.raw[before..]).into_owned();
+        let at = raw
+            .find(LEAVE_ALTERNATE)
+            .unwrap_or_else(|| panic!("{raw:?}"));
+        let end = raw
+            .find("\r\n\r\n(beamfric: the scene as TOML above")
+            .unwrap();
+        let shown = &raw[at + LEAVE_ALTERNATE.len()..end];
+        let shown = shown.strip_prefix(SHOW_CURSOR).unwrap_or(shown);
+        let text = shown.strip_prefix("\r\n").unwrap().replace("\r\n", "\n");
+        let text = text.as_str();
+        // The scene's own TOML, whole: it reads back as the scene shown.
+        let scene = beamfric::scene::Scene::from_toml(text, "copied").unwrap();
+        let preset = beamfric::scene::load("eight-obstacles").unwrap().scene;
+        assert_eq!(scene, preset);
+        assert!(text.lines().count() > 24 && text.lines().any(|l| l.chars().count() > 80));
+        // Any key brings the explorer back.
         explorer.send(b"x").await;
         explorer.wait_for("Parameters").await;
     });
