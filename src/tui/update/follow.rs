@@ -9,7 +9,9 @@
 use std::sync::Arc;
 
 use crate::format::printable;
-use crate::tui::input::keymap::{Action, Key, action_for, follow_action, presenting_action};
+use crate::tui::input::keymap::{
+    Key, a_follower_may, action_for, follow_action, presenting_action,
+};
 use crate::tui::state::follow::{ClassNews, Following, Role};
 use crate::tui::state::{App, Discard, Exploration, Mode};
 
@@ -169,24 +171,7 @@ pub(super) fn intercept(app: &mut App, key: Key) -> bool {
     if !follow.is_following() {
         return false;
     }
-    let passes = matches!(
-        action_for(&app.mode, key),
-        Some(
-            Action::ShowHelp
-                | Action::Quit
-                | Action::Interrupt
-                | Action::Suspend
-                | Action::ToggleTimings
-                // What only this student's screen shows: not part of the presenter's state, so
-                // a follower may change it.
-                | Action::ShowWarnings
-                | Action::CycleTheme
-                | Action::CycleMarkers
-                | Action::ExportFigure
-                | Action::ToggleDifference
-                | Action::ToggleZoom
-        )
-    );
+    let passes = action_for(&app.mode, key).is_some_and(a_follower_may);
     if !passes {
         app.message = Some("following the presenter: f to explore on your own".into());
     }

@@ -16,7 +16,7 @@ use crate::solve::{Reference, Solution};
 use crate::tui::input::keymap::help::{
     discard_hints, end_class_question, overwrite_question, picker_hints, prompt_keys, scroll_keys,
 };
-use crate::tui::input::keymap::{extra_keys, fitted_hint_line, up_down};
+use crate::tui::input::keymap::{extra_keys, fitted_hint_line_of, up_down, works_now};
 use crate::tui::state::prompt::Prompt;
 use crate::tui::state::{App, Discard, Mode};
 
@@ -311,7 +311,7 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
             "select the text with the mouse to copy it; any key leaves".into()
         }
         Mode::Join => "any key closes; J shows it again".into(),
-        Mode::Normal => fitted_hint_line(ascii, &extra_keys(app), width),
+        Mode::Normal => fitted_hint_line_of(ascii, &extra_keys(app), width, &|a| works_now(app, a)),
     };
     frame.render_widget(Paragraph::new(text).style(theme.dim()), area);
 }

@@ -20,7 +20,14 @@ fn screen(app: &App) -> String {
 #[test]
 fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
     let mut app = student();
-    assert!(screen(&app).contains("f:fork F:rejoin"), "{}", screen(&app));
+    // Stop 59's lecture pass: a follower's hint line offered ↑↓:select ←→:change Enter:type
+    // m:method, keys that only answer "following the presenter", and F while following. It
+    // names the keys that work now.
+    let following = "?:help q:quit f:fork w:warnings t:time z:zoom c:compare e:export T:theme";
+    assert!(screen(&app).contains(following), "{}", screen(&app));
+    for gone in ["F:rejoin", ":select", ":change", ":method"] {
+        assert!(!screen(&app).contains(gone), "{gone}: {}", screen(&app));
+    }
     keys(&mut app, "?");
     assert_eq!(app.mode, Mode::Help { offset: 0 });
     let help = screen(&app);
@@ -32,6 +39,9 @@ fn a_students_help_and_hints_list_the_follow_keys_and_fork_and_rejoin_work() {
     assert!(!app.modified());
     keys(&mut app, "f");
     assert!(screen(&app).contains("own exploration"));
+    let hints = screen(&app);
+    assert!(hints.contains("?:help q:quit F:rejoin ↑↓:select"), "{hints}");
+    assert!(!hints.contains("f:fork"), "{hints}");
     keys(&mut app, "]");
     assert!(app.modified());
     // Stop 59's lecture pass: F threw the fork's changes away without a word. It asks, n

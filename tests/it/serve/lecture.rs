@@ -34,14 +34,14 @@ fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
         // The presenter's status line counts the follower at once, without a key.
         presenter.wait_for("1 follow").await;
         // The follow keys are in a student's hint line and help, not in the presenter's.
-        follower.wait_for("f:fork F:rejoin").await;
+        follower.wait_for("q:quit f:fork w:warnings").await;
         assert!(!presenter.text().contains("f:fork"), "{}", presenter.text());
         // The student's help lists them too.
         follower.send(b"?").await;
         follower.wait_for("Keys (any key closes)").await;
         follower.wait_for("F  follow the presenter again").await;
         follower.send(b"\x1b").await;
-        follower.wait_for("f:fork F:rejoin").await;
+        follower.wait_for("q:quit f:fork w:warnings").await;
 
         // The presenter's change, seen by the follower.
         presenter.send(b"]").await;

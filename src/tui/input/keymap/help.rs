@@ -74,19 +74,30 @@ pub fn up_down(ascii: bool) -> &'static str {
 /// The hint line of normal mode, from [`NORMAL`]: `key:word` in the hints' order. Arrow pairs
 /// are written together (`↑↓`, or `Up/Down` in ASCII).
 pub fn hint_line(ascii: bool) -> String {
-    hint_items(ascii, &[]).join(" ")
+    hint_items(ascii, &[], &|_| true).join(" ")
 }
 
 /// The hint line of [`NORMAL`] and `extra` (e.g. [`FOLLOW`]) together, in the hints' order.
 pub fn hint_line_with(ascii: bool, extra: &[&[Binding]]) -> String {
-    hint_items(ascii, extra).join(" ")
+    hint_items(ascii, extra, &|_| true).join(" ")
 }
 
 /// The hint line of [`NORMAL`] and `extra` cut to `width` columns: the most useful hints
 /// that fit, whole, in their order (`?:help` first, so the rest is always one key away).
 pub fn fitted_hint_line(ascii: bool, extra: &[&[Binding]], width: usize) -> String {
+    fitted_hint_line_of(ascii, extra, width, &|_| true)
+}
+
+/// As [`fitted_hint_line`], of the bindings whose action `keep` keeps (the keys that work
+/// now: a following student's few).
+pub fn fitted_hint_line_of(
+    ascii: bool,
+    extra: &[&[Binding]],
+    width: usize,
+    keep: &dyn Fn(Action) -> bool,
+) -> String {
     let mut line = String::new();
-    for item in hint_items(ascii, extra) {
+    for item in hint_items(ascii, extra, keep) {
         let needed = if line.is_empty() { 0 } else { 1 } + item.chars().count();
         if line.chars().count() + needed > width {
             break;
@@ -100,10 +111,11 @@ pub fn fitted_hint_line(ascii: bool, extra: &[&[Binding]], width: usize) -> Stri
 }
 
 /// The hints of [`NORMAL`] and `extra`, most useful first, each `key:word`.
-fn hint_items(ascii: bool, extra: &[&[Binding]]) -> Vec<String> {
+fn hint_items(ascii: bool, extra: &[&[Binding]], keep: &dyn Fn(Action) -> bool) -> Vec<String> {
     let mut hints: Vec<&Hint> = NORMAL
         .iter()
         .chain(extra.iter().flat_map(|table| table.iter()))
+        .filter(|b| b.keys.first().is_none_or(|(_, action)| keep(*action)))
         .filter_map(|b| b.hint.as_ref())
         .collect();
     hints.sort_by_key(|h| h.order);

@@ -12,7 +12,10 @@ pub mod tables;
 
 pub use super::keys::{Key, parse_keys};
 pub use action::Action;
-pub use help::{fitted_hint_line, help_lines, help_lines_with, hint_line, hint_line_with, up_down};
+pub use help::{
+    fitted_hint_line, fitted_hint_line_of, help_lines, help_lines_with, hint_line, hint_line_with,
+    up_down,
+};
 pub use tables::{
     Binding, DISCARD_QUESTION, END_CLASS_QUESTION, FOLLOW, GLOBAL, Hint, LESSON, NORMAL,
     OVERWRITE_QUESTION, PICKER, PRESENTING, PROMPT, SCROLLING, STUDENTS,
@@ -118,6 +121,40 @@ pub fn extra_keys(app: &App) -> Vec<&'static [Binding]> {
         _ => {}
     }
     tables
+}
+
+/// May a student following the presenter do `action`? Only what changes nothing of the
+/// presenter's state: help, quit, timings, and what only the student's own screen shows.
+pub fn a_follower_may(action: Action) -> bool {
+    matches!(
+        action,
+        Action::ShowHelp
+            | Action::Quit
+            | Action::Interrupt
+            | Action::Suspend
+            | Action::ToggleTimings
+            | Action::ShowWarnings
+            | Action::CycleTheme
+            | Action::CycleMarkers
+            | Action::ExportFigure
+            | Action::ToggleDifference
+            | Action::ToggleZoom
+    )
+}
+
+/// Does `action` work in this explorer's normal mode now (for its hint line)? A following
+/// student's keys are [`a_follower_may`]'s and `f`; one exploring on their own has every key
+/// but `f`, and `F`.
+pub fn works_now(app: &App, action: Action) -> bool {
+    let Some(follow) = app.follow.as_ref().filter(|f| f.is_student()) else {
+        return true;
+    };
+    let following = follow.is_following();
+    match action {
+        Action::Fork => following,
+        Action::Rejoin => !following,
+        other => !following || a_follower_may(other),
+    }
 }
 
 /// The action of a key in normal mode, from [`NORMAL`].
