@@ -71,8 +71,7 @@ pub(super) fn fork(app: &mut App) {
 fn cap_elements(app: &mut App) {
     if let (Some(asked), Some(max)) = (cap_at_limit(app), app.max_elements) {
         app.message = Some(format!(
-            "your own exploration from here, at n = {max}: the presenter's n = {asked} is beyond \
-             this server's limit for students (F follows the presenter again)"
+            "own exploration at n = {max}, this server's limit (the presenter's: {asked})"
         ));
     }
 }
@@ -89,9 +88,8 @@ pub(super) fn class_news(app: &mut App, news: ClassNews) {
         ClassNews::PresenterLeft => {
             // The view stays; the keys are the student's again.
             app.message = Some(if following.take().is_some() {
-                "the presenter left: this explorer is yours from here (F follows again once \
-                 a presenter is back)"
-                    .into()
+                // One status line at 80 columns.
+                "the presenter left: the keys are yours (F follows again once one is back)".into()
             } else {
                 "the presenter left".into()
             });

@@ -54,9 +54,10 @@ pub(super) fn in_list(app: &mut App, action: Action, offset: u16) {
                 .students()
                 .saturating_sub(follow.followers.count());
             follow.followers.announce(ClassNews::Rejoin);
+            // One status line at 80 columns (one with unsaved work is only asked: the list's
+            // "unsaved" says who).
             app.message = Some(format!(
-                "asked the {exploring} student{} exploring on their own to follow again (one with \
-                 unsaved work is only asked)",
+                "asked the {exploring} student{} exploring on their own to follow again",
                 if exploring == 1 { "" } else { "s" }
             ));
         }
