@@ -354,6 +354,14 @@ fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Resu
         // The client may have missed the mouse switch too: say it again.
         state.mouse_on = false;
     }
+    // The scene as TOML to copy: outside the explorer's screen where this screen can show it
+    // so (whole, unwrapped), and nothing drawn over it until a key brings the explorer back
+    // (the mouse is switched off before it is shown, and on again after it).
+    let text_wanted = app.mode == Mode::SceneText;
+    if !text_wanted && state.text_shown {
+        screen.end_text()?;
+        state.text_shown = false;
+    }
     let wanted = app.wants_mouse();
     if wanted != state.mouse_on {
         let sequence = if wanted { MOUSE_ON } else { MOUSE_OFF };
@@ -363,9 +371,6 @@ fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Resu
             .write_all(sequence.as_bytes())?;
         state.mouse_on = wanted;
     }
-    // The scene as TOML to copy: outside the explorer's screen where this screen can show it
-    // so (whole, unwrapped), and nothing drawn over it until a key brings the explorer back.
-    let text_wanted = app.mode == Mode::SceneText;
     if text_wanted && !state.text_shown {
         let lines: Vec<String> = app
             .scene()
@@ -374,9 +379,6 @@ fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Resu
             .map(|line| crate::format::printable(line).into_owned())
             .collect();
         state.text_shown = screen.show_text(&lines)?;
-    } else if !text_wanted && state.text_shown {
-        screen.end_text()?;
-        state.text_shown = false;
     }
     if state.text_shown {
         return Ok(());

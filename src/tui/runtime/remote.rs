@@ -34,6 +34,9 @@ struct RemoteScreen<W: Write> {
     terminal: Terminal<CrosstermBackend<W>>,
     size: (u16, u16),
     frames_lost: Option<Arc<AtomicBool>>,
+    /// The client's main screen shows text ([`Screen::show_text`]): nothing clears it (a
+    /// resize or a whole redraw waits until the explorer is back).
+    showing_text: bool,
 }
 
 impl<W: Write> Screen for RemoteScreen<W> {
@@ -49,7 +52,7 @@ impl<W: Write> Screen for RemoteScreen<W> {
 
     fn resize(&mut self, width: u16, height: u16) -> io::Result<()> {
         self.size = (width, height);
-        self.terminal.resize(Rect::new(0, 0, width, height))
+        self.redraw_all()
     }
 
     fn suspend(&mut self) -> io::Result<bool> {
@@ -57,6 +60,9 @@ impl<W: Write> Screen for RemoteScreen<W> {
     }
 
     fn redraw_all(&mut self) -> io::Result<()> {
+        if self.showing_text {
+            return Ok(());
+        }
         let (width, height) = self.size;
         self.terminal.resize(Rect::new(0, 0, width, height))
     }
@@ -75,11 +81,13 @@ impl<W: Write> Screen for RemoteScreen<W> {
             "\r\n(beamfric: the scene as TOML above, to copy; any key returns to the explorer)\r\n"
         )?;
         output.flush()?;
+        self.showing_text = true;
         Ok(true)
     }
 
     fn end_text(&mut self) -> io::Result<()> {
         queue!(self.terminal.backend_mut(), EnterAlternateScreen, Hide)?;
+        self.showing_text = false;
         self.redraw_all()
     }
 
@@ -142,6 +150,7 @@ pub fn run_remote(
         terminal,
         size: (width, height),
         frames_lost,
+        showing_text: false,
     };
     // Start on a clean screen: the client's shell prompt may be on it.
     screen.redraw_all()?;

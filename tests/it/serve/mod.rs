@@ -17,7 +17,7 @@ use russh::keys::{PrivateKey, PrivateKeyWithHashAlg};
 
 use crate::harness::cpu;
 use crate::harness::lecture::{past_the_join_screen, present};
-use crate::harness::pty::{LEAVE_ALTERNATE, PtyProcess, SHOW_CURSOR};
+use crate::harness::pty::{ENTER_ALTERNATE, LEAVE_ALTERNATE, PtyProcess, SHOW_CURSOR};
 use crate::harness::screen::{find, rows, sgr};
 use crate::harness::serve_process::{ServeProcess, port_in};
 use crate::harness::ssh::{
@@ -217,9 +217,14 @@ fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
         let preset = beamfric::scene::load("eight-obstacles").unwrap().scene;
         assert_eq!(scene, preset);
         assert!(text.lines().count() > 24 && text.lines().any(|l| l.chars().count() > 80));
-        // Any key brings the explorer back.
+        // A window change meanwhile does not clear the text; any key brings the explorer back.
+        explorer.resize((100, 30)).await;
         explorer.send(b"x").await;
         explorer.wait_for("Parameters").await;
+        let raw = String::from_utf8_lossy(&explorer.raw[before..]).into_owned();
+        let back = raw.find(ENTER_ALTERNATE).unwrap();
+        // Nothing written over it (a clear, a frame) before the explorer's screen is back.
+        assert!(!raw[end..back].contains('\x1b'), "{:?}", &raw[end..back]);
     });
     assert_eq!(std::fs::read_dir(".").unwrap().count(), cwd_before);
 }
