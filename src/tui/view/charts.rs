@@ -240,41 +240,33 @@ fn number_obstacles(
     obstacles: &[(f64, f64)],
     theme: &Theme,
 ) {
+    let graph = plot.graph;
+    // How many obstacles each column holds: one pass, whatever the number of obstacles.
     let columns: Vec<Option<u16>> = obstacles.iter().map(|&(x, _)| plot.column(x)).collect();
-    for (first, column) in columns.iter().enumerate() {
+    let mut sharing = vec![0usize; usize::from(graph.right())];
+    for column in columns.iter().flatten() {
+        sharing[usize::from(*column)] += 1;
+    }
+    for (i, (column, &(_, y))) in columns.iter().zip(obstacles).enumerate() {
         let Some(column) = *column else { continue };
-        if columns[..first].contains(&Some(column)) {
+        if sharing[usize::from(column)] > 2 {
             continue;
         }
-        let sharing: Vec<usize> = (first..obstacles.len())
-            .filter(|&i| columns[i] == Some(column))
-            .collect();
-        if sharing.len() > 2 {
-            continue;
-        }
-        let mut planned: Vec<(u16, u16, String)> = Vec::new();
-        for &i in &sharing {
-            if let Some(place) = number_place(buffer, plot, column, obstacles[i].1, i + 1, &planned)
-            {
-                planned.push(place);
-            }
-        }
-        for (start, row, number) in planned {
+        // Written at once: the next number's place sees this one in the buffer.
+        if let Some((start, row, number)) = number_place(buffer, plot, column, y, i + 1) {
             buffer.set_stringn(start, row, &number, number.len(), theme.plain());
         }
     }
 }
 
 /// Where obstacle `number`'s label goes (start column, row, text): the row above its marker
-/// at height `y`, else the row below, whichever is blank with no digit beside it, counting
-/// the labels already `planned`.
+/// at height `y`, else the row below, whichever is blank with no digit beside it.
 fn number_place(
     buffer: &ratatui::buffer::Buffer,
     plot: &crate::plot::PlotArea,
     column: u16,
     y: f64,
     number: usize,
-    planned: &[(u16, u16, String)],
 ) -> Option<(u16, u16, String)> {
     let graph = plot.graph;
     let row = plot.row(y)?;
@@ -284,20 +276,14 @@ fn number_place(
     if start + width > graph.right() {
         return None;
     }
-    let taken = |c: u16, r: u16| {
-        planned
-            .iter()
-            .any(|(s, pr, text)| *pr == r && (*s..*s + text.len() as u16).contains(&c))
-    };
     let digit_at = |c: u16, r: u16| {
         (graph.left()..graph.right()).contains(&c)
-            && (taken(c, r)
-                || buffer[(c, r)]
-                    .symbol()
-                    .starts_with(|d: char| d.is_ascii_digit()))
+            && buffer[(c, r)]
+                .symbol()
+                .starts_with(|d: char| d.is_ascii_digit())
     };
     let free = |r: u16| {
-        (start..start + width).all(|c| buffer[(c, r)].symbol() == " " && !taken(c, r))
+        (start..start + width).all(|c| buffer[(c, r)].symbol() == " ")
             && !(start > 0 && digit_at(start - 1, r))
             && !digit_at(start + width, r)
     };
