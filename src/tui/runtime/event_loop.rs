@@ -166,7 +166,7 @@ pub fn event_loop<S: Screen>(
         idle_warned: false,
         last_bytes: Instant::now(),
         mouse_on: false,
-        text_shown: false,
+        text_shown: None,
         budget: options
             .ui_share
             .map(|share| TimeBudget::new(share, Duration::from_secs(1))),
@@ -208,8 +208,8 @@ struct LoopState {
     last_bytes: Instant,
     /// Mouse reports are on in the terminal.
     mouse_on: bool,
-    /// The screen shows the scene as text, outside the explorer's ([`Screen::show_text`]).
-    text_shown: bool,
+    /// The scene whose text the screen shows, outside the explorer's ([`Screen::show_text`]).
+    text_shown: Option<crate::scene::Scene>,
 }
 
 impl LoopState {
@@ -356,11 +356,14 @@ fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Resu
     }
     // The scene as TOML to copy: outside the explorer's screen where this screen can show it
     // so (whole, unwrapped), and nothing drawn over it until a key brings the explorer back
-    // (the mouse is switched off before it is shown, and on again after it).
+    // (the mouse is switched off before it is shown, and on again after it). A burst of keys
+    // can close it, change the scene and open it again between two frames: then the text
+    // shown is another scene's, and it is shown anew.
     let text_wanted = app.mode == Mode::SceneText;
-    if !text_wanted && state.text_shown {
+    let stale = |shown: &crate::scene::Scene| !text_wanted || shown != app.scene();
+    if state.text_shown.as_ref().is_some_and(stale) {
         screen.end_text()?;
-        state.text_shown = false;
+        state.text_shown = None;
     }
     let wanted = app.wants_mouse();
     if wanted != state.mouse_on {
@@ -371,16 +374,18 @@ fn draw<S: Screen>(screen: &mut S, app: &App, state: &mut LoopState) -> io::Resu
             .write_all(sequence.as_bytes())?;
         state.mouse_on = wanted;
     }
-    if text_wanted && !state.text_shown {
+    if text_wanted && state.text_shown.is_none() {
         let lines: Vec<String> = app
             .scene()
             .to_toml()
             .lines()
             .map(|line| crate::format::printable(line).into_owned())
             .collect();
-        state.text_shown = screen.show_text(&lines)?;
+        if screen.show_text(&lines)? {
+            state.text_shown = Some(app.scene().clone());
+        }
     }
-    if state.text_shown {
+    if state.text_shown.is_some() {
         return Ok(());
     }
     screen.terminal().draw(|frame| view::draw(frame, app))?;

@@ -182,6 +182,28 @@ fn ascii_and_no_color_follow_the_clients_environment() {
     });
 }
 
+/// The line after the scene's text that `s` writes outside the explorer.
+const CLOSING_TEXT: &str = "\r\n\r\n(beamfric: the scene as TOML above";
+
+/// The scene's text `explorer` was last shown by `s`, once `count` of them have come since
+/// byte `from` of its output.
+async fn text_shown(explorer: &mut Explorer, from: usize, count: usize) -> String {
+    let deadline = deadline();
+    loop {
+        let raw = String::from_utf8_lossy(&explorer.raw[from..]).into_owned();
+        if raw.matches(CLOSING_TEXT).count() >= count {
+            let end = raw.rfind(CLOSING_TEXT).unwrap();
+            let at = raw[..end].rfind(LEAVE_ALTERNATE).unwrap() + LEAVE_ALTERNATE.len();
+            let text = raw[at..end]
+                .strip_prefix(SHOW_CURSOR)
+                .unwrap_or(&raw[at..end]);
+            return text.strip_prefix("\r\n").unwrap().replace("\r\n", "\n");
+        }
+        assert!(Instant::now() < deadline, "{raw:?}");
+        assert!(explorer.read_once(deadline).await, "closed: {raw:?}");
+    }
+}
+
 #[test]
 fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
     // Stop 59's lecture pass: the TOML was drawn in the explorer's screen, cut at its width
@@ -200,20 +222,9 @@ fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
         explorer.wait_for("Parameters").await;
         let before = explorer.raw.len();
         explorer.send(b"s").await;
-        explorer.wait_for("any key returns to the explorer").await;
-        let raw = String::from_utf8_lossy(&explorer.raw[before..]).into_owned();
-        let at = raw
-            .find(LEAVE_ALTERNATE)
-            .unwrap_or_else(|| panic!("{raw:?}"));
-        let end = raw
-            .find("\r\n\r\n(beamfric: the scene as TOML above")
-            .unwrap();
-        let shown = &raw[at + LEAVE_ALTERNATE.len()..end];
-        let shown = shown.strip_prefix(SHOW_CURSOR).unwrap_or(shown);
-        let text = shown.strip_prefix("\r\n").unwrap().replace("\r\n", "\n");
-        let text = text.as_str();
+        let text = text_shown(&mut explorer, before, 1).await;
         // The scene's own TOML, whole: it reads back as the scene shown.
-        let scene = beamfric::scene::Scene::from_toml(text, "copied").unwrap();
+        let scene = beamfric::scene::Scene::from_toml(&text, "copied").unwrap();
         let preset = beamfric::scene::load("eight-obstacles").unwrap().scene;
         assert_eq!(scene, preset);
         assert!(text.lines().count() > 24 && text.lines().any(|l| l.chars().count() > 80));
@@ -222,9 +233,19 @@ fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
         explorer.send(b"x").await;
         explorer.wait_for("Parameters").await;
         let raw = String::from_utf8_lossy(&explorer.raw[before..]).into_owned();
+        let end = raw.find(CLOSING_TEXT).unwrap();
         let back = raw.find(ENTER_ALTERNATE).unwrap();
         // Nothing written over it (a clear, a frame) before the explorer's screen is back.
         assert!(!raw[end..back].contains('\x1b'), "{:?}", &raw[end..back]);
+        // Keys in one burst close it, change the load and open it again before a frame: the
+        // text shown is the changed scene's, not the one on screen before.
+        let before = explorer.raw.len();
+        explorer.send(b"s").await;
+        text_shown(&mut explorer, before, 1).await;
+        explorer.send(b"x\x1b[Cs").await;
+        let text = text_shown(&mut explorer, before, 2).await;
+        let scene = beamfric::scene::Scene::from_toml(&text, "copied").unwrap();
+        assert!(scene.load.f0 > preset.load.f0, "{text}");
     });
     assert_eq!(std::fs::read_dir(".").unwrap().count(), cwd_before);
 }
