@@ -4,7 +4,8 @@
 //! terminal emulator.
 //!
 //! Here: a session's screen, keys, saves, limits and ending; who may connect in `access`; the
-//! lecture (`present`, followers) in `lecture`.
+//! idle timeout and the work of a session closed for its user in `idle`; the lecture
+//! (`present`, followers) in `lecture`.
 
 #![cfg(unix)]
 
@@ -27,6 +28,7 @@ use crate::harness::ssh::{
 use crate::harness::wait::{deadline, eventually, until};
 
 mod access;
+mod idle;
 mod lecture;
 
 /// A server on a free loopback port with its host key in a temporary directory.
@@ -248,129 +250,6 @@ fn saving_in_a_served_session_shows_the_toml_and_writes_nothing() {
         assert!(scene.load.f0 > preset.load.f0, "{text}");
     });
     assert_eq!(std::fs::read_dir(".").unwrap().count(), cwd_before);
-}
-
-#[test]
-fn an_idle_session_is_closed_with_a_word() {
-    let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(&ServeOptions {
-        idle_timeout: Some(Duration::from_secs(1)),
-        ..options(&dir)
-    })
-    .unwrap();
-    runtime().block_on(async {
-        let handle = logged_in(server.address()).await;
-        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
-        explorer.wait_for("Parameters").await;
-        explorer.wait_for_close().await;
-        let raw = String::from_utf8_lossy(&explorer.raw);
-        assert!(raw.contains("closed after 1 s without input"), "{raw:?}");
-    });
-    eventually("the session ends", || server.sessions() == 0);
-}
-
-#[test]
-fn an_idle_session_is_warned_and_a_key_keeps_it() {
-    let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(&ServeOptions {
-        idle_timeout: Some(Duration::from_secs(6)),
-        ..options(&dir)
-    })
-    .unwrap();
-    let warning = "idle: this session ends in 3 s without a key";
-    runtime().block_on(async {
-        let handle = logged_in(server.address()).await;
-        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
-        explorer.wait_for("Parameters").await;
-        explorer.wait_for(warning).await;
-        assert!(!explorer.text().contains("unsaved"), "{}", explorer.text());
-        // A key (the selection moves down): the warning goes, and the session stays.
-        explorer.send(b"\x1b[B").await;
-        let deadline = std::time::Instant::now() + Duration::from_secs(60);
-        while explorer.text().contains(warning) {
-            assert!(explorer.read_once(deadline).await, "closed after a key");
-            assert!(std::time::Instant::now() < deadline, "{}", explorer.text());
-        }
-        // Idle again from that key: warned again, then closed.
-        explorer.wait_for(warning).await;
-        explorer.wait_for_close().await;
-        let raw = String::from_utf8_lossy(&explorer.raw);
-        assert!(raw.contains("closed after 6 s without input"), "{raw:?}");
-    });
-    eventually("the session ends", || server.sessions() == 0);
-}
-
-/// A served session of `server` that changes the scene (→ on the first parameter) and
-/// waits until the change shows.
-async fn changed_session(
-    server: &Server,
-) -> (
-    russh::client::Handle<crate::harness::ssh::TrustingClient>,
-    Explorer,
-) {
-    let handle = logged_in(server.address()).await;
-    let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
-    explorer.wait_for("Parameters").await;
-    explorer.send(b"\x1b[C").await;
-    explorer.wait_for("[modified]").await;
-    (handle, explorer)
-}
-
-#[test]
-fn a_session_closed_for_its_user_hands_over_their_unsaved_changes() {
-    // Stop 58's hostile pass: the idle timeout closed a session with changes, said only
-    // "closed after 3 s without input", and the changes were gone.
-    let preset = beamfric::scene::load("benchmark-1").unwrap().scene;
-    let idle = Some(Duration::from_secs(2));
-    // Without a save directory: the scene as TOML on the client's own screen, after the
-    // explorer has left it.
-    let dir = tempfile::tempdir().unwrap();
-    let server = Server::start(&ServeOptions {
-        idle_timeout: idle,
-        ..options(&dir)
-    })
-    .unwrap();
-    runtime().block_on(async {
-        let (_handle, mut explorer) = changed_session(&server).await;
-        // Warned half the timeout before (a minute before, for longer ones).
-        explorer
-            .wait_for("idle: this session ends in 1 s without a key; your unsaved")
-            .await;
-        explorer.wait_for_close().await;
-        let raw = String::from_utf8_lossy(&explorer.raw).into_owned();
-        let marker = "the scene as TOML, to copy into a file:\r\n\r\n";
-        let at = raw.find(marker).unwrap_or_else(|| panic!("{raw:?}")) + marker.len();
-        let text = raw[at..].replace("\r\n", "\n");
-        let scene = beamfric::scene::Scene::from_toml(&text, "printed").unwrap();
-        assert_ne!(scene, preset, "the change is in what was printed");
-        assert_eq!(scene.obstacles, preset.obstacles);
-    });
-    // With one: saved there, on an idle end and on a hang-up alike.
-    let dir = tempfile::tempdir().unwrap();
-    let saves = dir.path().join("saves");
-    std::fs::create_dir_all(&saves).unwrap();
-    let server = Server::start(&ServeOptions {
-        idle_timeout: idle,
-        save_dir: Some(saves.clone()),
-        ..options(&dir)
-    })
-    .unwrap();
-    runtime().block_on(async {
-        let (_handle, mut explorer) = changed_session(&server).await;
-        explorer.wait_for_close().await;
-        let raw = String::from_utf8_lossy(&explorer.raw);
-        assert!(raw.contains("your changes are saved as "), "{raw:?}");
-        let (handle, _explorer) = changed_session(&server).await;
-        disconnect(&handle).await;
-    });
-    eventually("both sessions' changes are saved", || {
-        std::fs::read_dir(&saves).unwrap().count() == 2
-    });
-    for entry in std::fs::read_dir(&saves).unwrap() {
-        let path = entry.unwrap().path();
-        let saved = beamfric::scene::load(path.to_str().unwrap()).unwrap().scene;
-        assert_ne!(saved, preset, "{}", path.display());
-    }
 }
 
 #[test]
