@@ -143,6 +143,11 @@ impl Drop for ChannelWriter {
     }
 }
 
+/// What a student reads on joining a class whose presenter has not logged in (one status
+/// line at 80 columns).
+const NO_PRESENTER_YET: &str =
+    "no presenter yet: the keys are yours; you follow one once they log in";
+
 /// Starts an explorer on `channel` (called on the server's runtime), presenting or following
 /// when the server has presenters. Returns the feed for the client's bytes and window changes.
 pub(crate) fn start(
@@ -160,19 +165,27 @@ pub(crate) fn start(
     let mut hub_id = None;
     let mut follow = None;
     let mut latest = None;
+    let mut greeting = None;
     if let Some(hub) = &shared.hub {
         if presenter {
             follow = Some(Follow::presenter(&hub.followers, false));
-            hub_id = Some(hub.join_presenter(feed.clone()));
+            let id = hub.join_presenter(feed.clone());
+            hub_id = Some(id);
             let publishing = Arc::clone(shared);
             after_frame = Some(Box::new(move |app: &App| {
                 if let Some(hub) = &publishing.hub {
-                    hub.publish(&app.exploration);
+                    hub.publish(id, &app.exploration);
                 }
             }));
         } else {
-            follow = Some(Follow::student(&hub.followers, user.unwrap_or("(no name)")));
-            let (id, newest) = hub.join(feed.clone());
+            let user = user.unwrap_or("(no name)");
+            let (id, newest, presenter_here) = hub.join(feed.clone());
+            follow = Some(if presenter_here {
+                Follow::student(&hub.followers, user)
+            } else {
+                greeting = Some(NO_PRESENTER_YET.to_string());
+                Follow::student_without_presenter(&hub.followers, user)
+            });
             hub_id = Some(id);
             latest = newest;
         }
@@ -194,6 +207,7 @@ pub(crate) fn start(
         palette: settings.palette,
         markers: settings.markers,
         lesson: settings.lesson.clone(),
+        greeting,
         ..Options::new(Look {
             ascii: client.look().ascii || settings.ascii,
             color: client.look().color && settings.color,

@@ -1,9 +1,10 @@
 //! Follow mode, on the server's side: the hub that takes each frame's state of a presenter
 //! (a session logged in with a key of `--presenter-keys`) and hands it to every student's
 //! explorer, which shows it while following. The presenter's solve and sweeps travel with
-//! the state, so they are computed once, not once per student. It also tells the students
-//! when the last presenter leaves (they get their keys back) and when the class ends (each
-//! shows its closing screen).
+//! the state, so they are computed once, not once per student. Of several presenters the
+//! newest leads. It also tells the students when a presenter arrives where none was (those
+//! waiting for one follow), when the last leaves (they get their keys back) and when the
+//! class ends (each shows its closing screen).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -58,28 +59,49 @@ impl std::fmt::Debug for Hub {
 
 impl Hub {
     /// A student joins: its feed hears every new state from now on. Returns its id (for
-    /// [`Hub::leave`]) and the newest state so far.
-    pub fn join(&self, feed: Feed) -> (u64, Option<Arc<Exploration>>) {
+    /// [`Hub::leave`]), the newest state so far and whether a presenter is connected (without
+    /// one, the student starts on their own and hears [`ClassNews::PresenterArrived`]).
+    pub fn join(&self, feed: Feed) -> (u64, Option<Arc<Exploration>>, bool) {
         let id = self.next_id.fetch_add(1, Ordering::Relaxed);
+        // Listed before it asks: a presenter arriving meanwhile tells it.
         lock(&self.students).push((id, feed));
-        (id, lock(&self.latest).clone())
+        let presenter_here = !lock(&self.presenters).is_empty();
+        (id, lock(&self.latest).clone(), presenter_here)
     }
 
-    /// A presenter joins: it hears when the number of followers changes. Returns its id.
+    /// A presenter joins and leads (the newest presenter leads: a lecturer who reconnects is
+    /// not locked out by a connection that has not yet timed out); the one that led hears it
+    /// no longer does, and where none was there, every student hears that one arrived. It
+    /// hears when the number of followers changes. Returns its id.
     pub fn join_presenter(&self, feed: Feed) -> u64 {
         let id = self.next_id.fetch_add(1, Ordering::Relaxed);
-        lock(&self.presenters).push((id, feed));
+        let first = {
+            let mut presenters = lock(&self.presenters);
+            if let Some((_, leader)) = presenters.last() {
+                leader.class_news(ClassNews::Lead(false));
+            }
+            presenters.push((id, feed));
+            presenters.len() == 1
+        };
+        if first {
+            self.tell_students(ClassNews::PresenterArrived);
+        }
         id
     }
 
-    /// A student or presenter left. When the last presenter leaves, every student hears it
-    /// (a follower gets its keys back).
+    /// A student or presenter left. When the leading presenter leaves, the one before it
+    /// leads again; when the last leaves, every student hears it (a follower gets its keys
+    /// back).
     pub fn leave(&self, id: u64) {
         lock(&self.students).retain(|(student, _)| *student != id);
         let last_presenter_left = {
             let mut presenters = lock(&self.presenters);
+            let led = presenters.last().is_some_and(|(leader, _)| *leader == id);
             let before = presenters.len();
             presenters.retain(|(presenter, _)| *presenter != id);
+            if led && let Some((_, leader)) = presenters.last() {
+                leader.class_news(ClassNews::Lead(true));
+            }
             before > 0 && presenters.is_empty()
         };
         if last_presenter_left {
@@ -97,8 +119,14 @@ impl Hub {
         tell(&self.students, news)
     }
 
-    /// A presenter drew a frame: its state goes to every student.
-    pub fn publish(&self, exploration: &Exploration) {
+    /// Presenter `id` drew a frame: where it leads, its state goes to every student.
+    pub fn publish(&self, id: u64, exploration: &Exploration) {
+        let leads = lock(&self.presenters)
+            .last()
+            .is_some_and(|(leader, _)| *leader == id);
+        if !leads {
+            return;
+        }
         let snapshot = Arc::new(exploration.clone());
         *lock(&self.latest) = Some(Arc::clone(&snapshot));
         for (_, feed) in lock(&self.students).iter() {

@@ -75,10 +75,11 @@ pub fn present(
             if let Some(recording) = &recording {
                 recording.tell_failures_to(feed.clone());
             }
-            presenter_id = Some(hub.join_presenter(feed));
+            let id = hub.join_presenter(feed);
+            presenter_id = Some(id);
             Some(Box::new(move |app: &App| {
                 if let Some(hub) = &publishing.hub {
-                    hub.publish(&app.exploration);
+                    hub.publish(id, &app.exploration);
                 }
                 if let Some(marks) = &mut marks {
                     marks.after_frame(app);

@@ -164,6 +164,13 @@ pub enum ClassNews {
     Rejoin,
     /// A line from the presenter to every student.
     Broadcast { text: String },
+    /// A presenter logged in where none was (`--presenter-keys`): a student waiting for one
+    /// follows it, unless that would lose unsaved work (then only told).
+    PresenterArrived,
+    /// To a presenter: whether it leads the class now. The newest presenter session leads (a
+    /// lecturer who reconnects is not locked out by the old connection); when it leaves, the
+    /// one before it leads again.
+    Lead(bool),
 }
 
 /// An explorer's part in follow mode.
@@ -178,6 +185,15 @@ pub struct Follow {
     /// A presenter whose quit ends the class (`beamfric present`): it asks first when
     /// students are connected.
     pub ends_class: bool,
+    /// A student: a presenter is connected (without one, a student steps a lesson on their
+    /// own).
+    pub presenter_here: bool,
+    /// A presenter: it leads the class (its frames are what the students follow).
+    pub leads: bool,
+    /// A student on their own because no presenter was there to follow (they joined before
+    /// one, or the one they followed left): they follow the next presenter to log in, unless
+    /// they hold unsaved work then.
+    pub waiting: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -213,7 +229,7 @@ impl Drop for Following {
 }
 
 impl Follow {
-    /// A student, `user`, who follows from the start.
+    /// A student, `user`, who follows from the start (a presenter is connected).
     pub fn student(followers: &Arc<Followers>, user: &str) -> Follow {
         Follow {
             role: Role::Student(Some(Following::new(followers))),
@@ -221,6 +237,24 @@ impl Follow {
             latest: None,
             seat: Some(Seat::new(followers, user)),
             ends_class: false,
+            presenter_here: true,
+            leads: false,
+            waiting: false,
+        }
+    }
+
+    /// A student, `user`, who joins while no presenter is connected: on their own, and
+    /// following the first presenter to log in ([`ClassNews::PresenterArrived`]).
+    pub fn student_without_presenter(followers: &Arc<Followers>, user: &str) -> Follow {
+        Follow {
+            role: Role::Student(None),
+            followers: Arc::clone(followers),
+            latest: None,
+            seat: Some(Seat::new(followers, user)),
+            ends_class: false,
+            presenter_here: false,
+            leads: false,
+            waiting: true,
         }
     }
 
@@ -232,6 +266,9 @@ impl Follow {
             latest: None,
             seat: None,
             ends_class,
+            presenter_here: true,
+            leads: true,
+            waiting: false,
         }
     }
 
@@ -286,11 +323,19 @@ impl Follow {
             Role::Presenter => {
                 let students = self.followers.students();
                 format!(
-                    "presenting · {count} follow · {students} student{}",
+                    "{} · {count} follow · {students} student{}",
+                    if self.leads {
+                        "presenting"
+                    } else {
+                        "presenting (another presenter leads)"
+                    },
                     if students == 1 { "" } else { "s" }
                 )
             }
             Role::Student(Some(_)) => format!("following the presenter · {count} follow · f forks"),
+            Role::Student(None) if !self.presenter_here => {
+                "own exploration · no presenter connected".into()
+            }
             Role::Student(None) => format!("own exploration · {count} follow · F rejoins"),
         }
     }

@@ -57,6 +57,8 @@ pub(super) fn fork(app: &mut App) {
     let Role::Student(following) = &mut follow.role else {
         return;
     };
+    // Their own by choice: a presenter arriving does not pull them back.
+    follow.waiting = false;
     app.message = Some(if following.take().is_some() {
         "your own exploration from here: F follows the presenter again".into()
     } else {
@@ -76,23 +78,39 @@ fn cap_elements(app: &mut App) {
     }
 }
 
-/// What the server says of the class (students only).
+/// What the server says of the class: to a student, the presenter's coming and going, the
+/// class's end, a bring-back or a broadcast; to a presenter, whether it leads.
 pub(super) fn class_news(app: &mut App, news: ClassNews) {
     let Some(follow) = &mut app.follow else {
         return;
     };
     let Role::Student(following) = &mut follow.role else {
+        if let ClassNews::Lead(leads) = news {
+            follow.leads = leads;
+            // One status line at 80 columns.
+            app.message = Some(if leads {
+                "you lead the class again: the students see your explorer".into()
+            } else {
+                "another presenter logged in and leads: the students see theirs".into()
+            });
+        }
         return;
     };
     match news {
         ClassNews::PresenterLeft => {
+            follow.presenter_here = false;
             // The view stays; the keys are the student's again.
             app.message = Some(if following.take().is_some() {
+                follow.waiting = true;
                 // One status line at 80 columns.
-                "the presenter left: the keys are yours (F follows again once one is back)".into()
+                "the presenter left: the keys are yours (you follow again once one is back)".into()
             } else {
                 "the presenter left".into()
             });
+        }
+        ClassNews::PresenterArrived => {
+            follow.presenter_here = true;
+            presenter_arrived(app);
         }
         ClassNews::Ended { by } => {
             following.take();
@@ -103,7 +121,32 @@ pub(super) fn class_news(app: &mut App, news: ClassNews) {
         ClassNews::Broadcast { text } => {
             app.message = Some(format!("from the presenter: {}", printable(&text)));
         }
+        ClassNews::Lead(_) => {}
     }
+}
+
+/// A presenter logged in where none was: a student waiting for one follows it (its first
+/// frame comes at once), unless that would lose unsaved work; one on their own by choice is
+/// told.
+fn presenter_arrived(app: &mut App) {
+    let modified = app.modified();
+    let Some(follow) = &mut app.follow else {
+        return;
+    };
+    if follow.is_following() {
+        return;
+    }
+    app.message = Some(if !follow.waiting {
+        "a presenter logged in: F follows them".into()
+    } else if modified {
+        "a presenter logged in: F follows them (unsaved: s saves first)".into()
+    } else {
+        follow.waiting = false;
+        if let Role::Student(following) = &mut follow.role {
+            *following = Some(Following::new(&follow.followers));
+        }
+        "a presenter logged in: following them (f explores on your own)".into()
+    });
 }
 
 /// [`Action::Rejoin`]: the student follows the presenter again, at its newest state; asked
@@ -117,6 +160,13 @@ pub(super) fn rejoin(app: &mut App) {
     }
     if follow.is_following() {
         app.message = Some("following already: f forks".into());
+        return;
+    }
+    if !follow.presenter_here {
+        if let Some(follow) = &mut app.follow {
+            follow.waiting = true;
+        }
+        app.message = Some("no presenter is connected: you follow the next to log in".into());
         return;
     }
     // As `discard::unless_unsaved` asks (which calls back here on a yes).

@@ -1,8 +1,9 @@
 //! Stepping through a lesson (Space / `n` forward, Backspace / `N` back): the step's scene
 //! replaces the current one, with its panels and focus, and its caption shows. A step left
 //! with changes keeps them for when the lecturer comes back to it (stepping never loses
-//! work; `r` resets a step to the lesson's scene). A student's explorer does not step: the
-//! presenter does, and a fork keeps the caption of the step it forked at.
+//! work; `r` resets a step to the lesson's scene). A student's explorer does not step while a
+//! presenter is connected: the presenter does, and a fork keeps the caption of the step it
+//! forked at; without a presenter, each student steps their own.
 
 use crate::tui::state::{App, LessonPlace, StepEdits};
 
@@ -15,7 +16,12 @@ pub(super) fn step(app: &mut App, forward: bool) {
         app.message = Some("no lesson is open (beamfric --lesson FILE opens one)".into());
         return;
     };
-    if app.follow.as_ref().is_some_and(|f| f.is_student()) {
+    // Without a presenter, a student steps their own copy of the lesson.
+    if app
+        .follow
+        .as_ref()
+        .is_some_and(|f| f.is_student() && f.presenter_here)
+    {
         app.message = Some("the presenter steps through the lesson (F follows them again)".into());
         return;
     }

@@ -235,7 +235,7 @@ fn a_student_hears_the_presenter_leave_and_the_class_end() {
     update(&mut app, Msg::Class(ClassNews::PresenterLeft));
     let told = buffer_to_text(&draw_to_buffer(&app, 80, 24), false);
     assert!(
-        told.contains("the presenter left: the keys are yours (F follows again once one is back)"),
+        told.contains("the presenter left: the keys are yours (you follow again once one is back)"),
         "{told}"
     );
     assert_eq!(*app.scene(), shown);
@@ -416,4 +416,103 @@ fn a_message_refused_for_its_length_is_sent_once_shortened() {
         sent.contains(&"x".repeat(57)) && !sent.contains(&"x".repeat(58)),
         "{sent}"
     );
+}
+
+/// Stop 59's lecture pass: with `--presenter-keys` and no presenter connected, students
+/// "followed" nobody and Space did not step. A student who joins without one is on their own
+/// and steps their own lesson; the first presenter to log in is followed by every student
+/// waiting for one (joined before it, or left by the last) who holds nothing unsaved, and only
+/// told to the others.
+#[test]
+fn students_without_a_presenter_step_alone_and_follow_the_first_to_log_in() {
+    use beamfric::lesson::read_lesson;
+    use beamfric::tui::state::LessonPlace;
+    use beamfric::tui::state::follow::{ClassNews, Follow, Followers};
+    let lesson = read_lesson(std::path::Path::new("lessons/regularisation.toml")).unwrap();
+    let place = LessonPlace {
+        lesson: std::sync::Arc::new(lesson),
+        step: 0,
+    };
+    let followers = Followers::new(|| {});
+    let joined = |follow: Follow| {
+        let options = Options {
+            follow: Some(follow),
+            lesson: Some(place.clone()),
+            ..Options::new(PLAIN)
+        };
+        let mut app = settled(App::new(place.current().scene.clone(), options).unwrap());
+        update(&mut app, Msg::Resize(120, 40));
+        app
+    };
+    let step = |app: &App| app.exploration.lesson.as_ref().map(|place| place.step);
+    let mut alice = joined(Follow::student_without_presenter(&followers, "alice"));
+    assert!(screen(&alice).contains("own exploration · no presenter connected"));
+    // The hint line offers stepping, and no rejoin while there is nobody to follow.
+    assert!(screen(&alice).contains("Space:next"), "{}", screen(&alice));
+    assert!(!screen(&alice).contains("F:rejoin"), "{}", screen(&alice));
+    keys(&mut alice, "Space");
+    assert_eq!(step(&alice), Some(1), "{}", screen(&alice));
+    assert!(!alice.is_following());
+    // Bob changes his scene; Carol forks on purpose from a presenter who then leaves; Dan
+    // follows that presenter and is left by it.
+    let mut bob = joined(Follow::student_without_presenter(&followers, "bob"));
+    keys(&mut bob, "]");
+    assert!(bob.modified());
+    let (mut carol, mut dan) = (
+        joined(Follow::student(&followers, "carol")),
+        joined(Follow::student(&followers, "dan")),
+    );
+    keys(&mut carol, "f");
+    for student in [&mut carol, &mut dan] {
+        update(student, Msg::Class(ClassNews::PresenterLeft));
+    }
+    assert!(screen(&dan).contains("the keys are yours (you follow again once one is back)"));
+    assert_eq!(followers.count(), 0);
+    for student in [&mut alice, &mut bob, &mut carol, &mut dan] {
+        update(student, Msg::Class(ClassNews::PresenterArrived));
+    }
+    assert!(alice.is_following() && dan.is_following());
+    assert!(screen(&alice).contains("a presenter logged in: following them"));
+    assert_eq!(followers.count(), 2);
+    assert!(
+        !bob.is_following() && bob.modified(),
+        "Bob's changes stay his"
+    );
+    assert!(screen(&bob).contains("F follows them (unsaved: s saves first)"));
+    assert!(!carol.is_following());
+    assert!(screen(&carol).contains("a presenter logged in: F follows them"));
+    // Following, the presenter steps the class: Space is refused again.
+    keys(&mut alice, "Space");
+    assert_eq!(step(&alice), Some(1));
+    // F with no presenter connected says so, and waits for the next one.
+    let mut erin = joined(Follow::student_without_presenter(&followers, "erin"));
+    keys(&mut erin, "f F");
+    assert!(screen(&erin).contains("no presenter is connected: you follow the next to log in"));
+    update(&mut erin, Msg::Class(ClassNews::PresenterArrived));
+    assert!(erin.is_following());
+}
+
+/// Of two presenters the newest leads (the hub publishes only its frames); the one before is
+/// told, and told again when it leads once more.
+#[test]
+fn a_presenter_hears_whether_it_leads() {
+    use beamfric::tui::state::follow::{ClassNews, Follow, Followers};
+    let followers = Followers::new(|| {});
+    let options = Options {
+        follow: Some(Follow::presenter(&followers, false)),
+        ..Options::new(PLAIN)
+    };
+    let mut presenter = app_with("benchmark-1", options);
+    assert!(screen(&presenter).contains("presenting · 0 follow"));
+    update(&mut presenter, Msg::Class(ClassNews::Lead(false)));
+    let told = buffer_to_text(&draw_to_buffer(&presenter, 80, 24), false);
+    assert!(
+        told.contains("presenting (another presenter leads)"),
+        "{told}"
+    );
+    assert!(told.contains("another presenter logged in and leads: the students see theirs"));
+    update(&mut presenter, Msg::Class(ClassNews::Lead(true)));
+    let told = buffer_to_text(&draw_to_buffer(&presenter, 80, 24), false);
+    assert!(told.contains("presenting · 0 follow"), "{told}");
+    assert!(told.contains("you lead the class again: the students see your explorer"));
 }

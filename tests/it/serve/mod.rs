@@ -5,7 +5,8 @@
 //!
 //! Here: a session's screen, keys, saves, limits and ending; who may connect in `access`; the
 //! idle timeout and the work of a session closed for its user in `idle`; the lecture
-//! (`present`, followers) in `lecture`.
+//! (`present`, followers) in `lecture`; who leads a class with `--presenter-keys` in
+//! `presenters`.
 
 #![cfg(unix)]
 
@@ -30,6 +31,7 @@ use crate::harness::wait::{deadline, eventually, until};
 mod access;
 mod idle;
 mod lecture;
+mod presenters;
 
 /// A server on a free loopback port with its host key in a temporary directory.
 struct TestServer {

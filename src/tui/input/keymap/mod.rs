@@ -108,11 +108,15 @@ pub fn lesson_action(key: Key) -> Option<Action> {
 
 /// The keys beyond [`NORMAL`] this explorer has, for its help and hint line: [`FOLLOW`] for a
 /// student, [`PRESENTING`] for the lecturer's explorer, [`LESSON`] where a lesson is open and
-/// this explorer may step it (not a student's).
+/// this explorer may step it (not a student's while a presenter is connected).
 pub fn extra_keys(app: &App) -> Vec<&'static [Binding]> {
     let student = app.follow.as_ref().is_some_and(|f| f.is_student());
+    let steps_lesson = app
+        .follow
+        .as_ref()
+        .is_none_or(|f| !f.is_student() || !f.presenter_here);
     let mut tables: Vec<&'static [Binding]> = Vec::new();
-    if app.exploration.lesson.is_some() && !student {
+    if app.exploration.lesson.is_some() && steps_lesson {
         tables.push(LESSON);
     }
     match &app.follow {
@@ -144,7 +148,7 @@ pub fn a_follower_may(action: Action) -> bool {
 
 /// Does `action` work in this explorer's normal mode now (for its hint line)? A following
 /// student's keys are [`a_follower_may`]'s and `f`; one exploring on their own has every key
-/// but `f`, and `F`.
+/// but `f`, and `F` while a presenter is connected.
 pub fn works_now(app: &App, action: Action) -> bool {
     let Some(follow) = app.follow.as_ref().filter(|f| f.is_student()) else {
         return true;
@@ -152,7 +156,7 @@ pub fn works_now(app: &App, action: Action) -> bool {
     let following = follow.is_following();
     match action {
         Action::Fork => following,
-        Action::Rejoin => !following,
+        Action::Rejoin => !following && follow.presenter_here,
         other => !following || a_follower_may(other),
     }
 }

@@ -1,0 +1,98 @@
+//! Who leads a class served with `--presenter-keys` (stop 59's lecture pass found both): a
+//! student who logs in before any presenter is on their own and steps the lesson alone, then
+//! follows the first presenter to log in; of two presenters the newest leads, and the one
+//! before leads again when it leaves.
+
+use super::*;
+
+#[test]
+fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_leads() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first_key, student_key, second_key) = (user_key(1), user_key(2), user_key(3));
+    let presenters = dir.path().join("presenters");
+    let lines: Vec<String> = [&first_key, &second_key]
+        .iter()
+        .map(|key| key.public_key().to_openssh().unwrap())
+        .collect();
+    std::fs::write(&presenters, lines.join("\n")).unwrap();
+    let students = dir.path().join("students");
+    std::fs::write(&students, student_key.public_key().to_openssh().unwrap()).unwrap();
+    let server = Server::start(&ServeOptions {
+        authorized_keys: Some(students),
+        presenter_keys: Some(presenters),
+        lesson: Some("lessons/regularisation.toml".into()),
+        open: false,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        // Before any presenter: the student's own, and Space steps their own lesson (it used
+        // to "follow" nobody and refuse Space).
+        let student = logged_in_with(server.address(), "alice", student_key).await;
+        let mut alice = Explorer::open(&student, (120, 40), &[]).await;
+        alice
+            .wait_for("own exploration · no presenter connected")
+            .await;
+        alice.wait_for("no presenter yet: the keys are yours").await;
+        alice.wait_for("step 1/7").await;
+        alice.send(b" ").await;
+        alice.wait_for("step 2/7").await;
+        assert_eq!(server.followers(), 0);
+
+        // The first presenter logs in: the student, with nothing unsaved, follows it.
+        let first = logged_in_with(server.address(), "lecturer", first_key).await;
+        let mut lecturer = Explorer::open(&first, (120, 40), &[]).await;
+        lecturer.wait_for("presenting · 1 follow").await;
+        alice
+            .wait_for("a presenter logged in: following them")
+            .await;
+        alice.wait_for("step 1/7").await;
+        alice.wait_for("following the presenter").await;
+
+        // A second presenter (the lecturer again, from another laptop) leads; the first is
+        // told, and its steps no longer reach the class.
+        let second = logged_in_with(server.address(), "lecturer", second_key).await;
+        let mut laptop = Explorer::open(&second, (120, 40), &[]).await;
+        laptop.wait_for("presenting · 1 follow").await;
+        lecturer
+            .wait_for("presenting (another presenter leads)")
+            .await;
+        lecturer
+            .wait_for("another presenter logged in and leads")
+            .await;
+        laptop.send(b" ").await;
+        laptop.wait_for("step 2/7").await;
+        alice.wait_for("step 2/7").await;
+        lecturer.send(b"   ").await;
+        lecturer.wait_for("step 4/7").await;
+        laptop.send(b" ").await;
+        laptop.wait_for("step 3/7").await;
+        alice.wait_for("step 3/7").await;
+        let seen = String::from_utf8_lossy(&alice.raw).into_owned();
+        assert!(
+            !seen.contains("step 4/7"),
+            "the first presenter's step reached a student"
+        );
+
+        // The laptop leaves: the first presenter leads again, and the class follows it on.
+        disconnect(&second).await;
+        lecturer.wait_for("you lead the class again").await;
+        lecturer.wait_for("presenting · 1 follow").await;
+        alice.wait_for("step 4/7").await;
+        assert!(
+            !alice.text().contains("the presenter left"),
+            "{}",
+            alice.text()
+        );
+        assert_eq!(server.followers(), 1);
+
+        // The last presenter leaves: the student is told and has the keys again.
+        disconnect(&first).await;
+        alice.wait_for("the presenter left").await;
+        alice
+            .wait_for("own exploration · no presenter connected")
+            .await;
+        alice.send(b" ").await;
+        alice.wait_for("step 5/7").await;
+    });
+}
