@@ -30,6 +30,26 @@ pub fn wrap_words(text: &str, width: usize) -> Vec<String> {
     lines
 }
 
+/// The first row of `text` at `width` and the rest: cut after the last whole word that fits
+/// (a word longer than the width is cut at the width), the rest starting at its next word, so
+/// that a path keeps its characters in order with nothing put in.
+pub fn first_row(text: &str, width: usize) -> (String, &str) {
+    let width = width.max(1);
+    let end = text
+        .char_indices()
+        .nth(width)
+        .map_or(text.len(), |(at, _)| at);
+    if end == text.len() {
+        return (text.trim_end().to_string(), "");
+    }
+    let cut = if text[end..].starts_with(char::is_whitespace) {
+        end
+    } else {
+        text[..end].rfind(' ').filter(|&at| at > 0).unwrap_or(end)
+    };
+    (text[..cut].trim_end().to_string(), text[cut..].trim_start())
+}
+
 /// An item of a status line: its text and its importance (0 most important).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Item {
@@ -104,6 +124,22 @@ pub fn cut_at_word(text: &str, width: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_first_row_ends_at_a_word_and_the_rest_keeps_every_character() {
+        assert_eq!(first_row("short", 10), ("short".to_string(), ""));
+        assert_eq!(
+            first_row("figure not written: a/b.svg (no files)", 20),
+            ("figure not written:".to_string(), "a/b.svg (no files)")
+        );
+        // A word longer than the row: cut at the width, nothing added.
+        let path = "/tmp/a-very-long-directory-name/recording.cast";
+        let (row, rest) = first_row(path, 16);
+        assert_eq!(row.chars().count(), 16);
+        assert_eq!(format!("{row}{rest}"), path);
+        // Multibyte characters count as one column each.
+        assert_eq!(first_row("ε ε ε ε", 3), ("ε ε".to_string(), "ε ε"));
+    }
 
     #[test]
     fn wrapping_keeps_every_word_whole() {

@@ -83,6 +83,8 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
         }
     }
     let mut detail: Vec<Line> = Vec::new();
+    // Warnings or a refusal's reason, which a long message must not hide.
+    let mut detail_matters = false;
     match app.exploration.shown.as_ref().map(|s| (s, &s.solution)) {
         None => {}
         Some((shown, Ok(solution))) => {
@@ -93,6 +95,7 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
                 shown.mesh.unknowns(),
             ));
             detail = warning_lines(solution, theme, width, app.message.is_none());
+            detail_matters = !solution.warnings.is_empty();
         }
         Some((shown, Err(e))) => {
             items.push(Item::new(0, e.method.to_string()));
@@ -110,6 +113,7 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
                 ))
                 .into_owned();
             detail = fitted_lines(&text, &tail, width, rows, theme.error());
+            detail_matters = true;
         }
     }
     // In ASCII the words are spelled out before fitting (ε as eps), so nothing is cut later.
@@ -132,24 +136,33 @@ pub(super) fn draw_status(frame: &mut Frame, app: &App, theme: &Theme, area: Rec
     };
     frame.render_widget(Paragraph::new(summary_line), first);
     let mut rows = detail.into_iter();
-    if let Some(line) = rows.next() {
-        frame.render_widget(Paragraph::new(line), second);
-    }
-    match &app.message {
-        // Cut at a word, never in one (issue 25).
-        Some(message) => frame.render_widget(
-            Paragraph::new(Line::styled(
-                super::fit::cut_at_word(message, width),
-                theme.warning(),
-            )),
-            third,
+    // A message longer than the width takes the warnings' row too where it holds only "no
+    // warnings", so that a refusal or a path is read whole at 80 columns; warnings and a
+    // refusal's reason keep their row, and the message is cut at a word.
+    let message = app.message.as_deref().map(|message| {
+        let (first, rest) = super::fit::first_row(message, width);
+        (first, super::fit::cut_at_word(rest, width))
+    });
+    let (second_line, third_line) = match message {
+        Some((first, rest)) if !rest.is_empty() && !detail_matters => (
+            Line::styled(first, theme.warning()),
+            Line::styled(rest, theme.warning()),
         ),
-        None => {
-            if let Some(line) = rows.next() {
-                frame.render_widget(Paragraph::new(line), third);
-            }
-        }
-    }
+        Some(_) => (
+            rows.next().unwrap_or_default(),
+            // Cut at a word, never in one (issue 25).
+            Line::styled(
+                super::fit::cut_at_word(app.message.as_deref().unwrap_or_default(), width),
+                theme.warning(),
+            ),
+        ),
+        None => (
+            rows.next().unwrap_or_default(),
+            rows.next().unwrap_or_default(),
+        ),
+    };
+    frame.render_widget(Paragraph::new(second_line), second);
+    frame.render_widget(Paragraph::new(third_line), third);
 }
 
 /// `text` and then `tail` in at most `rows` lines of `width`; when they need more, the last

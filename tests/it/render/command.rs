@@ -258,3 +258,35 @@ fn obstacle_numbers_stand_apart_and_only_where_they_name_their_column() {
     let frame = frame_of(300);
     assert_eq!(obstacle_numbers(&frame), Vec::<u32>::new(), "{frame}");
 }
+
+/// Stop 59's lecture pass: a message longer than the width was cut at 80 columns (a figure's
+/// refusal lost its reason). Where the warnings' row holds only "no warnings", a long message
+/// takes it too and is read whole; real warnings keep their row, and the message is cut at a
+/// word.
+#[test]
+fn a_long_message_takes_the_quiet_warnings_row_at_80_columns() {
+    let frame = |scene: &str| {
+        let run = beamfric(&["render", "--scene", scene, "--size", "80x24", "--keys", "e"]);
+        assert!(run.status.success());
+        String::from_utf8_lossy(&run.stdout).into_owned()
+    };
+    let quiet = frame("benchmark-1");
+    let rows: Vec<&str> = quiet.lines().map(str::trim_end).collect();
+    let at = rows
+        .iter()
+        .position(|row| row.starts_with("figure not written:"))
+        .unwrap_or_else(|| panic!("{quiet}"));
+    assert_eq!(
+        format!("{} {}", rows[at], rows[at + 1]),
+        "figure not written: benchmark-1-deflection.svg (a render writes no files without \
+         --allow-save DIR)"
+    );
+    assert!(!quiet.contains("no warnings"), "{quiet}");
+    let warned = frame("lesson-mesh");
+    assert!(warned.contains("⚠ 4 warnings (w: all)"), "{warned}");
+    assert!(
+        warned
+            .contains("figure not written: lesson-mesh-deflection.svg (a render writes no files…"),
+        "{warned}"
+    );
+}
