@@ -51,7 +51,7 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
     }
     match action {
         Action::Confirm => {
-            let path = prompt.text.trim().to_string();
+            let path = with_extension(prompt.text.trim());
             if prompt.refused > 0 {
                 // Saved under a name cut short, the file would be hard to find.
                 app.mode = Mode::Normal;
@@ -78,6 +78,19 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
         _ => app.mode = Mode::Save { prompt },
     }
     None
+}
+
+/// A typed name without an extension gets `.toml`: a scene is found by that (`beamfric my`
+/// would look for a preset called `my`), and the name the save says shows it. A name with an
+/// extension of its own is kept as typed.
+fn with_extension(typed: &str) -> String {
+    let path = std::path::Path::new(typed);
+    let names_a_file = !typed.is_empty() && !typed.ends_with(std::path::MAIN_SEPARATOR);
+    if names_a_file && path.file_name().is_some() && path.extension().is_none() {
+        format!("{typed}.toml")
+    } else {
+        typed.to_string()
+    }
 }
 
 /// The answer to "overwrite the file?". Returns what was waiting for the save once the scene

@@ -286,3 +286,31 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
         Some("not saved: a file name has at most 4096 characters (914 more typed, not taken)")
     );
 }
+
+/// Stop 59's lecture pass: a name typed without `.toml` was saved as typed (`my`), a file that
+/// `beamfric my` then looks for among the presets. It gets `.toml`; a name with an extension
+/// of its own is kept.
+#[test]
+fn a_name_typed_without_an_extension_is_saved_as_toml() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut app = app("benchmark-1");
+    for (typed_name, written) in [("my-notes", "my-notes.toml"), ("plain.txt", "plain.txt")] {
+        let path = dir.path().join(typed_name);
+        beamfric::tui::press(&mut app, Key::Char('s'));
+        // The first key replaces the offered name.
+        press(&mut app, &typed(path.to_str().unwrap()));
+        press(&mut app, "Enter");
+        let expected = dir.path().join(written);
+        assert_eq!(
+            app.message.as_deref(),
+            Some(format!("saved to {}", expected.display()).as_str())
+        );
+        let loaded = beamfric::scene::load(expected.to_str().unwrap())
+            .unwrap()
+            .scene;
+        assert_eq!(loaded.load, app.scene().load);
+    }
+    let mut names = crate::harness::process::names(dir.path());
+    names.sort();
+    assert_eq!(names, ["my-notes.toml", "plain.txt"]);
+}
