@@ -389,6 +389,8 @@ fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
         lecturer.type_bytes(b" ");
         student.wait_for(&format!("step 2/{count}:")).await;
         student.wait_for(&caption_line(1)).await;
+        // The keys the caption names work once forked, and the step line says so.
+        student.wait_for("· f: try the keys yourself").await;
         // A following student's Space does not step the class.
         student.send(b" ").await;
         student.wait_for("f to explore on your own").await;
@@ -405,6 +407,7 @@ fn followers_see_the_step_and_caption_and_a_fork_keeps_the_one_it_forked_at() {
         assert!(screen.contains(&format!("step 2/{count}:")), "{screen}");
         assert!(screen.contains(&caption_line(1)), "{screen}");
         assert!(!screen.contains(&format!("step 3/{count}:")), "{screen}");
+        assert!(!screen.contains("try the keys yourself"), "{screen}");
         // Rejoining shows the lecturer's step.
         student.send(b"F").await;
         student.wait_for(&format!("step 3/{count}:")).await;

@@ -1,6 +1,7 @@
 //! A lesson's caption strip, under the title: the lesson, the step (`step 2/6`) and its title
 //! on the first line, the step's caption wrapped under it (the lesson's rules keep it within
-//! three lines at 80 columns, so at 80×24 it is never cut).
+//! three lines at 80 columns, so at 80×24 it is never cut). A following student reads, in
+//! place of the lesson's title, that the keys a caption names work once they fork.
 
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -25,7 +26,14 @@ pub(super) fn draw_caption_strip(frame: &mut Frame, app: &App, theme: &Theme, ar
         place.step + 1,
         printable(&step.title)
     );
-    let lesson_line = format!(" {separator} {}", printable(&place.lesson.title));
+    // A follower's keys only watch: the keys a caption names work once they fork (stop 59's
+    // lecture pass), said where the lesson's title would be.
+    let following = app.follow.as_ref().is_some_and(|f| f.is_following());
+    let lesson_line = if following {
+        format!(" {separator} f: try the keys yourself")
+    } else {
+        format!(" {separator} {}", printable(&place.lesson.title))
+    };
     // The lesson's title only where it fits whole: the step's comes first.
     let fits = columns(&step_line) + columns(&lesson_line) <= usize::from(area.width);
     let mut first = vec![Span::styled(step_line, theme.selected())];
