@@ -169,6 +169,8 @@ pub(crate) fn start(
     if let Some(hub) = &shared.hub {
         if presenter {
             follow = Some(Follow::presenter(&hub.followers, false));
+            // The class's state so far: the presenter goes on from there.
+            latest = hub.latest();
             let id = hub.join_presenter(feed.clone());
             hub_id = Some(id);
             let publishing = Arc::clone(shared);

@@ -75,15 +75,14 @@ impl Hub {
     /// hears when the number of followers changes. Returns its id.
     pub fn join_presenter(&self, feed: Feed) -> u64 {
         let id = self.next_id.fetch_add(1, Ordering::Relaxed);
-        let first = {
-            let mut presenters = lock(&self.presenters);
-            if let Some((_, leader)) = presenters.last() {
-                leader.class_news(ClassNews::Lead(false));
-            }
-            presenters.push((id, feed));
-            presenters.len() == 1
-        };
-        if first {
+        // Told under the presenters' lock, so that the students hear of arrivals and
+        // departures in the order they happened (a presenter leaving as another joins).
+        let mut presenters = lock(&self.presenters);
+        if let Some((_, leader)) = presenters.last() {
+            leader.class_news(ClassNews::Lead(false));
+        }
+        presenters.push((id, feed));
+        if presenters.len() == 1 {
             self.tell_students(ClassNews::PresenterArrived);
         }
         id
@@ -94,17 +93,16 @@ impl Hub {
     /// back).
     pub fn leave(&self, id: u64) {
         lock(&self.students).retain(|(student, _)| *student != id);
-        let last_presenter_left = {
-            let mut presenters = lock(&self.presenters);
-            let led = presenters.last().is_some_and(|(leader, _)| *leader == id);
-            let before = presenters.len();
-            presenters.retain(|(presenter, _)| *presenter != id);
-            if led && let Some((_, leader)) = presenters.last() {
-                leader.class_news(ClassNews::Lead(true));
-            }
-            before > 0 && presenters.is_empty()
-        };
-        if last_presenter_left {
+        // Under the presenters' lock, as in `join_presenter` (the students' lock is only ever
+        // taken inside it, never the other way round).
+        let mut presenters = lock(&self.presenters);
+        let led = presenters.last().is_some_and(|(leader, _)| *leader == id);
+        let before = presenters.len();
+        presenters.retain(|(presenter, _)| *presenter != id);
+        if led && let Some((_, leader)) = presenters.last() {
+            leader.class_news(ClassNews::Lead(true));
+        }
+        if before > 0 && presenters.is_empty() {
             self.tell_students(ClassNews::PresenterLeft);
         }
     }
@@ -117,6 +115,11 @@ impl Hub {
 
     fn tell_students(&self, news: ClassNews) -> usize {
         tell(&self.students, news)
+    }
+
+    /// The newest state a leading presenter published, if any.
+    pub fn latest(&self) -> Option<Arc<Exploration>> {
+        lock(&self.latest).clone()
     }
 
     /// Presenter `id` drew a frame: where it leads, its state goes to every student.

@@ -407,15 +407,22 @@ fn wait(
     options: &LoopOptions,
     state: &mut LoopState,
 ) -> Option<Event> {
-    let idle_left = options
-        .idle_timeout
-        .map(|limit| limit.saturating_sub(state.last_input.elapsed()));
+    // In a lecture there is no idle timer at all (stop 59's pass: a presenter silent for the
+    // idle timeout closed every follower), and idle counts from the moment it stops being
+    // one. No timer either: a presenter woken by one would draw, and its frame would reach
+    // every student.
+    let lecture = in_a_lecture(app);
+    if lecture {
+        state.note_input();
+    }
+    let idle_timeout = options.idle_timeout.filter(|_| !lecture);
+    let idle_left = idle_timeout.map(|limit| limit.saturating_sub(state.last_input.elapsed()));
     if idle_left == Some(Duration::ZERO) {
         update(app, Msg::End(Ending::Idle));
         return None;
     }
     // How long until the idle warning is due (it is shown once per idle stretch).
-    let warning_in = match (options.idle_timeout, idle_left) {
+    let warning_in = match (idle_timeout, idle_left) {
         (Some(limit), Some(left)) if !state.idle_warned => {
             Some(left.saturating_sub(idle_warning_before(limit)))
         }
@@ -464,6 +471,15 @@ fn wait(
     }
 }
 
+/// A student following a presenter, or a presenter whom students follow: in a lecture, and
+/// not idle however long the presenter talks without a key (the class's end, or the presenter
+/// leaving, ends that; the session limit, not the idle timeout, bounds who may stay).
+fn in_a_lecture(app: &App) -> bool {
+    app.follow.as_ref().is_some_and(|follow| {
+        follow.is_following() || (!follow.is_student() && follow.followers.count() > 0)
+    })
+}
+
 /// One event, as the update's messages.
 fn apply_event<S: Screen>(
     screen: &mut S,
@@ -502,11 +518,9 @@ fn apply_event<S: Screen>(
         Event::Swept(result) => update(app, Msg::Swept(result)),
         Event::Redraw => update(app, Msg::Tick),
         Event::Notice(text) => update(app, Msg::Notice(text)),
-        Event::Follow(exploration) => {
-            // A student watching the presenter is not idle.
-            state.note_input();
-            update(app, Msg::Follow(exploration));
-        }
+        // A student following is not idle ([`in_a_lecture`]); one who forked is, however
+        // busy the presenter whose states it keeps for `F`.
+        Event::Follow(exploration) => update(app, Msg::Follow(exploration)),
         Event::Class(news) => update(app, Msg::Class(news)),
     }
     Ok(())

@@ -191,25 +191,45 @@ pub fn run_remote(
 }
 
 /// After an idle session's end or the class's, on the client's own screen (it stays in the
-/// scrollback): where its unsaved changes went (`saved`, the name in the save directory), or,
-/// where they were not saved, the scene as TOML to copy. Nothing when there were none.
+/// scrollback): where its unsaved changes went (`saved`, the names in the save directory),
+/// and what was not saved as TOML to copy: the scene shown, and every lesson step left with
+/// changes. Nothing when there were none.
 fn write_unsaved_work(output: &mut impl Write, app: &App, saved: Option<&str>) -> io::Result<()> {
-    if let Some(name) = saved {
-        return write!(
+    if let Some(names) = saved {
+        write!(
             output,
             "beamfric: your changes are saved as {} in the server's save directory\r\n",
-            printable(name)
-        );
+            printable(names)
+        )?;
     }
-    if !app.modified() {
-        return Ok(());
+    if app.modified() {
+        write!(
+            output,
+            "beamfric: your changes are not saved on the server; the scene as TOML, to copy \
+             into a file:\r\n\r\n"
+        )?;
+        write_toml(output, app.scene())?;
     }
-    write!(
-        output,
-        "beamfric: your changes are not saved on the server; the scene as TOML, to copy into \
-         a file:\r\n\r\n"
-    )?;
-    for line in app.scene().to_toml().lines() {
+    for step in app.changed_steps() {
+        let (Some(edits), Some(place)) = (app.step_edits.get(&step), &app.exploration.lesson)
+        else {
+            continue;
+        };
+        write!(
+            output,
+            "\r\nbeamfric: your changes to lesson step {} ({}) are not saved on the server; as \
+             TOML, to copy into a file:\r\n\r\n",
+            step + 1,
+            printable(&place.lesson.step(step).title)
+        )?;
+        write_toml(output, &edits.scene)?;
+    }
+    Ok(())
+}
+
+/// `scene` as TOML, line by line, each line's controls made visible.
+fn write_toml(output: &mut impl Write, scene: &crate::scene::Scene) -> io::Result<()> {
+    for line in scene.to_toml().lines() {
         write!(output, "{}\r\n", printable(line))?;
     }
     Ok(())

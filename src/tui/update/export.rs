@@ -165,7 +165,7 @@ fn write_figure(app: &App, panel: Panel, svg: &str) -> Result<String, String> {
         match write_atomic(Path::new(&target), svg.as_bytes(), false) {
             Ok(_) => return Ok(name),
             Err(SaveError::Exists(_)) => continue,
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(super::save::error_shown(app, &e)),
         }
     }
     Err(format!(

@@ -37,11 +37,18 @@ fn show(app: &mut App, exploration: &Exploration) {
     refresh_sweeps(app);
 }
 
-/// A presenter's new state arrived: shown while following, kept for `F` while forked.
+/// A presenter's new state arrived: shown while following, kept for `F` while forked. A
+/// presenter hears one, the class's, as it joins: it goes on from there (a lecturer whose
+/// connection dropped comes back at the step the class is at, not at the first).
 pub(super) fn receive(app: &mut App, exploration: Arc<Exploration>) {
     let Some(follow) = &mut app.follow else {
         return;
     };
+    if !follow.is_student() {
+        show(app, &exploration);
+        app.message = Some("presenting from where the class is".into());
+        return;
+    }
     let following = follow.is_following();
     follow.latest = Some(Arc::clone(&exploration));
     if following {
@@ -61,6 +68,8 @@ pub(super) fn fork(app: &mut App) {
     follow.waiting = false;
     app.message = Some(if following.take().is_some() {
         "your own exploration from here: F follows the presenter again".into()
+    } else if !follow.presenter_here {
+        "on your own: the next presenter to log in will not pull you in (F: it will)".into()
     } else {
         "exploring on your own already: F follows the presenter".into()
     });
@@ -129,7 +138,8 @@ pub(super) fn class_news(app: &mut App, news: ClassNews) {
 /// frame comes at once), unless that would lose unsaved work; one on their own by choice is
 /// told.
 fn presenter_arrived(app: &mut App) {
-    let modified = app.modified();
+    // A lesson step left with changes counts too: the student was working on their own.
+    let modified = app.has_unsaved_work();
     let Some(follow) = &mut app.follow else {
         return;
     };
@@ -163,10 +173,7 @@ pub(super) fn rejoin(app: &mut App) {
         return;
     }
     if !follow.presenter_here {
-        if let Some(follow) = &mut app.follow {
-            follow.waiting = true;
-        }
-        app.message = Some("no presenter is connected: you follow the next to log in".into());
+        wait_for_a_presenter(app);
         return;
     }
     // As `discard::unless_unsaved` asks (which calls back here on a yes).
@@ -179,8 +186,23 @@ pub(super) fn rejoin(app: &mut App) {
     }
 }
 
-/// Follows the presenter again, whatever this student changed (asked by [`rejoin`]).
+/// No presenter to follow: the student stays on their own, nothing changed, and follows the
+/// next presenter to log in (unless they hold unsaved work then).
+fn wait_for_a_presenter(app: &mut App) {
+    if let Some(follow) = &mut app.follow {
+        follow.waiting = true;
+    }
+    app.message = Some("no presenter is connected: you follow the next to log in".into());
+}
+
+/// Follows the presenter again, whatever this student changed (asked by [`rejoin`]); where
+/// the presenter left meanwhile (the question was open), nothing is lost: see
+/// [`wait_for_a_presenter`].
 pub(super) fn follow_again(app: &mut App) {
+    if app.follow.as_ref().is_some_and(|f| !f.presenter_here) {
+        wait_for_a_presenter(app);
+        return;
+    }
     let Some(follow) = &mut app.follow else {
         return;
     };

@@ -210,7 +210,7 @@ pub fn update(app: &mut App, msg: Msg) {
     // A student's unsaved work is counted for the lecturer's "end the class?", and whether
     // they follow is shown in the lecturer's list.
     if let Some(follow) = &app.follow {
-        follow.note_state(app.modified());
+        follow.note_state(app.has_unsaved_work());
     }
 }
 

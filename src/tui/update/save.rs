@@ -4,7 +4,7 @@
 //! session saves under `--save-dir` or shows the TOML to copy), and followed by what was
 //! waiting for it (a quit, a reset, a preset after "save, then …").
 
-use crate::scene::{SaveError, save_scene};
+use crate::scene::{SaveError, Scene, save_scene};
 use crate::tui::input::keymap::Action;
 use crate::tui::state::prompt::{Prompt, Typed};
 use crate::tui::state::{App, Discard, Mode, SavePolicy};
@@ -80,13 +80,12 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
     None
 }
 
-/// A typed name without an extension gets `.toml`: a scene is found by that (`beamfric my`
-/// would look for a preset called `my`), and the name the save says shows it. A name with an
-/// extension of its own is kept as typed.
+/// A typed name that does not end in `.toml` gets it: a scene file is TOML, `beamfric NAME`
+/// takes a name without a path for a preset's, and a name with a dot of its own
+/// (`eps-1e-4.5`, `run-1.5`) is no extension. The status line says the name written.
 fn with_extension(typed: &str) -> String {
-    let path = std::path::Path::new(typed);
     let names_a_file = !typed.is_empty() && !typed.ends_with(std::path::MAIN_SEPARATOR);
-    if names_a_file && path.file_name().is_some() && path.extension().is_none() {
+    if names_a_file && !typed.to_ascii_lowercase().ends_with(".toml") {
         format!("{typed}.toml")
     } else {
         typed.to_string()
@@ -150,25 +149,57 @@ fn save(app: &mut App, path: &str, overwrite: bool) -> Option<Discard> {
             then
         }
         Err(e) => {
-            app.message = Some(format!("not saved: {e}"));
+            app.message = Some(format!("not saved: {}", error_shown(app, &e)));
             None
         }
     }
 }
 
-/// At the end of a class: saves a student's unsaved work under a name of its own where saves
-/// may go (`--save-dir`), never over a file (`alice-benchmark-1.toml`, else `…-2.toml` and
-/// on). Returns the name, or `None` when there is nothing to save or nowhere to save it (the
-/// closing screen shows the TOML either way).
+/// At the end of a class (or of a session closed for its user): saves a student's unsaved
+/// work under names of its own where saves may go (`--save-dir`), never over a file
+/// (`alice-benchmark-1.toml`, else `…-2.toml` and on): the scene shown, and every lesson step
+/// left with changes under its step's scene's name (stop 60's pass: those were lost). Returns
+/// the names written, or `None` when there is nothing to save or nowhere to save it; what is
+/// not saved is printed as TOML (`runtime::remote`).
 pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
-    if !app.modified() || !matches!(app.save_policy, SavePolicy::Within(_)) {
+    if !app.has_unsaved_work() || !matches!(app.save_policy, SavePolicy::Within(_)) {
         return None;
     }
-    let offered = app.save_path.clone();
-    let stem = offered
-        .strip_suffix(".toml")
-        .unwrap_or(&offered)
-        .to_string();
+    let mut names = Vec::new();
+    if app.modified() {
+        let scene = app.scene().clone();
+        if let Some(name) = save_under_a_free_name(app, &scene, &app.save_path) {
+            app.save_path = name.clone();
+            app.saved = scene;
+            names.push(name);
+        }
+    }
+    for step in app.changed_steps() {
+        let Some(place) = &app.exploration.lesson else {
+            break;
+        };
+        let offered = crate::tui::state::app::default_save_path(
+            &app.save_policy,
+            Some(&app.save_directory),
+            app.owner.as_deref(),
+            &place.lesson.step(step).scene.source,
+        );
+        let Some(scene) = app.step_edits.get(&step).map(|edits| edits.scene.clone()) else {
+            continue;
+        };
+        if let Some(name) = save_under_a_free_name(app, &scene, &offered) {
+            if let Some(edits) = app.step_edits.get_mut(&step) {
+                edits.saved = scene;
+            }
+            names.push(name);
+        }
+    }
+    (!names.is_empty()).then(|| names.join(", "))
+}
+
+/// Saves `scene` as `offered`, or `…-2.toml` and on where that is taken; the name written.
+fn save_under_a_free_name(app: &App, scene: &Scene, offered: &str) -> Option<String> {
+    let stem = offered.strip_suffix(".toml").unwrap_or(offered);
     for attempt in 1..=100 {
         let name = match attempt {
             1 => format!("{stem}.toml"),
@@ -179,12 +210,8 @@ pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
         let Some(target) = save_target(&app.save_policy, &name) else {
             continue;
         };
-        match save_scene(app.scene(), &target, false) {
-            Ok(_) => {
-                app.save_path = name.clone();
-                app.saved = app.scene().clone();
-                return Some(name);
-            }
+        match save_scene(scene, &target, false) {
+            Ok(_) => return Some(name),
             Err(SaveError::Exists(_) | SaveError::DanglingLink(..)) => continue,
             Err(_) => return None,
         }
@@ -231,5 +258,18 @@ pub(super) fn directory_shown(app: &App, dir: &std::path::Path) -> String {
         "the class's save directory".into()
     } else {
         dir.display().to_string()
+    }
+}
+
+/// `error` (a save's or a figure's, which names the file written) as the user is shown it:
+/// the save directory's path put as [`directory_shown`] puts it (a served session never reads
+/// the server's own path: stop 60's pass found `not saved: … /srv/class/sub/`).
+pub(super) fn error_shown(app: &App, error: &dyn std::fmt::Display) -> String {
+    let text = error.to_string();
+    match &app.save_policy {
+        SavePolicy::Within(dir) if app.owner.is_some() => {
+            text.replace(&dir.display().to_string(), &directory_shown(app, dir))
+        }
+        _ => text,
     }
 }

@@ -48,6 +48,11 @@ pub(super) fn in_list(app: &mut App, action: Action, offset: u16) {
     }
     app.mode = Mode::Normal;
     match action {
+        Action::BringEveryoneBack if !follow.leads => {
+            // The students would follow the presenter who leads, not this one.
+            app.message =
+                Some("another presenter leads the class: only they bring everyone back".into());
+        }
         Action::BringEveryoneBack => {
             let exploring = follow
                 .followers

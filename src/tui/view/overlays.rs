@@ -110,15 +110,15 @@ fn class_ended(
     saved: Option<&str>,
 ) {
     let kept = match saved {
-        Some(name) => format!(
-            "Your scene is saved as {} (in the class's save directory).",
+        Some(name) if !app.has_unsaved_work() => format!(
+            "Your changes are saved as {} (in the class's save directory).",
             printable(name)
         ),
-        None if app.modified() => "Your changes are not saved on the server: when this \
+        None if !app.has_unsaved_work() => "You have no unsaved changes.".into(),
+        _ => "Your changes are not saved on the server: when this \
                                    closes, your scene is printed on your terminal as TOML, \
                                    to copy into a file."
             .into(),
-        None => "You have no unsaved changes.".into(),
     };
     let lines = vec![
         Line::styled(

@@ -18,6 +18,7 @@ use beamfric::tui::{RenderOptions, draw_to_buffer, render, settled};
 use crate::harness::scenes::{PLAIN, loaded_preset};
 use crate::harness::screen::typed;
 
+mod class_work;
 mod editing;
 mod saving;
 mod students;

@@ -288,13 +288,17 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
 }
 
 /// Stop 59's lecture pass: a name typed without `.toml` was saved as typed (`my`), a file that
-/// `beamfric my` then looks for among the presets. It gets `.toml`; a name with an extension
-/// of its own is kept.
+/// `beamfric my` then looks for among the presets. Every name not ending in `.toml` gets it
+/// (a dot of its own, as in `run-1.5`, is no extension); `.TOML` is kept.
 #[test]
 fn a_name_typed_without_an_extension_is_saved_as_toml() {
     let dir = tempfile::tempdir().unwrap();
     let mut app = app("benchmark-1");
-    for (typed_name, written) in [("my-notes", "my-notes.toml"), ("plain.txt", "plain.txt")] {
+    for (typed_name, written) in [
+        ("my-notes", "my-notes.toml"),
+        ("run-1.5", "run-1.5.toml"),
+        ("UPPER.TOML", "UPPER.TOML"),
+    ] {
         let path = dir.path().join(typed_name);
         beamfric::tui::press(&mut app, Key::Char('s'));
         // The first key replaces the offered name.
@@ -312,5 +316,5 @@ fn a_name_typed_without_an_extension_is_saved_as_toml() {
     }
     let mut names = crate::harness::process::names(dir.path());
     names.sort();
-    assert_eq!(names, ["my-notes.toml", "plain.txt"]);
+    assert_eq!(names, ["UPPER.TOML", "my-notes.toml", "run-1.5.toml"]);
 }

@@ -134,8 +134,8 @@ fn render_simulates_saves_unless_a_directory_is_allowed() {
     std::fs::create_dir(&outside).unwrap();
     std::os::unix::fs::symlink(&outside, allowed.join("lnk")).unwrap();
     std::fs::write(outside.join("target.toml"), "keep").unwrap();
-    std::os::unix::fs::symlink(outside.join("target.toml"), allowed.join("flink")).unwrap();
-    for (name, confirm) in [("lnk/x.toml", ""), ("flink", "")] {
+    std::os::unix::fs::symlink(outside.join("target.toml"), allowed.join("flink.toml")).unwrap();
+    for (name, confirm) in [("lnk/x.toml", ""), ("flink.toml", ""), ("flink", "")] {
         let keys = format!(
             "Right s {} {} Enter{confirm}",
             "Backspace ".repeat(300),

@@ -132,3 +132,44 @@ fn a_session_closed_for_its_user_hands_over_their_unsaved_changes() {
         assert_ne!(saved, preset, "{}", path.display());
     }
 }
+
+/// Stop 60's pass: a session closed idle on another lesson step than the one it changed said
+/// "your unsaved changes are kept", then printed nothing: the step's changes were lost. Every
+/// changed step is printed as TOML now (and saved, under `--save-dir`: `explorer::class_work`).
+#[test]
+fn a_session_closed_idle_prints_the_changes_left_on_another_lesson_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let server = Server::start(&ServeOptions {
+        idle_timeout: Some(Duration::from_secs(2)),
+        lesson: Some("lessons/regularisation.toml".into()),
+        ..options(&dir)
+    })
+    .unwrap();
+    let lesson =
+        beamfric::lesson::read_lesson(std::path::Path::new("lessons/regularisation.toml")).unwrap();
+    runtime().block_on(async {
+        let handle = logged_in(server.address()).await;
+        let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
+        explorer.wait_for("step 1/7").await;
+        explorer.send(b" ").await;
+        explorer.wait_for("step 2/7").await;
+        explorer.send(b"]").await;
+        explorer.wait_for("[modified]").await;
+        explorer.send(b" ").await;
+        explorer.wait_for("step 3/7").await;
+        explorer.wait_for("your unsaved changes are kept").await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw).into_owned();
+        let marker = "your changes to lesson step 2 (";
+        let at = raw.find(marker).unwrap_or_else(|| panic!("{raw:?}"));
+        let toml_at = raw[at..].find("\r\n\r\n").unwrap() + at + 4;
+        let text = raw[toml_at..].replace("\r\n", "\n");
+        let scene = beamfric::scene::Scene::from_toml(&text, "printed").unwrap();
+        let written = &lesson.step(1).scene.scene;
+        assert_ne!(
+            scene.load, written.load,
+            "the change is in what was printed"
+        );
+        assert_eq!(scene.obstacles, written.obstacles);
+    });
+}

@@ -1,7 +1,8 @@
 //! Who leads a class served with `--presenter-keys` (stop 59's lecture pass found both): a
 //! student who logs in before any presenter is on their own and steps the lesson alone, then
-//! follows the first presenter to log in; of two presenters the newest leads, and the one
-//! before leads again when it leaves.
+//! follows the first presenter to log in; of two presenters the newest leads, starting where
+//! the class is, and the one before leads again when it leaves; a silent presenter's class is
+//! not idle.
 
 use super::*;
 
@@ -49,11 +50,16 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
         alice.wait_for("step 1/7").await;
         alice.wait_for("following the presenter").await;
 
-        // A second presenter (the lecturer again, from another laptop) leads; the first is
-        // told, and its steps no longer reach the class.
+        // The first presenter steps on; a second presenter (the lecturer again, from another
+        // laptop) starts where the class is and leads; the first is told, and its steps no
+        // longer reach the class.
+        lecturer.send(b" ").await;
+        alice.wait_for("step 2/7").await;
         let second = logged_in_with(server.address(), "lecturer", second_key).await;
         let mut laptop = Explorer::open(&second, (120, 40), &[]).await;
         laptop.wait_for("presenting · 1 follow").await;
+        laptop.wait_for("presenting from where the class is").await;
+        laptop.wait_for("step 2/7").await;
         lecturer
             .wait_for("presenting (another presenter leads)")
             .await;
@@ -61,16 +67,16 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
             .wait_for("another presenter logged in and leads")
             .await;
         laptop.send(b" ").await;
-        laptop.wait_for("step 2/7").await;
-        alice.wait_for("step 2/7").await;
-        lecturer.send(b"   ").await;
-        lecturer.wait_for("step 4/7").await;
-        laptop.send(b" ").await;
         laptop.wait_for("step 3/7").await;
         alice.wait_for("step 3/7").await;
+        lecturer.send(b"   ").await;
+        lecturer.wait_for("step 5/7").await;
+        laptop.send(b" ").await;
+        laptop.wait_for("step 4/7").await;
+        alice.wait_for("step 4/7").await;
         let seen = String::from_utf8_lossy(&alice.raw).into_owned();
         assert!(
-            !seen.contains("step 4/7"),
+            !seen.contains("step 5/7"),
             "the first presenter's step reached a student"
         );
 
@@ -78,7 +84,7 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
         disconnect(&second).await;
         lecturer.wait_for("you lead the class again").await;
         lecturer.wait_for("presenting · 1 follow").await;
-        alice.wait_for("step 4/7").await;
+        alice.wait_for("step 5/7").await;
         assert!(
             !alice.text().contains("the presenter left"),
             "{}",
@@ -93,6 +99,65 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
             .wait_for("own exploration · no presenter connected")
             .await;
         alice.send(b" ").await;
-        alice.wait_for("step 5/7").await;
+        alice.wait_for("step 6/7").await;
+    });
+}
+
+/// Stop 59's pass: a presenter who talked for the whole idle timeout without a key had every
+/// follower closed. A student following, and a presenter whom students follow, are not idle;
+/// a student on their own is, with its warning first.
+#[test]
+fn a_silent_presenters_class_is_not_idle() {
+    let dir = tempfile::tempdir().unwrap();
+    let (presenter_key, alice_key, bob_key) = (user_key(1), user_key(2), user_key(4));
+    let presenters = dir.path().join("presenters");
+    std::fs::write(
+        &presenters,
+        presenter_key.public_key().to_openssh().unwrap(),
+    )
+    .unwrap();
+    let students = dir.path().join("students");
+    let lines: Vec<String> = [&alice_key, &bob_key]
+        .iter()
+        .map(|key| key.public_key().to_openssh().unwrap())
+        .collect();
+    std::fs::write(&students, lines.join("\n")).unwrap();
+    let server = Server::start(&ServeOptions {
+        authorized_keys: Some(students),
+        presenter_keys: Some(presenters),
+        idle_timeout: Some(Duration::from_secs(2)),
+        open: false,
+        ..options(&dir)
+    })
+    .unwrap();
+    runtime().block_on(async {
+        let lecturer = logged_in_with(server.address(), "lecturer", presenter_key).await;
+        let mut presenter = Explorer::open(&lecturer, (120, 40), &[]).await;
+        presenter.wait_for("presenting").await;
+        let alice_login = logged_in_with(server.address(), "alice", alice_key).await;
+        let mut alice = Explorer::open(&alice_login, (120, 40), &[]).await;
+        alice.wait_for("following the presenter").await;
+        // Bob forks after Alice and the presenter last had input: idle from later than both.
+        let bob_login = logged_in_with(server.address(), "bob", bob_key).await;
+        let mut bob = Explorer::open(&bob_login, (120, 40), &[]).await;
+        bob.wait_for("following the presenter").await;
+        bob.send(b"f").await;
+        bob.wait_for("own exploration").await;
+        bob.wait_for("idle: this session ends in").await;
+        bob.wait_for_close().await;
+        assert!(String::from_utf8_lossy(&bob.raw).contains("closed after 2 s without input"));
+        // Had they been counted idle, both would have been closed before Bob: each still
+        // answers, and what came before that answer holds no warning.
+        presenter.send(b"]").await;
+        presenter.wait_for("load f0 (x=0)  5.0e5").await;
+        alice.wait_for("load f0 (x=0)  5.0e5").await;
+        for (who, explorer) in [("alice", &alice), ("the presenter", &presenter)] {
+            let raw = String::from_utf8_lossy(&explorer.raw);
+            assert!(
+                !raw.contains("idle: this session"),
+                "{who} was warned: {raw:?}"
+            );
+        }
+        assert_eq!(server.sessions(), 2);
     });
 }
