@@ -471,12 +471,14 @@ fn wait(
     }
 }
 
-/// A student following a presenter, or a presenter whom students follow: in a lecture, and
-/// not idle however long the presenter talks without a key (the class's end, or the presenter
-/// leaving, ends that; the session limit, not the idle timeout, bounds who may stay).
+/// A student following a presenter, or the leading presenter while students follow: in a
+/// lecture, and not idle however long the presenter talks without a key (the class's end, or
+/// the presenter leaving, ends that; the session limit, not the idle timeout, bounds who may
+/// stay).
 fn in_a_lecture(app: &App) -> bool {
     app.follow.as_ref().is_some_and(|follow| {
-        follow.is_following() || (!follow.is_student() && follow.followers.count() > 0)
+        follow.is_following()
+            || (!follow.is_student() && follow.leads && follow.followers.count() > 0)
     })
 }
 
