@@ -8,14 +8,8 @@ use super::*;
 fn students_follow_the_presenter_live_and_a_fork_stays_their_own() {
     let dir = tempfile::tempdir().unwrap();
     let (presenter_key, student_key) = (user_key(1), user_key(2));
-    let presenters = dir.path().join("presenters");
-    std::fs::write(
-        &presenters,
-        presenter_key.public_key().to_openssh().unwrap(),
-    )
-    .unwrap();
-    let students = dir.path().join("students");
-    std::fs::write(&students, student_key.public_key().to_openssh().unwrap()).unwrap();
+    let presenters = keys_file(&dir, "presenters", &[&presenter_key]);
+    let students = keys_file(&dir, "students", &[&student_key]);
     let server = Server::start(&ServeOptions {
         authorized_keys: Some(students),
         presenter_keys: Some(presenters),

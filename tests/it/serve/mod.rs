@@ -48,6 +48,31 @@ fn options(dir: &tempfile::TempDir) -> ServeOptions {
     }
 }
 
+/// A file of `keys`' public halves, one per line (`--authorized-keys`, `--presenter-keys`).
+fn keys_file(dir: &tempfile::TempDir, name: &str, keys: &[&PrivateKey]) -> std::path::PathBuf {
+    let path = dir.path().join(name);
+    let lines: Vec<String> = keys
+        .iter()
+        .map(|key| key.public_key().to_openssh().unwrap())
+        .collect();
+    std::fs::write(&path, lines.join("\n")).unwrap();
+    path
+}
+
+/// `user` logged in with `key`, and its explorer at 120×40.
+async fn session_of(
+    address: std::net::SocketAddr,
+    user: &str,
+    key: PrivateKey,
+) -> (
+    russh::client::Handle<crate::harness::ssh::TrustingClient>,
+    Explorer,
+) {
+    let handle = logged_in_with(address, user, key).await;
+    let explorer = Explorer::open(&handle, (120, 40), &[]).await;
+    (handle, explorer)
+}
+
 fn open_server() -> TestServer {
     let dir = tempfile::tempdir().unwrap();
     let server = Server::start(&options(&dir)).unwrap();

@@ -10,14 +10,8 @@ use super::*;
 fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_leads() {
     let dir = tempfile::tempdir().unwrap();
     let (first_key, student_key, second_key) = (user_key(1), user_key(2), user_key(3));
-    let presenters = dir.path().join("presenters");
-    let lines: Vec<String> = [&first_key, &second_key]
-        .iter()
-        .map(|key| key.public_key().to_openssh().unwrap())
-        .collect();
-    std::fs::write(&presenters, lines.join("\n")).unwrap();
-    let students = dir.path().join("students");
-    std::fs::write(&students, student_key.public_key().to_openssh().unwrap()).unwrap();
+    let presenters = keys_file(&dir, "presenters", &[&first_key, &second_key]);
+    let students = keys_file(&dir, "students", &[&student_key]);
     let server = Server::start(&ServeOptions {
         authorized_keys: Some(students),
         presenter_keys: Some(presenters),
@@ -29,8 +23,7 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
     runtime().block_on(async {
         // Before any presenter: the student's own, and Space steps their own lesson (it used
         // to "follow" nobody and refuse Space).
-        let student = logged_in_with(server.address(), "alice", student_key).await;
-        let mut alice = Explorer::open(&student, (120, 40), &[]).await;
+        let (_student, mut alice) = session_of(server.address(), "alice", student_key).await;
         alice
             .wait_for("own exploration · no presenter connected")
             .await;
@@ -41,8 +34,7 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
         assert_eq!(server.followers(), 0);
 
         // The first presenter logs in: the student, with nothing unsaved, follows it.
-        let first = logged_in_with(server.address(), "lecturer", first_key).await;
-        let mut lecturer = Explorer::open(&first, (120, 40), &[]).await;
+        let (first, mut lecturer) = session_of(server.address(), "lecturer", first_key).await;
         lecturer.wait_for("presenting · 1 follow").await;
         alice
             .wait_for("a presenter logged in: following them")
@@ -55,8 +47,7 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
         // longer reach the class.
         lecturer.send(b" ").await;
         alice.wait_for("step 2/7").await;
-        let second = logged_in_with(server.address(), "lecturer", second_key).await;
-        let mut laptop = Explorer::open(&second, (120, 40), &[]).await;
+        let (second, mut laptop) = session_of(server.address(), "lecturer", second_key).await;
         laptop.wait_for("presenting · 1 follow").await;
         laptop.wait_for("presenting from where the class is").await;
         laptop.wait_for("step 2/7").await;
@@ -131,15 +122,13 @@ fn a_silent_presenters_class_is_not_idle() {
     })
     .unwrap();
     runtime().block_on(async {
-        let lecturer = logged_in_with(server.address(), "lecturer", presenter_key).await;
-        let mut presenter = Explorer::open(&lecturer, (120, 40), &[]).await;
+        let (_lecturer, mut presenter) =
+            session_of(server.address(), "lecturer", presenter_key).await;
         presenter.wait_for("presenting").await;
-        let alice_login = logged_in_with(server.address(), "alice", alice_key).await;
-        let mut alice = Explorer::open(&alice_login, (120, 40), &[]).await;
+        let (_alice, mut alice) = session_of(server.address(), "alice", alice_key).await;
         alice.wait_for("following the presenter").await;
         // Bob forks after Alice and the presenter last had input: idle from later than both.
-        let bob_login = logged_in_with(server.address(), "bob", bob_key).await;
-        let mut bob = Explorer::open(&bob_login, (120, 40), &[]).await;
+        let (_bob, mut bob) = session_of(server.address(), "bob", bob_key).await;
         bob.wait_for("following the presenter").await;
         bob.send(b"f").await;
         bob.wait_for("own exploration").await;
