@@ -80,9 +80,10 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
     None
 }
 
-/// A typed name that does not end in `.toml` gets it: a scene file is TOML, `beamfric NAME`
-/// takes a name without a path for a preset's, and a name with a dot of its own
-/// (`eps-1e-4.5`, `run-1.5`) is no extension. The status line says the name written.
+/// A typed name that does not end in `.toml` gets it: a scene file is TOML, a name without it
+/// in the working directory shadows a preset of that name (`beamfric benchmark-1` opens the
+/// file first), and a dot of its own (`eps-1e-4.5`, `run-1.5`) is no extension. The status
+/// line says the name written.
 fn with_extension(typed: &str) -> String {
     let names_a_file = !typed.is_empty() && !typed.ends_with(std::path::MAIN_SEPARATOR);
     if names_a_file && !typed.to_ascii_lowercase().ends_with(".toml") {

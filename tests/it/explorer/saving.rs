@@ -287,9 +287,9 @@ fn a_long_file_name_is_kept_whole_up_to_the_limit_and_the_limit_is_said() {
     );
 }
 
-/// Stop 59's lecture pass: a name typed without `.toml` was saved as typed (`my`), a file that
-/// `beamfric my` then looks for among the presets. Every name not ending in `.toml` gets it
-/// (a dot of its own, as in `run-1.5`, is no extension); `.TOML` is kept.
+/// Stop 59's lecture pass: a name typed without `.toml` was saved as typed (`my`; a file
+/// `benchmark-1` would shadow that preset for `beamfric benchmark-1`). Every name not ending in
+/// `.toml` gets it (a dot of its own, as in `run-1.5`, is no extension); `.TOML` is kept.
 #[test]
 fn a_name_typed_without_an_extension_is_saved_as_toml() {
     let dir = tempfile::tempdir().unwrap();
