@@ -247,7 +247,9 @@ pub(crate) fn start(
         frames_lost: Arc::clone(&frames_lost),
     };
     let size = (client.width, client.height);
+    let logging = Arc::clone(shared);
     let remote_options = RemoteOptions {
+        work_not_saved: Some(Box::new(move |note: String| logging.log(&note))),
         idle_timeout: settings.idle_timeout,
         after_frame,
         cores: Some(shared.cores.session()),

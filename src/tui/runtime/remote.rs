@@ -116,6 +116,9 @@ pub struct RemoteOptions {
     /// Set by the output when it dropped a frame for a client that does not read: the next
     /// frame is then drawn whole.
     pub frames_lost: Option<Arc<AtomicBool>>,
+    /// Told (the server's log) when the session ended for its user with work that a save
+    /// directory did not take: printed on their terminal instead, or lost with the connection.
+    pub work_not_saved: Option<Box<dyn FnOnce(String) + Send>>,
 }
 
 /// Runs the explorer on a remote terminal of `size` (columns, rows) that `output` writes to,
@@ -134,6 +137,7 @@ pub fn run_remote(
         after_frame,
         cores,
         frames_lost,
+        work_not_saved,
     } = remote;
     let (width, height) = clamp_size(size.0, size.1);
     // The session's colours are its look's (its client's NO_COLOR, its terminal): crossterm
@@ -185,6 +189,9 @@ pub fn run_remote(
         );
         let _ = write_unsaved_work(output, &app, saved.as_deref());
     }
+    if let (Some(tell), Some(note)) = (work_not_saved, work_not_saved_note(&app, &ending)) {
+        tell(note);
+    }
     // Not flushed here: the output sends what is left when it is dropped, with the patience
     // a last frame deserves (a served session's output drops frames a client does not read).
     ending
@@ -225,6 +232,27 @@ fn write_unsaved_work(output: &mut impl Write, app: &App, saved: Option<&str>) -
         write_toml(output, &edits.scene)?;
     }
     Ok(())
+}
+
+/// Where a session closed for its user (idle, hung up, the class ended) still holds unsaved
+/// work although a save directory was there to take it (full, gone, unwritable): what the
+/// server's log says of it.
+fn work_not_saved_note(app: &App, ending: &io::Result<Ending>) -> Option<String> {
+    let under_save_dir = matches!(app.save_policy, crate::tui::state::SavePolicy::Within(_));
+    if !under_save_dir || !app.has_unsaved_work() {
+        return None;
+    }
+    let who = app.owner.as_deref().unwrap_or("(no name)");
+    let fate = match ending {
+        Ok(Ending::Hangup) => "lost with the connection",
+        Ok(Ending::Idle) => "printed on their terminal instead",
+        _ if matches!(app.mode, Mode::ClassEnded { .. }) => "printed on their terminal instead",
+        _ => return None,
+    };
+    Some(format!(
+        "{}: unsaved changes not saved in the save directory; {fate}",
+        printable(who)
+    ))
 }
 
 /// `scene` as TOML, line by line, each line's controls made visible.

@@ -68,7 +68,17 @@ async fn changed_session(
     russh::client::Handle<crate::harness::ssh::TrustingClient>,
     Explorer,
 ) {
-    let handle = logged_in(server.address()).await;
+    changed_session_at(server.address()).await
+}
+
+/// [`changed_session`] on the server at `address`.
+async fn changed_session_at(
+    address: std::net::SocketAddr,
+) -> (
+    russh::client::Handle<crate::harness::ssh::TrustingClient>,
+    Explorer,
+) {
+    let handle = logged_in(address).await;
     let mut explorer = Explorer::open(&handle, (100, 30), &[]).await;
     explorer.wait_for("Parameters").await;
     explorer.send(b"\x1b[C").await;
@@ -172,4 +182,40 @@ fn a_session_closed_idle_prints_the_changes_left_on_another_lesson_step() {
         );
         assert_eq!(scene.obstacles, written.obstacles);
     });
+}
+
+/// Stop 59's leftover: where the save directory did not take a closed session's work (gone,
+/// full), the student got it printed, and the lecturer's log said nothing.
+#[test]
+fn the_log_says_when_a_closed_sessions_work_missed_the_save_directory() {
+    use crate::harness::serve_process::{ServeProcess, port_in};
+    let dir = tempfile::tempdir().unwrap();
+    let saves = dir.path().join("saves");
+    std::fs::create_dir_all(&saves).unwrap();
+    let host_key = dir.path().join("host_key");
+    let mut server = ServeProcess::start(&[
+        "serve",
+        "--listen",
+        "127.0.0.1:0",
+        "--host-key",
+        host_key.to_str().unwrap(),
+        "--open",
+        "--save-dir",
+        saves.to_str().unwrap(),
+        "--idle-timeout",
+        "2",
+    ]);
+    let port = port_in(&server.wait_for_line("listening on"));
+    std::fs::remove_dir_all(&saves).unwrap();
+    runtime().block_on(async {
+        let (_handle, mut explorer) = changed_session_at(([127, 0, 0, 1], port).into()).await;
+        explorer.wait_for_close().await;
+        let raw = String::from_utf8_lossy(&explorer.raw);
+        assert!(
+            raw.contains("the scene as TOML, to copy into a file:"),
+            "{raw:?}"
+        );
+    });
+    let line = server.wait_for_line("unsaved changes not saved in the save directory");
+    assert!(line.contains("printed on their terminal instead"), "{line}");
 }
