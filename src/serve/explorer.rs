@@ -148,6 +148,68 @@ impl Drop for ChannelWriter {
 const NO_PRESENTER_YET: &str =
     "no presenter yet: the keys are yours; you follow one once they log in";
 
+/// A session's place in the class (follow mode), where the server has one.
+#[derive(Default)]
+struct ClassPlace {
+    follow: Option<Follow>,
+    /// Its id in the hub, to leave it.
+    hub_id: Option<u64>,
+    /// The class's newest state: a student shows it (following) or keeps it for `F`; a
+    /// presenter goes on from it.
+    latest: Option<Arc<crate::tui::state::Exploration>>,
+    /// A presenter publishes every frame's state.
+    after_frame: Option<AfterFrame>,
+    /// What the session says first (a student without a presenter).
+    greeting: Option<String>,
+}
+
+/// Joins the server's class, if it has one: a presenter leads and publishes every frame's
+/// state, a student follows (or waits for a presenter).
+fn join_class(
+    shared: &Arc<Shared>,
+    presenter: bool,
+    feed: &Feed,
+    user: Option<&str>,
+) -> ClassPlace {
+    let Some(hub) = &shared.hub else {
+        return ClassPlace::default();
+    };
+    if presenter {
+        // The class's state so far: the presenter goes on from there.
+        let latest = hub.latest();
+        let id = hub.join_presenter(feed.clone());
+        let publishing = Arc::clone(shared);
+        return ClassPlace {
+            follow: Some(Follow::presenter(&hub.followers, false)),
+            hub_id: Some(id),
+            latest,
+            after_frame: Some(Box::new(move |app: &App| {
+                if let Some(hub) = &publishing.hub {
+                    hub.publish(id, &app.exploration);
+                }
+            })),
+            greeting: None,
+        };
+    }
+    let user = user.unwrap_or("(no name)");
+    let (id, latest, presenter_here) = hub.join(feed.clone());
+    let (follow, greeting) = if presenter_here {
+        (Follow::student(&hub.followers, user), None)
+    } else {
+        (
+            Follow::student_without_presenter(&hub.followers, user),
+            Some(NO_PRESENTER_YET.to_string()),
+        )
+    };
+    ClassPlace {
+        follow: Some(follow),
+        hub_id: Some(id),
+        latest,
+        after_frame: None,
+        greeting,
+    }
+}
+
 /// Starts an explorer on `channel` (called on the server's runtime), presenting or following
 /// when the server has presenters. Returns the feed for the client's bytes and window changes.
 pub(crate) fn start(
@@ -160,38 +222,13 @@ pub(crate) fn start(
 ) -> Result<Feed, ServeError> {
     let settings = &shared.explorer;
     let (feed, events) = remote::events();
-    // Follow mode: a presenter publishes every frame's state, a student joins the hub.
-    let mut after_frame: Option<AfterFrame> = None;
-    let mut hub_id = None;
-    let mut follow = None;
-    let mut latest = None;
-    let mut greeting = None;
-    if let Some(hub) = &shared.hub {
-        if presenter {
-            follow = Some(Follow::presenter(&hub.followers, false));
-            // The class's state so far: the presenter goes on from there.
-            latest = hub.latest();
-            let id = hub.join_presenter(feed.clone());
-            hub_id = Some(id);
-            let publishing = Arc::clone(shared);
-            after_frame = Some(Box::new(move |app: &App| {
-                if let Some(hub) = &publishing.hub {
-                    hub.publish(id, &app.exploration);
-                }
-            }));
-        } else {
-            let user = user.unwrap_or("(no name)");
-            let (id, newest, presenter_here) = hub.join(feed.clone());
-            follow = Some(if presenter_here {
-                Follow::student(&hub.followers, user)
-            } else {
-                greeting = Some(NO_PRESENTER_YET.to_string());
-                Follow::student_without_presenter(&hub.followers, user)
-            });
-            hub_id = Some(id);
-            latest = newest;
-        }
-    }
+    let ClassPlace {
+        follow,
+        hub_id,
+        latest,
+        after_frame,
+        greeting,
+    } = join_class(shared, presenter, &feed, user);
     // Nothing is written on the server but under --save-dir: otherwise `s` shows the scene's
     // TOML to copy.
     let save_policy = match &settings.save_dir {

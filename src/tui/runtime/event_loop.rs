@@ -164,6 +164,7 @@ pub fn event_loop<S: Screen>(
         inputs: VecDeque::new(),
         last_input: Instant::now(),
         idle_warned: false,
+        in_lecture: false,
         last_bytes: Instant::now(),
         mouse_on: false,
         text_shown: None,
@@ -203,6 +204,8 @@ struct LoopState {
     last_input: Instant,
     /// The idle warning was shown since [`LoopState::last_input`].
     idle_warned: bool,
+    /// The last wait was in a lecture ([`in_a_lecture`]): no idle time counted.
+    in_lecture: bool,
     /// When the last bytes came: a pending lone ESC is the Esc key ESC_TIMEOUT after them,
     /// however many other events (results, a presenter's states) arrive meanwhile.
     last_bytes: Instant,
@@ -412,9 +415,12 @@ fn wait(
     // one. No timer either: a presenter woken by one would draw, and its frame would reach
     // every student.
     let lecture = in_a_lecture(app);
-    if lecture {
+    // Also on the first wait after it stopped being one (stop 60's pass: the presenter who
+    // left, or the last follower forking, ended the session at once, idle since long before).
+    if lecture || state.in_lecture {
         state.note_input();
     }
+    state.in_lecture = lecture;
     let idle_timeout = options.idle_timeout.filter(|_| !lecture);
     let idle_left = idle_timeout.map(|limit| limit.saturating_sub(state.last_input.elapsed()));
     if idle_left == Some(Duration::ZERO) {

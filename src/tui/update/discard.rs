@@ -27,9 +27,10 @@ pub(super) fn confirm_end_class(app: &mut App, action: Action) {
 
 /// Does `then` at once, or asks first when it would lose unsaved changes.
 pub(super) fn unless_unsaved(app: &mut App, then: Discard) {
-    // Quitting loses the lesson steps left with changes too.
+    // Quitting loses the lesson steps left with changes too, and so does following the
+    // presenter (the steps are the presenter's from then on).
     let unsaved = match then {
-        Discard::Quit => app.has_unsaved_work(),
+        Discard::Quit | Discard::Rejoin => app.has_unsaved_work(),
         _ => app.modified(),
     };
     if unsaved {

@@ -146,7 +146,7 @@ fn presenter_arrived(app: &mut App) {
     if follow.is_following() {
         return;
     }
-    app.message = Some(if !follow.waiting {
+    app.message = Some(if !follow.waiting && !modified {
         "a presenter logged in: F follows them".into()
     } else if modified {
         "a presenter logged in: F follows them (unsaved: s saves first)".into()
@@ -176,8 +176,9 @@ pub(super) fn rejoin(app: &mut App) {
         wait_for_a_presenter(app);
         return;
     }
-    // As `discard::unless_unsaved` asks (which calls back here on a yes).
-    if app.modified() {
+    // As `discard::unless_unsaved` asks (which calls back here on a yes): a lesson step left
+    // with changes counts.
+    if app.has_unsaved_work() {
         app.mode = Mode::ConfirmDiscard {
             then: Discard::Rejoin,
         };
@@ -213,6 +214,9 @@ pub(super) fn follow_again(app: &mut App) {
     if let Some(latest) = follow.latest.clone() {
         show(app, &latest);
     }
+    // The lesson's steps are the presenter's from here: changes left on them go, as asked
+    // (they would stay hidden, and counted as unsaved, stop 60's pass).
+    app.step_edits.clear();
     app.message = Some("following the presenter".into());
 }
 
@@ -254,7 +258,7 @@ fn asked_to_rejoin(app: &mut App) {
     if app.is_following() {
         return;
     }
-    if app.modified() {
+    if app.has_unsaved_work() {
         // One status line at 80 columns.
         app.message = Some(
             "the presenter asks everyone to follow: F follows (unsaved: s saves first)".into(),

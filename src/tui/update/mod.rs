@@ -115,10 +115,15 @@ pub fn update(app: &mut App, msg: Msg) {
         // A student's idle time, for the presenter's list.
         follow.note_input(Instant::now());
     }
-    if matches!(
-        msg,
-        Msg::Key(_) | Msg::Paste(_) | Msg::Pointer(_) | Msg::Resize(..) | Msg::Follow(_)
-    ) && let Some(warning) = app.idle_warning.take()
+    // The presenter's states keep only a follower from being idle (a forked student's warning
+    // stays while its presenter works: stop 60's pass).
+    let active = match msg {
+        Msg::Key(_) | Msg::Paste(_) | Msg::Pointer(_) | Msg::Resize(..) => true,
+        Msg::Follow(_) => app.is_following(),
+        _ => false,
+    };
+    if active
+        && let Some(warning) = app.idle_warning.take()
         && app.message.as_ref() == Some(&warning)
     {
         // Not idle any more (as the event loop counts it): the warning goes.

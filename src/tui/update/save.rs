@@ -167,12 +167,22 @@ pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
         return None;
     }
     let mut names = Vec::new();
+    // Each file says which step it holds where there are steps to tell apart.
+    let labelled = !app.changed_steps().is_empty();
+    let label = |step: usize| {
+        if labelled {
+            format!(" (step {})", step + 1)
+        } else {
+            String::new()
+        }
+    };
     if app.modified() {
         let scene = app.scene().clone();
+        let shown = app.exploration.lesson.as_ref().map(|place| place.step);
         if let Some(name) = save_under_a_free_name(app, &scene, &app.save_path) {
             app.save_path = name.clone();
             app.saved = scene;
-            names.push(name);
+            names.push(format!("{name}{}", shown.map(label).unwrap_or_default()));
         }
     }
     for step in app.changed_steps() {
@@ -192,7 +202,7 @@ pub(super) fn save_at_closing(app: &mut App) -> Option<String> {
             if let Some(edits) = app.step_edits.get_mut(&step) {
                 edits.saved = scene;
             }
-            names.push(name);
+            names.push(format!("{name}{}", label(step)));
         }
     }
     (!names.is_empty()).then(|| names.join(", "))

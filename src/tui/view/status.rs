@@ -295,16 +295,19 @@ pub(super) fn draw_hints(frame: &mut Frame, app: &App, theme: &Theme, area: Rect
                 .iter()
                 .map(|step| (step + 1).to_string())
                 .collect();
-            let quit_too = if changed_steps.is_empty() {
-                "quit".to_string()
-            } else {
-                format!("quit (step {} changed too)", changed_steps.join(", "))
+            let with_steps = |what: &str| {
+                if changed_steps.is_empty() {
+                    what.to_string()
+                } else {
+                    format!("{what} (step {} changed too)", changed_steps.join(", "))
+                }
             };
+            let (quit_too, follow_too) = (with_steps("quit"), with_steps("follow the presenter"));
             let what = match then {
                 Discard::Quit => quit_too.as_str(),
                 Discard::Reset => "reset to the scene as loaded",
                 Discard::Preset(_) => "load the preset",
-                Discard::Rejoin => "follow the presenter",
+                Discard::Rejoin => follow_too.as_str(),
             };
             fit(discard_hints(what, ascii))
         }

@@ -112,7 +112,15 @@ fn the_closing_save_writes_every_changed_lesson_step() {
     else {
         panic!("{:?}", alice.mode)
     };
-    let names: Vec<&str> = names.split(", ").collect();
+    // Each name says which step it holds.
+    assert!(
+        names.ends_with("(step 2)") && names.contains(" (step 4), "),
+        "{names}"
+    );
+    let names: Vec<&str> = names
+        .split(", ")
+        .map(|name| name.split(" (").next().unwrap())
+        .collect();
     assert_eq!(names.len(), 2, "{names:?}");
     let read = |name: &str| {
         beamfric::scene::load(dir.path().join(name).to_str().unwrap())
@@ -124,6 +132,50 @@ fn the_closing_save_writes_every_changed_lesson_step() {
     assert!(!alice.has_unsaved_work());
     let closing = buffer_to_text(&draw_to_buffer(&alice, 80, 24), false);
     assert!(closing.contains("Your changes are saved as"), "{closing}");
+}
+
+/// Stop 60's second pass: with changes left on another step only, F followed at once; the
+/// changes stayed hidden (a fork showed the presenter's step) and were still counted. F asks,
+/// naming the steps, and a yes lets them go; a forked student's idle warning stays while the
+/// presenter's states arrive.
+#[test]
+fn following_asks_for_changes_left_on_other_steps_and_lets_them_go() {
+    let followers = Followers::new(|| {});
+    let mut alice =
+        student_of_the_lesson(Follow::student_without_presenter(&followers, "alice"), None);
+    keys(&mut alice, "Space ] Space");
+    update(&mut alice, Msg::Class(ClassNews::PresenterArrived));
+    keys(&mut alice, "F");
+    assert!(
+        matches!(alice.mode, Mode::ConfirmDiscard { .. }),
+        "{:?}",
+        alice.mode
+    );
+    let asked = buffer_to_text(&draw_to_buffer(&alice, 120, 40), false);
+    assert!(
+        asked.contains("follow the presenter (step 2 changed too)"),
+        "{asked}"
+    );
+    keys(&mut alice, "y");
+    assert!(alice.is_following());
+    assert!(
+        !alice.has_unsaved_work(),
+        "the steps are the presenter's now"
+    );
+    // A forked student's idle warning is not cleared by the presenter's next state.
+    keys(&mut alice, "f");
+    update(
+        &mut alice,
+        Msg::IdleWarning(std::time::Duration::from_secs(5)),
+    );
+    let warning = status(&alice);
+    assert!(
+        warning.starts_with("idle: this session ends in 5 s"),
+        "{warning}"
+    );
+    let presenters = alice.exploration.clone();
+    update(&mut alice, Msg::Follow(Arc::new(presenters)));
+    assert_eq!(status(&alice), warning);
 }
 
 #[test]

@@ -101,18 +101,8 @@ fn a_student_before_the_presenter_steps_alone_and_the_newest_of_two_presenters_l
 fn a_silent_presenters_class_is_not_idle() {
     let dir = tempfile::tempdir().unwrap();
     let (presenter_key, alice_key, bob_key) = (user_key(1), user_key(2), user_key(4));
-    let presenters = dir.path().join("presenters");
-    std::fs::write(
-        &presenters,
-        presenter_key.public_key().to_openssh().unwrap(),
-    )
-    .unwrap();
-    let students = dir.path().join("students");
-    let lines: Vec<String> = [&alice_key, &bob_key]
-        .iter()
-        .map(|key| key.public_key().to_openssh().unwrap())
-        .collect();
-    std::fs::write(&students, lines.join("\n")).unwrap();
+    let presenters = keys_file(&dir, "presenters", &[&presenter_key]);
+    let students = keys_file(&dir, "students", &[&alice_key, &bob_key]);
     let server = Server::start(&ServeOptions {
         authorized_keys: Some(students),
         presenter_keys: Some(presenters),
@@ -122,7 +112,7 @@ fn a_silent_presenters_class_is_not_idle() {
     })
     .unwrap();
     runtime().block_on(async {
-        let (_lecturer, mut presenter) =
+        let (lecturer, mut presenter) =
             session_of(server.address(), "lecturer", presenter_key).await;
         presenter.wait_for("presenting").await;
         let (_alice, mut alice) = session_of(server.address(), "alice", alice_key).await;
@@ -148,5 +138,23 @@ fn a_silent_presenters_class_is_not_idle() {
             );
         }
         assert_eq!(server.sessions(), 2);
+        // A silence longer than the timeout with nothing happening in the class (a session
+        // of another server is closed idle meanwhile), then the presenter leaves: Alice is
+        // idle from then on, warned first (she was closed at once, idle since long before).
+        let elsewhere_dir = tempfile::tempdir().unwrap();
+        let elsewhere = Server::start(&ServeOptions {
+            idle_timeout: Some(Duration::from_secs(3)),
+            ..options(&elsewhere_dir)
+        })
+        .unwrap();
+        let other = logged_in(elsewhere.address()).await;
+        Explorer::open(&other, (80, 24), &[])
+            .await
+            .wait_for_close()
+            .await;
+        disconnect(&lecturer).await;
+        alice.wait_for("the presenter left").await;
+        alice.wait_for("idle: this session ends in 1 s").await;
+        alice.wait_for_close().await;
     });
 }
