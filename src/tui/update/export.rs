@@ -143,13 +143,8 @@ fn write_figure(app: &App, panel: Panel, svg: &str) -> Result<String, String> {
                 "{} is not a directory, and it is the only place files may go",
                 super::save::directory_shown(app, dir)
             )),
-            SavePolicy::Within(dir) => save_target(&app.save_policy, name).ok_or_else(|| {
-                format!(
-                    "{name} is outside {}, the only directory files may go to (or a link \
-                     leads out of it)",
-                    super::save::directory_shown(app, dir)
-                )
-            }),
+            SavePolicy::Within(dir) => save_target(&app.save_policy, name)
+                .ok_or_else(|| super::save::not_a_target(app, dir, name)),
             SavePolicy::Simulate => Err(format!(
                 "{name} (a render writes no files without --allow-save DIR)"
             )),

@@ -62,6 +62,10 @@ pub(super) fn save_prompt(app: &mut App, action: Action, mut prompt: Prompt) -> 
             } else if path.is_empty() {
                 app.mode = Mode::Normal;
                 app.message = Some("not saved: no file name".into());
+            } else if only_an_extension(&path) {
+                // `.toml` alone would be a hidden file of no name (stop 60's pass).
+                app.mode = Mode::Normal;
+                app.message = Some(format!("not saved: {path} has no name before .toml"));
             } else if save_target(&app.save_policy, &path).is_some_and(|t| t.exists()) {
                 // The file the save would write (under --allow-save DIR, inside DIR).
                 app.mode = Mode::ConfirmOverwrite { path };
@@ -91,6 +95,13 @@ fn with_extension(typed: &str) -> String {
     } else {
         typed.to_string()
     }
+}
+
+/// Is the file name of `path` `.toml` and nothing else?
+fn only_an_extension(path: &str) -> bool {
+    std::path::Path::new(path)
+        .file_name()
+        .is_some_and(|name| name.eq_ignore_ascii_case(".toml"))
 }
 
 /// The answer to "overwrite the file?". Returns what was waiting for the save once the scene
@@ -128,11 +139,7 @@ fn save(app: &mut App, path: &str, overwrite: bool) -> Option<Discard> {
         SavePolicy::Within(dir) => match save_target(&app.save_policy, path) {
             Some(target) => target,
             None => {
-                app.message = Some(format!(
-                    "not saved: {path} is outside {}, the only directory saves may go to (or a \
-                     link leads out of it)",
-                    directory_shown(app, dir)
-                ));
+                app.message = Some(format!("not saved: {}", not_a_target(app, dir, path)));
                 return None;
             }
         },
@@ -283,4 +290,29 @@ pub(super) fn error_shown(app: &App, error: &dyn std::fmt::Display) -> String {
         }
         _ => text,
     }
+}
+
+/// Why `path` is no file a save may write under the save directory `dir` ([`save_target`]
+/// said none): a folder of it that does not exist there (stop 60's pass: `nodir/x` was called
+/// outside the directory), or a path out of it.
+pub(super) fn not_a_target(app: &App, dir: &std::path::Path, path: &str) -> String {
+    let shown = directory_shown(app, dir);
+    let inside = std::path::Path::new(path)
+        .components()
+        .all(|c| matches!(c, std::path::Component::Normal(_)));
+    if let (true, Some(folder), Ok(real_dir)) = (
+        inside,
+        std::path::Path::new(path).parent(),
+        dir.canonicalize(),
+    ) && !folder.as_os_str().is_empty()
+        && std::fs::symlink_metadata(real_dir.join(folder)).is_err()
+    {
+        return format!(
+            "there is no folder {} in {shown} (only files may be made there, not folders)",
+            folder.display()
+        );
+    }
+    format!(
+        "{path} is outside {shown}, the only directory files may go to (or a link leads out of it)"
+    )
 }

@@ -213,3 +213,37 @@ fn a_failed_save_in_the_class_directory_does_not_show_the_servers_path() {
     assert!(message.contains("the class's save directory"), "{message}");
     assert!(!message.contains(dir.path().to_str().unwrap()), "{message}");
 }
+
+/// Stop 60's second pass: a save into a folder missing from the class's save directory was
+/// called "outside" it, and a name of `.toml` alone saved a hidden file of no name.
+#[test]
+fn a_missing_folder_and_a_name_of_only_toml_are_said_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let followers = Followers::new(|| {});
+    let mut alice = student_of_the_lesson(
+        Follow::student_without_presenter(&followers, "alice"),
+        Some(dir.path()),
+    );
+    for (typed_name, said) in [
+        (
+            "nodir/x",
+            "not saved: there is no folder nodir in the class's save directory (only files may \
+             be made there, not folders)",
+        ),
+        (
+            "../x",
+            "not saved: ../x.toml is outside the class's save directory",
+        ),
+        (".toml", "not saved: .toml has no name before .toml"),
+    ] {
+        keys(&mut alice, "] s");
+        press(&mut alice, &typed(typed_name));
+        press(&mut alice, "Enter");
+        assert!(
+            status(&alice).starts_with(said),
+            "{typed_name}: {}",
+            status(&alice)
+        );
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
