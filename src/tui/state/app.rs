@@ -327,7 +327,8 @@ impl App {
 
     /// Is any work unsaved: this scene's, or a lesson step's left with changes?
     pub fn has_unsaved_work(&self) -> bool {
-        self.modified() || !self.changed_steps().is_empty()
+        // Asked after every message (the class's count of unsaved work): no list built.
+        self.modified() || self.step_edits.values().any(|e| e.scene != e.saved)
     }
 
     /// Is this a served student following the presenter (who may not change the scene)?

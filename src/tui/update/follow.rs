@@ -146,10 +146,10 @@ fn presenter_arrived(app: &mut App) {
     if follow.is_following() {
         return;
     }
-    app.message = Some(if !follow.waiting && !modified {
-        "a presenter logged in: F follows them".into()
-    } else if modified {
+    app.message = Some(if modified {
         "a presenter logged in: F follows them (unsaved: s saves first)".into()
+    } else if !follow.waiting {
+        "a presenter logged in: F follows them".into()
     } else {
         follow.waiting = false;
         if let Role::Student(following) = &mut follow.role {
