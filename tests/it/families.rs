@@ -437,14 +437,16 @@ fn ties_with_other_thresholds_lowered_agree_with_the_reference_and_settle() {
 /// monotone step; the arrangement where the monotone search still works is clusters at ties with a
 /// swivel threshold lowered: seed 7, k = 2000, three notches, 121 pattern solves of which 62
 /// monotone steps. There, refining the monotone steps fully: 1233 back solves, 252 factorisations
-/// (65 of them in double-double); to the noise: 735, 188 (1).
+/// (65 of them in double-double); to the noise: 735, 188 (1). The factorisations counted are
+/// the pattern solves' (the interior-point steps apart): since stop 61 a search that runs past
+/// 64 solves makes a second guess, whose iteration (47 steps here) adds as many.
 #[test]
 fn monotone_steps_refine_to_the_noise_of_the_residual() {
     use beamfric::check::families::lowered_clustered_ties_scene;
     let scene = lowered_clustered_ties_scene(2000, 7, 3, 10_000);
     let counts = crate::harness::scenes::converged_condensed(&scene, 10_000).counts;
-    // The scene must still need the monotone search (121 pattern solves, 62 of them its
-    // steps); if a better guess settles it sooner, this test needs another scene.
+    // The scene must still need the monotone search (123 pattern solves, measured in stop 61); if a
+    // better guess settles it sooner, this test needs another scene.
     assert!(
         counts.pattern_solves >= 60,
         "{}: no longer a test of monotone steps: {counts:?}",
@@ -452,7 +454,7 @@ fn monotone_steps_refine_to_the_noise_of_the_residual() {
     );
     assert!(
         counts.back_solves <= 900
-            && counts.factorizations <= 215
+            && counts.factorizations - counts.interior_steps <= 168
             && counts.double_double_factorizations <= 4,
         "{}: {counts:?}",
         scene.title

@@ -113,3 +113,8 @@ pub(super) fn widen_unresolved(
     }
     bounds
 }
+
+/// The distance of 0 from the nearer bound.
+pub(super) fn nearest((lower, upper): (f64, f64)) -> f64 {
+    lower.abs().min(upper.abs())
+}

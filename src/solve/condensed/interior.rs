@@ -45,11 +45,14 @@
 //! exactly; where the guess is poor, it costs solves, never the answer. With it comes the same
 //! pattern with the DOFs the iteration leaves unclear held stuck ([`Guess`]), which the search
 //! tries where the guess's own pattern is inconsistent (near-coincident obstacles, clusters at
-//! ties: docs/many-obstacles/close-obstacles-and-near-ties.md, stop 49).
+//! ties: docs/many-obstacles/close-obstacles-and-near-ties.md, stop 49). Where that search runs
+//! long, it asks for a second guess from steps refined with the exact relations
+//! (`mixed_refinement`, `search::second_guess`; stop 61).
 
 use super::CondensedFailure;
-use super::held_bounds::{WIDENED_TIE, start_force, widen_unresolved};
+use super::held_bounds::{WIDENED_TIE, nearest, start_force, widen_unresolved};
 use super::mixed::{Mixed, MixedTemplate, StepSolves};
+use super::mixed_refinement::REFINED_FROM_STEP;
 use super::offers::{Crossover, Offers};
 use super::system::{Pattern, ShootingSystem};
 use crate::linalg::banded_lu::BandedSystem;
@@ -161,11 +164,6 @@ pub(super) fn shorten(length: &mut f64, distance: f64, rate: f64) {
     if distance <= *length * rate * MARGIN {
         *length = length.min(distance / rate);
     }
-}
-
-/// The distance of 0 from the nearer bound.
-fn nearest((lower, upper): (f64, f64)) -> f64 {
-    lower.abs().min(upper.abs())
 }
 
 /// The Newton step of every friction variable: (Δλ, Δp, Δq).
@@ -373,7 +371,8 @@ impl InteriorPoint<'_> {
             if !keep_going() {
                 return Err(CondensedFailure::Stopped);
             }
-            if !self.step(&zero, true, &mut affine) {
+            let refine = self.system.refined_steps.get() && done >= REFINED_FROM_STEP;
+            if !self.step(&zero, (true, refine), &mut affine) {
                 return Ok(done);
             }
             let reach = self.largest_step(&affine);
@@ -395,7 +394,7 @@ impl InteriorPoint<'_> {
                     .iter()
                     .map(|&[dl, dp, dq]| [target + dp * dl, target - dq * dl]),
             );
-            if !self.step(&targets, false, &mut step) {
+            if !self.step(&targets, (false, refine), &mut step) {
                 return Ok(done + 1);
             }
             // The forces and the motions each go as far as their own bounds allow.
@@ -434,7 +433,12 @@ impl InteriorPoint<'_> {
     /// factors), into `step`; false when it is singular. The weights D are those of the
     /// factors: computed with them, once for both of a step's solves (the iterate moves after
     /// both).
-    fn step(&mut self, targets: &[[f64; 2]], factor: bool, step: &mut Step) -> bool {
+    fn step(
+        &mut self,
+        targets: &[[f64; 2]],
+        (factor, refine): (bool, bool),
+        step: &mut Step,
+    ) -> bool {
         if factor {
             self.weights.clear();
             self.weights.extend(
@@ -455,11 +459,9 @@ impl InteriorPoint<'_> {
                 motion: v.motion() + rho,
             };
         }
-        let solves = &mut self.solves;
-        if !self
-            .system
-            .solve_step(&self.template, &self.mixed, self.banded, factor, solves)
-        {
+        let (template, mixed) = (&self.template, &self.mixed);
+        let (system, banded, solves) = (self.system, &mut *self.banded, &mut self.solves);
+        if !system.solve_step(template, mixed, banded, (factor, refine), solves) {
             return false;
         }
         let force_changes = &solves.force_changes;
@@ -588,6 +590,7 @@ impl InteriorPoint<'_> {
 }
 
 /// The interior-point guess ([`InteriorPoint::guess`]).
+#[derive(Clone, PartialEq)]
 pub(super) struct Guess {
     pub(super) pattern: Vec<Pattern>,
     pub(super) unclear_held: Option<Vec<Pattern>>,

@@ -64,8 +64,8 @@ impl Mixed {
 /// DOF whether its column holds its force (set by the factoring solve, for the other), the
 /// last solve's unknowns and its force changes (memory reused from step to step).
 pub(super) struct StepSolves {
-    holds_force: Vec<bool>,
-    unknowns: Vec<f64>,
+    pub(super) holds_force: Vec<bool>,
+    pub(super) unknowns: Vec<f64>,
     pub(super) force_changes: Vec<f64>,
 }
 
@@ -94,7 +94,7 @@ pub(super) struct MixedTemplate {
     /// The entries in the friction DOFs' columns, in the order of assembly.
     dof_entries: Vec<DofEntry>,
     /// Per friction DOF: its column.
-    dof_columns: Vec<usize>,
+    pub(super) dof_columns: Vec<usize>,
     /// Per friction DOF: its force's entry in its jump row.
     jumps: Vec<JumpEntry>,
 }
@@ -231,14 +231,14 @@ impl ShootingSystem {
     /// An interior-point step's solve ([`ShootingSystem::solve_mixed`] when `factor`, else
     /// [`ShootingSystem::resolve_mixed`] with the factors of the last) for the force changes
     /// alone, into `solves`: no motions computed, and the force changes (and the second
-    /// solve's unknowns) written into the vectors kept there; false where the system is
-    /// singular.
+    /// solve's unknowns) written into the vectors kept there, refined with the exact
+    /// relations where `refine` (`mixed_refinement`); false where the system is singular.
     pub(super) fn solve_step(
         &self,
         template: &MixedTemplate,
         mixed: &[Mixed],
         banded: &mut BandedSystem,
-        factor: bool,
+        (factor, refine): (bool, bool),
         solves: &mut StepSolves,
     ) -> bool {
         let StepSolves {
@@ -258,6 +258,9 @@ impl ShootingSystem {
             return false;
         }
         force_changes_into(template, mixed, holds_force, unknowns, force_changes);
+        if refine {
+            self.refine_step(template, mixed, banded, solves);
+        }
         true
     }
 

@@ -43,7 +43,9 @@
 //! system with a mixed condition c − m = D(λ − λ₀) at every friction DOF, `mixed`), which
 //! takes 11–23 steps whatever k and the arrangement, where the search alone needed up to 1948
 //! pattern solves at k = 4000 (issue 26); on random, clustered and mixed arrangements the
-//! guess is consistent, or two DOFs off, and one or three pattern solves finish. From there
+//! guess is consistent, or two DOFs off, and one or three pattern solves finish (where the
+//! search runs past 64 solves, the iteration runs again with its steps refined in
+//! double-double, `mixed_refinement`, and a short search tries its guess). From there
 //! the pattern is found by semismooth Newton (the primal–dual active set method): every inconsistent DOF changes at once — a stuck force above its threshold
 //! starts to move its way, a moving DOF that reverses is held (or, by the prediction λ + σc
 //! with σ a fraction of its diagonal stiffness, sent to the other bound). Two variants of σ
@@ -88,8 +90,8 @@
 //! and the error does not grow with n.
 //!
 //! **Layout.** `scaling` (the power-of-two units and one piece's exact transfer), `system` (the
-//! banded system of a pattern and its solve), `mixed`, `held_bounds` and `interior` (the
-//! interior-point guess), `refinement` (double-double refinement and the
+//! banded system of a pattern and its solve), `mixed`, `mixed_refinement`, `held_bounds` and
+//! `interior` (the interior-point guess), `refinement` (double-double refinement and the
 //! exact matrix), `decisions` (what a solve says about each DOF), `line_search` (the monotone
 //! search's line search), `monotone` (its steps and next patterns), `search` (the Newton
 //! phases, then the monotone search), `fronts` (how far a
@@ -163,6 +165,7 @@ mod held_bounds;
 mod interior;
 mod line_search;
 mod mixed;
+mod mixed_refinement;
 mod monotone;
 mod newton_phases;
 mod nodes;

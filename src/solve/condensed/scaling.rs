@@ -199,6 +199,17 @@ impl ExactPiece {
         ]
     }
 
+    /// Φ y alone (the unloaded beam's end state), in double-double.
+    pub(super) fn transfer_unloaded(&self, y: [DoubleDouble; 4]) -> [DoubleDouble; 4] {
+        let [u, du, m, v] = y;
+        [
+            u + self.t * du + self.t2_2e * m + self.t3_6e * v,
+            du + self.t_e * m + self.t2_2e * v,
+            m + self.t * v,
+            v,
+        ]
+    }
+
     /// The end state from the start state y = (u, u', m, m'), in double-double.
     pub(super) fn transfer(&self, y: [DoubleDouble; 4]) -> [DoubleDouble; 4] {
         let [u, du, m, v] = y;

@@ -3,17 +3,21 @@
 //! stall. It starts from the interior-point guess (where the iteration stalled once, after a
 //! short search from the stalled guess: `stalled_first`); where the guess's own pattern is
 //! inconsistent, its variant with the unclear DOFs held (`unclear_held`) and then the
-//! monotone search from the guess are tried first (`from_guess`). When a convergence history
-//! is asked for, every pattern solve is recorded as one iterate ([`record_pattern`]).
+//! monotone search from the guess are tried first (`from_guess`). A search that runs past 64
+//! solves gets a second guess from refined interior-point steps (`second_guess`). When a
+//! convergence history is asked for, every pattern solve is recorded as one iterate
+//! ([`record_pattern`]).
 
 use std::collections::HashSet;
 
 mod from_guess;
+mod second_guess;
 mod stalled_first;
 mod unclear_held;
 
 use super::answer::{condensed_solution, record_pattern};
 use super::fronts::Fronts;
+use super::interior::Guess;
 use super::monotone::MonotoneSearch;
 use super::newton_phases::{MonotoneStarts, NewtonPhases, fingerprint};
 use super::scaling::Scales;
@@ -24,6 +28,7 @@ use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
 use crate::model::Problem;
 use crate::solve::history::Recorder;
+use second_guess::SECOND_GUESS_AFTER;
 
 /// Most solves of one semismooth Newton phase.
 const NEWTON_STEPS: usize = 40;
@@ -141,10 +146,8 @@ pub(super) fn solve_with_newton_phases(
     }
     let mut search = PatternSearch::new(&system, obstacles, newton_phases);
     search.banded = banded;
-    // A pattern the interior-point iteration settles on is tried at once (one solve); if
-    // it is consistent, that is the answer.
     let mut crossed = None;
-    let mut crossover_solves = 0;
+    let mut second_guess_after = None;
     if !newton_phases.is_empty() && obstacles >= INTERIOR_POINT_FROM {
         if !keep_going() {
             return Err(CondensedFailure::Stopped);
@@ -153,50 +156,41 @@ pub(super) fn solve_with_newton_phases(
         if held.len() == 2 * obstacles {
             // The iteration and the attempts solve in the search's banded system (one
             // system's memory for all: fresh memory is faulted in page by page).
-            let mut crossover =
-                |candidate: &[Pattern],
-                 banded: &mut BandedSystem,
-                 keep_going: &mut dyn FnMut() -> bool| {
-                    let (settled, solves) = PatternSearch::offered(&system, candidate).settle_in(
-                        banded,
-                        keep_going,
-                        &mut observe,
-                    )?;
-                    crossover_solves += solves;
-                    if settled.is_some() {
-                        crossed = settled;
-                    }
-                    Ok(crossed.is_some())
-                };
-            let banded = &mut search.banded;
-            let guess = system.interior_point_pattern(&held, banded, keep_going, &mut crossover);
-            search.newton.held = Some(held);
-            if let Some(guess) = guess?.filter(|_| crossed.is_none()) {
-                crossed = search.start_from_guess(guess, keep_going, &mut observe)?;
-            }
+            let natural_limit = search.limit;
+            search.limit = natural_limit.min(search.solves + SECOND_GUESS_AFTER);
+            second_guess_after = Some((search.limit, natural_limit));
+            crossed = search.guess_and_start(held, keep_going, &mut observe)?;
         }
     }
-    let solves = warm_solves + crossover_solves;
-    if let Some((solution, pattern)) = crossed {
-        search.banded.keep();
-        return condensed_solution(
+    let answer = |search: &PatternSearch,
+                  solution: &PatternSolution,
+                  converged: bool,
+                  keep_going: &mut dyn FnMut() -> bool| {
+        condensed_solution(
             (problem, mesh, &scales),
             &system,
-            (&solution, &pattern),
-            (solves + search.solves_in_all(), true),
+            (solution, &search.pattern),
+            (warm_solves + search.solves_in_all(), converged),
             keep_going,
-        );
+        )
+    };
+    if let Some((solution, pattern)) = crossed {
+        search.pattern = pattern;
+        search.banded.keep();
+        return answer(&search, &solution, true, keep_going);
     }
     let result = search.run(keep_going, &mut observe);
+    let (solution, converged) = result.inspect_err(|_| search.banded.keep())?;
+    let ran_out = second_guess_after
+        .is_some_and(|(allowed, natural)| allowed < natural && search.solves >= allowed);
+    let (mut search, solution, converged) = match second_guess_after {
+        Some((_, natural_limit)) if ran_out && !converged => {
+            search.with_second_guess(solution, natural_limit, keep_going, &mut observe)?
+        }
+        _ => (search, solution, converged),
+    };
     search.banded.keep();
-    let (solution, converged) = result?;
-    condensed_solution(
-        (problem, mesh, &scales),
-        &system,
-        (&solution, &search.pattern),
-        (solves + search.solves_in_all(), converged),
-        keep_going,
-    )
+    answer(&search, &solution, converged, keep_going)
 }
 
 /// What an attempt made on the side ends with: the consistent solution and its pattern if it
@@ -233,6 +227,8 @@ struct PatternSearch<'a> {
     /// ([`PatternSearch::try_from_guess`]): taken at the search's first inconsistent solve,
     /// and tried there only if that solve changes at least `UNCLEAR_HELD_FROM` DOFs.
     unclear_held: Option<Vec<Pattern>>,
+    /// The interior-point guess the search started from, whole (`second_guess`).
+    guess: Option<Guess>,
     /// Solves of attempts made on the side (that variant's), counted apart so that the
     /// search's own limits count its own solves.
     side_solves: usize,
@@ -264,6 +260,7 @@ impl<'a> PatternSearch<'a> {
             give_up_above: None,
             wide_solves_in_a_row: 0,
             unclear_held: None,
+            guess: None,
             side_solves: 0,
             monotone_from_guess: false,
             handed: None,

@@ -80,6 +80,9 @@ pub(super) struct ShootingSystem {
     pub(super) reversal_fraction: std::cell::Cell<f64>,
     /// The work done so far.
     pub(super) counts: std::cell::Cell<SolveCounts>,
+    /// Refine every interior-point step's solve with the exact relations
+    /// (`mixed_refinement`): set for the search's second guess only.
+    pub(super) refined_steps: std::cell::Cell<bool>,
     /// Per friction DOF: its diagonal stiffness ([`ShootingSystem::diagonal_stiffness`]).
     pub(super) friction_stiffness: Vec<f64>,
 }
@@ -225,6 +228,7 @@ impl ShootingSystem {
             thresholds,
             reversal_fraction: std::cell::Cell::new(reversal_fraction),
             counts: std::cell::Cell::new(SolveCounts::default()),
+            refined_steps: std::cell::Cell::new(false),
             friction_stiffness,
         }
     }
