@@ -10,7 +10,7 @@
 //! docs/many-obstacles/refined-steps.md).
 
 use super::mixed::{Mixed, MixedTemplate, StepSolves};
-use super::system::{JUMPS, ShootingSystem};
+use super::system::ShootingSystem;
 use crate::linalg::banded_lu::BandedSystem;
 use crate::linalg::double_double::DoubleDouble;
 
@@ -43,48 +43,24 @@ fn motion_and_force(mixed: &Mixed, force_held: bool, v: DoubleDouble) -> [Double
 
 impl ShootingSystem {
     /// b − A x of the mixed system (unloaded) with A the exact piece relations, rounded once
-    /// per row (the rows of [`ShootingSystem::exact_residual`]).
+    /// per row (the rows of [`ShootingSystem::piece_residuals`]).
     pub(super) fn exact_mixed_residual(
         &self,
         mixed: &[Mixed],
         holds_force: &[bool],
         x: &[DoubleDouble],
     ) -> Vec<f64> {
-        let pieces = self.pieces.len();
+        let dof = |p: usize, i: usize| {
+            motion_and_force(&mixed[i], holds_force[i], x[Self::column(p, i % 2)])
+        };
         let state = |p: usize| -> [DoubleDouble; 4] {
             std::array::from_fn(|c| match self.obstacle_at_point[p] {
                 _ if c < 2 && p == 0 => DoubleDouble::ZERO,
-                Some(j) if c < 2 => {
-                    let i = 2 * j + c;
-                    motion_and_force(&mixed[i], holds_force[i], x[Self::column(p, c)])[0]
-                }
+                Some(j) if c < 2 => dof(p, 2 * j + c)[0],
                 _ => x[Self::column(p, c)],
             })
         };
-        let mut residual = vec![0.0; x.len()];
-        for (p, piece) in self.exact_pieces.iter().enumerate() {
-            let last = p + 1 == pieces;
-            let mut end = piece.transfer_unloaded(state(p));
-            if !last {
-                for (e, n) in end.iter_mut().zip(state(p + 1)) {
-                    *e = *e - n;
-                }
-                if let Some(j) = self.obstacle_at_point[p + 1] {
-                    // m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2 (as in `solve_pattern`).
-                    for (d, jump_row, sign) in JUMPS {
-                        let i = 2 * j + d;
-                        let value = x[Self::column(p + 1, d)];
-                        let force = motion_and_force(&mixed[i], holds_force[i], value)[1];
-                        end[jump_row] = end[jump_row] + force.times(sign);
-                    }
-                }
-            }
-            let rows = if last { 2 } else { 4 };
-            for r in 0..rows {
-                residual[4 * p + r] = -end[r].value();
-            }
-        }
-        residual
+        self.piece_residuals(false, state, |p, i| dof(p, i)[1])
     }
 
     /// Refines the last solve of an interior-point step ([`ShootingSystem::solve_step`], whose

@@ -283,7 +283,6 @@ impl ShootingSystem {
     /// piece's coefficients in double-double), rounded once per row: −(Φ y_p + q − y_{p+1}
     /// + jump) for every transfer row.
     fn exact_residual(&self, pattern: &[Pattern], x: &[DoubleDouble]) -> Vec<f64> {
-        let pieces = self.pieces.len();
         let stuck = |p: usize, d: usize| {
             self.obstacle_at_point[p].is_some_and(|j| pattern[2 * j + d] == Pattern::Stuck)
         };
@@ -296,25 +295,44 @@ impl ShootingSystem {
                 }
             })
         };
-        let mut residual = vec![0.0; x.len()];
+        let force = |p: usize, i: usize| {
+            let g = self.thresholds[i / 2][i % 2];
+            match pattern[i] {
+                Pattern::Stuck => x[Self::column(p, i % 2)],
+                Pattern::Positive => g.into(),
+                Pattern::Negative => (-g).into(),
+            }
+        };
+        self.piece_residuals(true, state, force)
+    }
+
+    /// The rows of every piece's exact relation, rounded once each: −(Φ y_p (+ q where
+    /// `loaded`) − y_{p+1} + jump), with `state(p)` the state just right of point p and
+    /// `force(p, i)` friction DOF i's force at point p (m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2, as in
+    /// `solve_pattern`); the last piece's two rows of its clamped end.
+    pub(super) fn piece_residuals(
+        &self,
+        loaded: bool,
+        state: impl Fn(usize) -> [DoubleDouble; 4],
+        force: impl Fn(usize, usize) -> DoubleDouble,
+    ) -> Vec<f64> {
+        let pieces = self.pieces.len();
+        let mut residual = vec![0.0; self.unknowns()];
         for (p, piece) in self.exact_pieces.iter().enumerate() {
             let last = p + 1 == pieces;
-            let mut end = piece.transfer(state(p));
+            let mut end = if loaded {
+                piece.transfer(state(p))
+            } else {
+                piece.transfer_unloaded(state(p))
+            };
             if !last {
                 let next = state(p + 1);
                 for (e, n) in end.iter_mut().zip(next) {
                     *e = *e - n;
                 }
                 if let Some(j) = self.obstacle_at_point[p + 1] {
-                    // m'⁺ = m'⁻ − λ1, m⁺ = m⁻ + λ2 (as in `solve_pattern`).
                     for (d, jump_row, sign) in JUMPS {
-                        let g = self.thresholds[j][d];
-                        let force = match pattern[2 * j + d] {
-                            Pattern::Stuck => x[Self::column(p + 1, d)],
-                            Pattern::Positive => g.into(),
-                            Pattern::Negative => (-g).into(),
-                        };
-                        end[jump_row] = end[jump_row] + force.times(sign);
+                        end[jump_row] = end[jump_row] + force(p + 1, 2 * j + d).times(sign);
                     }
                 }
             }

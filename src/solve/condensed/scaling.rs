@@ -210,15 +210,10 @@ impl ExactPiece {
         ]
     }
 
-    /// The end state from the start state y = (u, u', m, m'), in double-double.
+    /// The end state from the start state y = (u, u', m, m'), in double-double: Φ y, then the
+    /// load terms (each row summed left to right, as written out in full before stop 61).
     pub(super) fn transfer(&self, y: [DoubleDouble; 4]) -> [DoubleDouble; 4] {
-        let [u, du, m, v] = y;
-        let q = &self.load_terms;
-        [
-            u + self.t * du + self.t2_2e * m + self.t3_6e * v + q[0],
-            du + self.t_e * m + self.t2_2e * v + q[1],
-            m + self.t * v + q[2],
-            v + q[3],
-        ]
+        let end = self.transfer_unloaded(y);
+        std::array::from_fn(|r| end[r] + self.load_terms[r])
     }
 }
