@@ -103,3 +103,25 @@ fn a_search_that_runs_long_gets_a_second_guess_from_refined_steps() {
         assert_eq!(solution.solves, counts.pattern_solves, "{}", scene.title);
     }
 }
+
+#[test]
+fn scenes_that_take_the_second_guess_agree_with_the_reference() {
+    // Tight clusters at ties with obstacle k/3's swivel threshold three notches down (and
+    // clusters at ties with a swivel lowered, `lowered_clustered_ties_scene`), at k = 60 on
+    // 400 elements, where the 384-bit reference is affordable: searches that run past 64
+    // pattern solves, so the second guess is made (stop 61). Condensed's states, forces and
+    // deflection against the independent multi-precision solve (`check_stable`).
+    use beamfric::check::families::lowered_clustered_ties_scene;
+    let mut scenes = Vec::new();
+    for seed in [7, 34, 78] {
+        let mut scene = tight_clusters_ties_scene(60, seed, 400);
+        scene.obstacles[20].swivel /= NOTCH.powi(3);
+        scenes.push(scene);
+    }
+    scenes.push(lowered_clustered_ties_scene(60, 86, 3, 400));
+    for scene in scenes {
+        let solves = converged_condensed(&scene, 400).counts.pattern_solves;
+        assert!(solves > 64, "{}: {solves}: no second guess", scene.title);
+        check_stable(&scene.title, &scene).unwrap_or_else(|why| panic!("{why}"));
+    }
+}
