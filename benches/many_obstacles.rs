@@ -20,6 +20,16 @@
 //! steps), then the growth exponent of the time in k between consecutive sizes. Settings:
 //! `BEAMFRIC_FAMILY_K` (comma-separated sizes, default 128,1000,4000), `BEAMFRIC_FAMILY`
 //! (one family's name), `BEAMFRIC_FAMILY_SEED` (default 1).
+//!
+//! Both the criterion run and `report` go on after issue 26's four families with the slowest
+//! generated arrangements measured (stop 62, one cold solve each from seed 1, fastest of
+//! three, k = 128 / 1000 / 4000): every other obstacle's thresholds at its stuck forces
+//! (`half-ties`, 0.75 / 18 / 54 ms), every sliding threshold at its stuck force
+//! (`sliding-ties`, 1.1 / 9.2 / 64 ms) and clusters at ties with one swivel threshold three
+//! notches down (`clustered-ties-lowered`, 1.1 / 15 / 38 ms; 1.1 / 21 / 98 ms before that
+//! stop's end of the interior-point iteration). Slower arrangements exist (clusters of 100
+//! obstacles 1e-9·l apart at ties, graded ties: 1–5 s a solve, stop 61's hostile pass), too
+//! slow for a median of ten.
 
 use std::time::{Duration, Instant};
 
@@ -30,6 +40,7 @@ use beamfric::check::families::{
 };
 use beamfric::fem::Mesh;
 use beamfric::model::Problem;
+use beamfric::scene::Scene;
 use beamfric::solve::{CondensedSolution, solve_condensed, solve_condensed_from};
 use criterion::{BenchmarkId, Criterion};
 
@@ -61,6 +72,40 @@ fn families() -> Vec<Family> {
     }
 }
 
+/// A generated arrangement's scene at k from a seed.
+type SceneOf = fn(usize, u64) -> Scene;
+
+/// The slowest generated arrangements measured, after issue 26's four families (see the
+/// module's documentation): name and scene at k from a seed.
+const HARDER: [(&str, SceneOf); 3] = [
+    ("half-ties", |k, seed| half_ties_scene(k, seed, ELEMENTS)),
+    ("sliding-ties", |k, seed| {
+        sliding_ties_scene(k, seed, ELEMENTS)
+    }),
+    ("clustered-ties-lowered", |k, seed| {
+        lowered_clustered_ties_scene(k, seed, 3, ELEMENTS)
+    }),
+];
+
+/// The arrangements of [`HARDER`] asked for (`BEAMFRIC_FAMILY` unset, or one's name), each
+/// with its scene and mesh at k from the seed asked for.
+fn harder() -> Vec<(&'static str, impl Fn(usize) -> (Problem, Mesh))> {
+    let asked = std::env::var("BEAMFRIC_FAMILY").ok();
+    HARDER
+        .into_iter()
+        .filter(|(name, _)| asked.as_deref().is_none_or(|asked| asked == *name))
+        .map(|(name, scene_of)| {
+            (name, move |k| {
+                let problem = scene_of(k, seed())
+                    .problem()
+                    .expect("a generated scene is valid");
+                let mesh = Mesh::new(&problem, ELEMENTS);
+                (problem, mesh)
+            })
+        })
+        .collect()
+}
+
 fn seed() -> u64 {
     std::env::var("BEAMFRIC_FAMILY_SEED")
         .ok()
@@ -77,6 +122,14 @@ fn criterion_runs() {
         for k in sizes() {
             let (problem, mesh) = family_problem(family, k, seed(), ELEMENTS);
             group.bench_with_input(BenchmarkId::new(family.name(), k), &mesh, |b, mesh| {
+                b.iter(|| solve_condensed(&problem, mesh).unwrap())
+            });
+        }
+    }
+    for (name, problem_of) in harder() {
+        for k in sizes() {
+            let (problem, mesh) = problem_of(k);
+            group.bench_with_input(BenchmarkId::new(name, k), &mesh, |b, mesh| {
                 b.iter(|| solve_condensed(&problem, mesh).unwrap())
             });
         }
@@ -110,46 +163,44 @@ fn report() {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for family in families() {
-        let mut previous: Option<(usize, f64)> = None;
-        let mut exponents = Vec::new();
-        for k in sizes() {
-            let (problem, mesh) = family_problem(family, k, seed(), ELEMENTS);
-            let mut fastest = f64::INFINITY;
-            let mut last = None;
-            for _ in 0..3 {
-                let start = Instant::now();
-                let solution = solve_condensed(&problem, &mesh).unwrap();
-                fastest = fastest.min(start.elapsed().as_secs_f64());
-                last = Some(solution);
-            }
-            let solution = last.unwrap();
-            let counts = solution.counts;
-            println!(
-                "| {} | {k} | {:.2} ms | {} | {} | {} | {} | {} | {} | {} |",
-                family.name(),
-                1e3 * fastest,
-                counts.pattern_solves,
-                counts.factorizations,
-                counts.back_solves,
-                counts.refinements,
-                counts.double_double_factorizations,
-                counts.interior_steps,
-                solution.converged,
-            );
-            if let Some((k0, t0)) = previous {
-                exponents.push(format!(
-                    "{k0}→{k}: {:.2}",
-                    (fastest / t0).ln() / (k as f64 / k0 as f64).ln()
-                ));
-            }
-            previous = Some((k, fastest));
-        }
-        println!(
-            "growth exponent of {}: {}",
-            family.name(),
-            exponents.join(", ")
-        );
+        family_rows(family.name(), &|k| {
+            family_problem(family, k, seed(), ELEMENTS)
+        });
     }
+    for (name, problem_of) in harder() {
+        family_rows(name, &problem_of);
+    }
+}
+
+/// `report`'s rows for one family (`problem_of(k)` at every size), then its growth exponents.
+fn family_rows(name: &str, problem_of: &dyn Fn(usize) -> (Problem, Mesh)) {
+    let mut previous: Option<(usize, f64)> = None;
+    let mut exponents = Vec::new();
+    for k in sizes() {
+        let (problem, mesh) = problem_of(k);
+        let (fastest, solution) =
+            fastest_of_three(&mut || solve_condensed(&problem, &mesh).unwrap());
+        let counts = solution.counts;
+        println!(
+            "| {name} | {k} | {:.2} ms | {} | {} | {} | {} | {} | {} | {} |",
+            1e3 * fastest,
+            counts.pattern_solves,
+            counts.factorizations,
+            counts.back_solves,
+            counts.refinements,
+            counts.double_double_factorizations,
+            counts.interior_steps,
+            solution.converged,
+        );
+        if let Some((k0, t0)) = previous {
+            exponents.push(format!(
+                "{k0}→{k}: {:.2}",
+                (fastest / t0).ln() / (k as f64 / k0 as f64).ln()
+            ));
+        }
+        previous = Some((k, fastest));
+    }
+    println!("growth exponent of {name}: {}", exponents.join(", "));
 }
 
 /// The family's scene at k, and the same scene with the middle obstacle's sliding threshold
@@ -158,7 +209,7 @@ fn notched(family: Family, k: usize, direction: i32) -> ((Problem, Mesh), (Probl
     let scene = family_scene(family, k, seed(), ELEMENTS);
     let mut changed = scene.clone();
     changed.obstacles[k / 2].sliding *= NOTCH.powi(direction);
-    let with_mesh = |scene: &beamfric::scene::Scene| {
+    let with_mesh = |scene: &Scene| {
         let problem = scene.problem().expect("a generated scene is valid");
         let mesh = Mesh::new(&problem, ELEMENTS);
         (problem, mesh)
@@ -312,7 +363,7 @@ fn lowered_report() {
 
 /// One cold solve of `scene` on [`ELEMENTS`] elements, as table cells: time, pattern solves,
 /// interior steps, converged.
-fn cold_solve_row(scene: &beamfric::scene::Scene) -> String {
+fn cold_solve_row(scene: &Scene) -> String {
     let problem = scene.problem().expect("a generated scene is valid");
     let mesh = Mesh::new(&problem, ELEMENTS);
     let start = Instant::now();
@@ -393,11 +444,7 @@ fn tight_clusters_report() {
 
 /// One cold solve of `scene_of(k, seed)` per size (`BEAMFRIC_FAMILY_K`, else `sizes`) and
 /// seed (1 to `BEAMFRIC_SEEDS`, else `seeds`), as a table.
-fn seeded_report(
-    sizes: &[usize],
-    seeds: u64,
-    scene_of: impl Fn(usize, u64) -> beamfric::scene::Scene,
-) {
+fn seeded_report(sizes: &[usize], seeds: u64, scene_of: impl Fn(usize, u64) -> Scene) {
     println!("| k | seed | time | pattern solves | interior steps | converged |");
     println!("|---|---|---|---|---|---|");
     let sizes = std::env::var("BEAMFRIC_FAMILY_K")

@@ -18,7 +18,9 @@
 //! the iteration decides it like any other. The iteration stops when μ is 1e-12 of the
 //! smallest DOF's own scale (its nearest bound times the motions), so that a DOF whose bound
 //! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 14–25
-//! steps on the random and clustered families, 33–48 on ties.
+//! steps on the random and clustered families, 33–48 on ties; where many DOFs are still
+//! not clearly on their side there, it goes on while their number falls (`centrality`:
+//! clusters at ties, stop 62).
 //!
 //! Two things keep the iteration within what its f64 steps resolve
 //! (docs/many-obstacles/monotone-search.md, stop 48). The slacks s⁺ and s⁻ are variables of their
@@ -50,6 +52,7 @@
 //! (`mixed_refinement`, `search::second_guess`; stop 61).
 
 use super::CondensedFailure;
+use super::centrality::{IterationEnd, centrality_scales};
 use super::held_bounds::{WIDENED_TIE, nearest, start_force, widen_unresolved};
 use super::mixed::{Mixed, MixedTemplate, StepSolves};
 use super::mixed_refinement::REFINED_FROM_STEP;
@@ -73,9 +76,6 @@ const MOST_STEPS: usize = 80;
 /// going 0.1–10 % of the way), their guesses a hundred DOFs off (up to 1887 pattern solves); the
 /// lowered ties that run to the cap end 0.9–3.2 times their μ, their guesses right or nearly.
 const STALLED_SHORT_OF: f64 = 1e3;
-
-/// μ, relative to the smallest DOF's own scale, at which the guess is taken.
-const CENTRALITY_TOLERANCE: f64 = 1e-12;
 
 /// A motion (as the force it makes) and a slack both below this fraction of the DOF's
 /// nearest bound: the iteration cannot tell the DOF's side (about √ of its final μ).
@@ -275,19 +275,7 @@ impl ShootingSystem {
         let (motion, _) = self
             .solve_mixed(&template, &start, banded, &mut holds_force)
             .ok()?;
-        // Each DOF's own scale of μ: its nearest bound times the motions of its kind.
-        let motion_scale = largest_of_each_kind(&motion);
-        let scales: Vec<f64> = bounds
-            .iter()
-            .enumerate()
-            .filter_map(|(dof, b)| Some(nearest((*b)?) * 0.1 * motion_scale[dof % 2]))
-            .collect();
-        let mean = scales.iter().sum::<f64>() / scales.len().max(1) as f64;
-        let smallest = scales
-            .iter()
-            .copied()
-            .filter(|&scale| scale > 0.0)
-            .fold(f64::INFINITY, f64::min);
+        let (mean, final_centrality) = centrality_scales(&bounds, &motion);
         // Centred at the mean scale: every complementarity product at least that.
         let variables = bounds
             .iter()
@@ -315,23 +303,11 @@ impl ShootingSystem {
             solves: StepSolves::new(holds_force),
             variables,
             mixed: fixed.to_vec(),
-            final_centrality: CENTRALITY_TOLERANCE * smallest,
+            final_centrality,
             free_motion: motion,
             weights: Vec::new(),
         })
     }
-}
-
-/// The largest |value| of each kind (even and odd DOFs), at least the smallest normal.
-fn largest_of_each_kind(values: &[f64]) -> [f64; 2] {
-    [0, 1].map(|kind| {
-        values
-            .iter()
-            .skip(kind)
-            .step_by(2)
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-            .max(f64::MIN_POSITIVE)
-    })
 }
 
 impl InteriorPoint<'_> {
@@ -364,8 +340,9 @@ impl InteriorPoint<'_> {
         let zero = vec![[0.0; 2]; self.variables.len()];
         let (mut affine, mut step, mut targets) = (Vec::new(), Vec::new(), Vec::new());
         let mut mu = self.centrality();
+        let mut end = IterationEnd::new(self.final_centrality, self.variables.len());
         for done in 0..MOST_STEPS {
-            if mu.is_nan() || mu <= self.final_centrality {
+            if mu.is_nan() || end.reached(mu, done) {
                 return Ok(done);
             }
             if !keep_going() {
@@ -405,8 +382,8 @@ impl InteriorPoint<'_> {
             let force_length = (TO_BOUNDARY * force_reach).min(1.0);
             let motion_length = (TO_BOUNDARY * motion_reach).min(1.0);
             // One pass: the step, the next μ (summed in the same order as
-            // [`InteriorPoint::centrality`]) and whether every DOF is clearly on its side.
-            let (mut sum, mut clear, mut largest) = (0.0, true, [0.0f64; 2]);
+            // [`InteriorPoint::centrality`]) and how many DOFs are not clearly on their side.
+            let (mut sum, mut unclear, mut largest) = (0.0, 0, [0.0f64; 2]);
             let system = self.system;
             for (v, [dl, dp, dq]) in self.variables.iter_mut().zip(&step) {
                 v.slack_above -= force_length * dl;
@@ -414,13 +391,14 @@ impl InteriorPoint<'_> {
                 v.positive += motion_length * dp;
                 v.negative += motion_length * dq;
                 sum += v.complementarity();
-                clear &= v.clearly_on_its_side(system.diagonal_stiffness(v.dof));
+                unclear += usize::from(!v.clearly_on_its_side(system.diagonal_stiffness(v.dof)));
                 let largest = &mut largest[v.dof % 2];
                 *largest = largest.max(v.motion().abs());
             }
             mu = sum / (2 * self.variables.len()) as f64;
+            end.stepped(done, unclear);
             let pattern = self.pattern_given(largest);
-            if offers.settled(pattern, clear, self.banded, keep_going, crossover)? {
+            if offers.settled(pattern, unclear == 0, self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
             }
         }

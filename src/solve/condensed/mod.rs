@@ -159,6 +159,7 @@ pub enum CondensedFailure {
 }
 
 mod answer;
+mod centrality;
 mod decisions;
 mod fronts;
 mod held_bounds;
