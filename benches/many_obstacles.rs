@@ -22,8 +22,9 @@
 //! (one family's name), `BEAMFRIC_FAMILY_SEED` (default 1).
 //!
 //! Both the criterion run and `report` go on after issue 26's four families with the slowest
-//! generated arrangements measured (stop 62, one cold solve each from seed 1, fastest of
-//! three, k = 128 / 1000 / 4000): every other obstacle's thresholds at its stuck forces
+//! generated arrangements measured (stop 62, seed 1, the fastest of three solves in one
+//! process, k = 128 / 1000 / 4000; criterion's medians, from other runs, are in
+//! docs/numerics.md): every other obstacle's thresholds at its stuck forces
 //! (`half-ties`, 0.75 / 18 / 54 ms), every sliding threshold at its stuck force
 //! (`sliding-ties`, 1.1 / 9.2 / 64 ms) and clusters at ties with one swivel threshold three
 //! notches down (`clustered-ties-lowered`, 1.1 / 15 / 38 ms; 1.1 / 21 / 98 ms before that

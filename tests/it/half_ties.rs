@@ -5,13 +5,17 @@
 //! (docs/many-obstacles/close-obstacles-and-near-ties.md, "Near ties that the answer moves away
 //! from"). Where the widening moves the guess away instead (tight clusters at ties,
 //! `tight_clusters_ties_scene`), a short search from the stalled first guess goes first
-//! (docs/many-obstacles/step-costs.md, "Two guesses where the first stalled").
+//! (docs/many-obstacles/step-costs.md, "Two guesses where the first stalled"). Where the
+//! iteration reaches its μ with most swivel DOFs of the clusters still unclear, it goes on
+//! (docs/many-obstacles/iteration-end.md); where a search still runs long, it gets a second
+//! guess from refined steps (docs/many-obstacles/refined-steps.md).
 
 use crate::families::converged_pattern_solves;
 use crate::harness::scenes::converged_condensed;
 use crate::reference::check_stable;
 use beamfric::check::families::{
-    NOTCH, half_ties_scene, sliding_ties_scene, tight_clusters_ties_scene,
+    NOTCH, half_ties_scene, lowered_clustered_ties_scene, sliding_ties_scene,
+    tight_clusters_ties_scene,
 };
 
 #[test]
@@ -89,20 +93,18 @@ fn the_searchs_refinement_stops_at_the_floor_of_the_residual_without_double_doub
 #[test]
 fn an_iteration_that_leaves_many_dofs_unclear_at_its_mu_goes_on() {
     // Clusters at ties with a swivel threshold lowered: at the μ the DOFs' scales set, most
-    // swivel DOFs are still neither moving nor stuck, and the search from that guess took 113
-    // and 706 pattern solves; a few steps more settle them, and the searches 2 and 81
-    // (`centrality::IterationEnd`, docs/many-obstacles/iteration-end.md).
-    use beamfric::check::families::lowered_clustered_ties_scene;
+    // swivel DOFs are still not clearly on their side, and the search from that guess took
+    // 113 and 706 pattern solves. The iteration now goes on until they are (a few steps
+    // more), and the searches from its guess take 2 and 81: what this holds is that outcome
+    // (the rule itself: `centrality::tests`; docs/many-obstacles/iteration-end.md).
     let mut tight = tight_clusters_ties_scene(2000, 42, 10_000);
     tight.obstacles[666].swivel /= NOTCH.powi(3);
     for (scene, most) in [
         (lowered_clustered_ties_scene(2000, 2, 3, 10_000), 8),
         (tight, 128),
     ] {
-        let solution = converged_condensed(&scene, 10_000);
-        let counts = solution.counts;
+        let counts = converged_condensed(&scene, 10_000).counts;
         assert!(counts.pattern_solves <= most, "{}: {counts:?}", scene.title);
-        assert_eq!(solution.solves, counts.pattern_solves, "{}", scene.title);
     }
 }
 
@@ -132,7 +134,6 @@ fn scenes_that_take_the_second_guess_agree_with_the_reference() {
     // 400 elements, where the 384-bit reference is affordable: searches that run past 64
     // pattern solves, so the second guess is made (stop 61). Condensed's states, forces and
     // deflection against the independent multi-precision solve (`check_stable`).
-    use beamfric::check::families::lowered_clustered_ties_scene;
     let mut scenes = Vec::new();
     for seed in [7, 34, 78] {
         let mut scene = tight_clusters_ties_scene(60, seed, 400);

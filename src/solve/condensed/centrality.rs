@@ -7,8 +7,8 @@
 //! scale is an estimate, and on clusters at ties it overstates the swivel DOFs' by orders of
 //! magnitude (the motions of their kind at the start are the clusters' largest). At the μ it
 //! sets, 3972 of the 4000 swivel DOFs of `check::families::lowered_clustered_ties_scene` at
-//! k = 4000 (seed 1) were still centred, neither moving nor stuck; the guess was thousands of
-//! DOFs off, and the search took 38 pattern solves. Six steps more settle them (3 solves); on
+//! k = 4000 (seed 1) were still not clearly on their side (neither clearly moving nor clearly
+//! stuck); the guess was thousands of DOFs off, and the search took 38 pattern solves. Six steps more settle them (3 solves); on
 //! clusters of 50 obstacles 1e-9·l apart at ties, 21–44 s became 49–66 ms.
 
 use super::held_bounds::nearest;
@@ -76,7 +76,7 @@ pub(super) struct IterationEnd {
     few: usize,
     /// Unclear DOFs after the last step (`None` before the first).
     unclear: Option<usize>,
-    /// The fewest unclear DOFs since μ reached its end, and the step that left them.
+    /// The fewest unclear DOFs since μ reached its end, and the steps taken when they were.
     fewest: Option<(usize, usize)>,
 }
 
@@ -91,26 +91,102 @@ impl IterationEnd {
         }
     }
 
-    /// Step `done` (counted from 0) left `unclear` DOFs not clearly on their side.
-    pub(super) fn stepped(&mut self, done: usize, unclear: usize) {
+    /// After `taken` steps, `unclear` DOFs are not clearly on their side.
+    pub(super) fn stepped(&mut self, taken: usize, unclear: usize) {
         self.unclear = Some(unclear);
-        if let Some((fewest, at)) = &mut self.fewest
+        if let Some((fewest, taken_then)) = &mut self.fewest
             && unclear < *fewest
         {
-            (*fewest, *at) = (unclear, done + 1);
+            (*fewest, *taken_then) = (unclear, taken);
         }
     }
 
-    /// Does the iteration end before its step `done`, at μ = `mu`? Before any step, as soon as
-    /// μ is at its end (a start there takes no step).
-    pub(super) fn reached(&mut self, mu: f64, done: usize) -> bool {
+    /// Does the iteration end after `taken` steps, at μ = `mu`? Before any step, as soon as μ
+    /// is at its end (a start there takes no step). The first time μ is at its end after a
+    /// step, that step's unclear DOFs become the fewest so far, from which the patience counts.
+    pub(super) fn reached(&mut self, mu: f64, taken: usize) -> bool {
         if mu > self.final_centrality {
             return false;
         }
         let Some(unclear) = self.unclear else {
             return true;
         };
-        let (_, since) = *self.fewest.get_or_insert((unclear, done));
-        unclear <= self.few || done >= since + UNCLEAR_PATIENCE
+        let (_, taken_then) = *self.fewest.get_or_insert((unclear, taken));
+        unclear <= self.few || taken >= taken_then + UNCLEAR_PATIENCE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{IterationEnd, UNCLEAR_PATIENCE};
+
+    /// μ at its end from 1.0 down, in these tests.
+    const END: f64 = 1.0;
+
+    #[test]
+    fn it_ends_at_its_mu_when_few_dofs_are_unclear() {
+        let mut end = IterationEnd::new(END, 100);
+        end.stepped(1, 20);
+        assert!(!end.reached(2.0, 1), "μ above its end");
+        end.stepped(2, 8);
+        assert!(end.reached(0.5, 2), "8 unclear of 100 variables");
+    }
+
+    #[test]
+    fn with_no_step_taken_it_ends_as_soon_as_mu_is_at_its_end() {
+        let mut end = IterationEnd::new(END, 100);
+        assert!(!end.reached(1.5, 0));
+        assert!(end.reached(END, 0));
+    }
+
+    #[test]
+    fn it_goes_on_while_the_unclear_dofs_reach_new_lows() {
+        let mut end = IterationEnd::new(END, 100);
+        end.stepped(10, 50);
+        assert!(!end.reached(0.5, 10), "50 unclear: it goes on");
+        // A new low at step 12, then none: it ends UNCLEAR_PATIENCE steps after the low.
+        end.stepped(11, 55);
+        assert!(!end.reached(0.4, 11));
+        end.stepped(12, 30);
+        for taken in 12..12 + UNCLEAR_PATIENCE {
+            assert!(!end.reached(0.3, taken), "{taken} steps");
+            end.stepped(taken + 1, 31 + taken);
+        }
+        assert!(end.reached(0.2, 12 + UNCLEAR_PATIENCE));
+    }
+
+    #[test]
+    fn it_ends_once_the_unclear_dofs_fall_to_a_few() {
+        let mut end = IterationEnd::new(END, 100);
+        end.stepped(10, 50);
+        assert!(!end.reached(0.5, 10));
+        end.stepped(11, 9);
+        assert!(!end.reached(0.4, 11), "9 of 100: one too many");
+        end.stepped(12, 0);
+        assert!(end.reached(0.3, 12));
+    }
+
+    #[test]
+    fn it_does_not_end_while_mu_is_above_its_end_again() {
+        let mut end = IterationEnd::new(END, 100);
+        end.stepped(10, 50);
+        assert!(!end.reached(0.5, 10));
+        for taken in 11..20 {
+            end.stepped(taken, 50);
+            assert!(
+                !end.reached(1.5, taken),
+                "μ above its end after {taken} steps"
+            );
+        }
+        assert!(end.reached(0.5, 20), "no new low since 10 steps");
+    }
+
+    #[test]
+    fn a_few_is_one_percent_of_many_variables() {
+        let mut end = IterationEnd::new(END, 8000);
+        end.stepped(10, 81);
+        assert!(!end.reached(0.5, 10), "81 of 8000");
+        end.stepped(11, 80);
+        assert!(end.reached(0.5, 11), "80 of 8000");
     }
 }

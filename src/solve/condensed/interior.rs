@@ -18,9 +18,9 @@
 //! the iteration decides it like any other. The iteration stops when μ is 1e-12 of the
 //! smallest DOF's own scale (its nearest bound times the motions), so that a DOF whose bound
 //! is 1e-9 of the others' (the moments at equally spaced obstacles) is decided too: 14–25
-//! steps on the random and clustered families, 33–48 on ties; where many DOFs are still
-//! not clearly on their side there, it goes on while their number falls (`centrality`:
-//! clusters at ties, stop 62).
+//! steps on the random and clustered families, 33–48 on ties; where more than 8 DOFs (or 1 %)
+//! are still not clearly on their side there, it goes on while their number keeps falling
+//! (`centrality::IterationEnd`: clusters at ties, stop 62).
 //!
 //! Two things keep the iteration within what its f64 steps resolve
 //! (docs/many-obstacles/monotone-search.md, stop 48). The slacks s⁺ and s⁻ are variables of their
@@ -323,7 +323,8 @@ impl InteriorPoint<'_> {
         sum / (2 * self.variables.len()).max(1) as f64
     }
 
-    /// Predictor–corrector steps until μ is negligible, a solve fails, a step is not finite
+    /// Predictor–corrector steps until μ is at its end with few DOFs unclear there
+    /// ([`IterationEnd`]), a solve fails, a step is not finite
     /// or `crossover` settles the search from a pattern offered to it (the iterate's
     /// own); the number of steps taken, or [`CondensedFailure::Stopped`] when `keep_going`,
     /// asked before every step, says no.
@@ -396,7 +397,7 @@ impl InteriorPoint<'_> {
                 *largest = largest.max(v.motion().abs());
             }
             mu = sum / (2 * self.variables.len()) as f64;
-            end.stepped(done, unclear);
+            end.stepped(done + 1, unclear);
             let pattern = self.pattern_given(largest);
             if offers.settled(pattern, unclear == 0, self.banded, keep_going, crossover)? {
                 return Ok(done + 1);
