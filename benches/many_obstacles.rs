@@ -95,15 +95,7 @@ fn harder() -> Vec<(&'static str, impl Fn(usize) -> (Problem, Mesh))> {
     HARDER
         .into_iter()
         .filter(|(name, _)| asked.as_deref().is_none_or(|asked| asked == *name))
-        .map(|(name, scene_of)| {
-            (name, move |k| {
-                let problem = scene_of(k, seed())
-                    .problem()
-                    .expect("a generated scene is valid");
-                let mesh = Mesh::new(&problem, ELEMENTS);
-                (problem, mesh)
-            })
-        })
+        .map(|(name, scene_of)| (name, move |k| with_mesh(&scene_of(k, seed()))))
         .collect()
 }
 
@@ -210,12 +202,14 @@ fn notched(family: Family, k: usize, direction: i32) -> ((Problem, Mesh), (Probl
     let scene = family_scene(family, k, seed(), ELEMENTS);
     let mut changed = scene.clone();
     changed.obstacles[k / 2].sliding *= NOTCH.powi(direction);
-    let with_mesh = |scene: &Scene| {
-        let problem = scene.problem().expect("a generated scene is valid");
-        let mesh = Mesh::new(&problem, ELEMENTS);
-        (problem, mesh)
-    };
     (with_mesh(&scene), with_mesh(&changed))
+}
+
+/// A generated `scene`'s problem and its mesh of [`ELEMENTS`] elements.
+fn with_mesh(scene: &Scene) -> (Problem, Mesh) {
+    let problem = scene.problem().expect("a generated scene is valid");
+    let mesh = Mesh::new(&problem, ELEMENTS);
+    (problem, mesh)
 }
 
 /// The fastest of three runs of `solve`, and its last solution.
@@ -365,8 +359,7 @@ fn lowered_report() {
 /// One cold solve of `scene` on [`ELEMENTS`] elements, as table cells: time, pattern solves,
 /// interior steps, converged.
 fn cold_solve_row(scene: &Scene) -> String {
-    let problem = scene.problem().expect("a generated scene is valid");
-    let mesh = Mesh::new(&problem, ELEMENTS);
+    let (problem, mesh) = with_mesh(scene);
     let start = Instant::now();
     let solution = solve_condensed(&problem, &mesh).expect("the scene solves");
     format!(

@@ -8,8 +8,9 @@
 //! magnitude (the motions of their kind at the start are the clusters' largest). At the μ it
 //! sets, 3972 of the 4000 swivel DOFs of `check::families::lowered_clustered_ties_scene` at
 //! k = 4000 (seed 1) were still not clearly on their side (neither clearly moving nor clearly
-//! stuck); the guess was thousands of DOFs off, and the search took 38 pattern solves. Six steps more settle them (3 solves); on
-//! clusters of 50 obstacles 1e-9·l apart at ties, 21–44 s became 49–66 ms.
+//! stuck); the guess was thousands of DOFs off, and the search took 38 pattern solves. Six
+//! steps more settle them (3 solves); on clusters of 50 obstacles 1e-9·l apart at ties,
+//! 21–44 s became 49–66 ms.
 
 use super::held_bounds::nearest;
 
@@ -123,6 +124,15 @@ mod tests {
     /// μ at its end from 1.0 down, in these tests.
     const END: f64 = 1.0;
 
+    /// An iteration of 100 variables (8 may stay unclear) that reached its μ after 10 steps
+    /// with `unclear` DOFs unclear, more than a few: it goes on.
+    fn going_on_with(unclear: usize) -> IterationEnd {
+        let mut end = IterationEnd::new(END, 100);
+        end.stepped(10, unclear);
+        assert!(!end.reached(0.5, 10), "{unclear} unclear: it goes on");
+        end
+    }
+
     #[test]
     fn it_ends_at_its_mu_when_few_dofs_are_unclear() {
         let mut end = IterationEnd::new(END, 100);
@@ -141,9 +151,7 @@ mod tests {
 
     #[test]
     fn it_goes_on_while_the_unclear_dofs_reach_new_lows() {
-        let mut end = IterationEnd::new(END, 100);
-        end.stepped(10, 50);
-        assert!(!end.reached(0.5, 10), "50 unclear: it goes on");
+        let mut end = going_on_with(50);
         // A new low at step 12, then none: it ends UNCLEAR_PATIENCE steps after the low.
         end.stepped(11, 55);
         assert!(!end.reached(0.4, 11));
@@ -157,9 +165,7 @@ mod tests {
 
     #[test]
     fn it_ends_once_the_unclear_dofs_fall_to_a_few() {
-        let mut end = IterationEnd::new(END, 100);
-        end.stepped(10, 50);
-        assert!(!end.reached(0.5, 10));
+        let mut end = going_on_with(50);
         end.stepped(11, 9);
         assert!(!end.reached(0.4, 11), "9 of 100: one too many");
         end.stepped(12, 0);
@@ -168,9 +174,7 @@ mod tests {
 
     #[test]
     fn it_does_not_end_while_mu_is_above_its_end_again() {
-        let mut end = IterationEnd::new(END, 100);
-        end.stepped(10, 50);
-        assert!(!end.reached(0.5, 10));
+        let mut end = going_on_with(50);
         for taken in 11..20 {
             end.stepped(taken, 50);
             assert!(

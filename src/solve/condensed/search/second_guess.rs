@@ -26,8 +26,9 @@ pub(in crate::solve::condensed) const SECOND_GUESS_AFTER: usize = 64;
 /// 1–100) 16, 32 or 64 gave the same counts (the eight searches it shortens settle within
 /// 16); where it does not settle (k = 2000 seed 42 with obstacle 666's swivel threshold three
 /// notches down: 650 solves without the second guess), 706, 722 and 754 solves. Left to run,
-/// the search from the second guess took 14 820 solves where the first takes 6499 (clusters
-/// of 50 obstacles 1e-9·l apart at ties, k = 4000).
+/// the search from the second guess took 14 820 solves where the first took 6499 (clusters
+/// of 50 obstacles 1e-9·l apart at ties, k = 4000, stop 61; since stop 62's end of the
+/// iteration, `centrality`, that scene settles in 5).
 pub(in crate::solve::condensed) const SECOND_GUESS_SOLVES: usize = 16;
 
 impl<'a> PatternSearch<'a> {
@@ -125,9 +126,9 @@ impl<'a> PatternSearch<'a> {
     }
 
     /// The first search goes on where it stopped (its last solve `last` handed back, its
-    /// limit `limit` and its σ fraction `fraction` again) after the search from the second guess, `second`, did not
-    /// settle: it takes the banded system back, and that search's solves count as made on
-    /// the side.
+    /// limit `limit` and its σ fraction `fraction` again) after the search from the second
+    /// guess, `second`, did not settle: it takes the banded system back, and that search's
+    /// solves count as made on the side.
     fn go_on_after(
         &mut self,
         second: PatternSearch<'a>,
